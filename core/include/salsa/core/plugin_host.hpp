@@ -1,0 +1,92 @@
+#pragma once
+// Finds, loads and checks plugin libraries (Boost.DLL) and keeps the registries of what they provide.
+// One host per process; a library stays loaded while the host or any object it made is alive.
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "salsa/registry.hpp"
+
+namespace salsa {
+
+namespace fs = std::filesystem;
+
+struct Library;  // a loaded plugin library
+
+struct PluginInfo {
+  fs::path file;
+  std::string name, version, author, brief;
+};
+
+template <class Base>
+struct Entry {
+  std::shared_ptr<const Library> library;  // declared first: outlives the factory's code
+  Factory<Base> factory;
+  const PluginInfo& plugin() const;
+};
+
+struct LoadFailure {
+  fs::path file;
+  std::string reason;
+};
+
+/// A folder searched for plugins, and why it is on the list.
+struct SearchDir {
+  fs::path path;
+  std::string origin;  ///< "--plugin-dir", "SALSA_PLUGIN_PATH", "user", "install", "build"
+};
+
+/// Thrown for unknown names; the message lists the names that exist.
+struct UnknownPlugin : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class PluginHost {
+ public:
+  PluginHost();
+  ~PluginHost();
+  PluginHost(const PluginHost&) = delete;
+  PluginHost& operator=(const PluginHost&) = delete;
+
+  /// The discovery order of DESIGN §4: the given folders, $SALSA_PLUGIN_PATH, the user folder, the
+  /// install folder and, when run from a build tree, its plugins folder.
+  static std::vector<SearchDir> default_search_path(const std::vector<fs::path>& extra = {});
+
+  /// Loads every shared library in each folder (sorted by file name); failures are recorded, not thrown.
+  void load(const std::vector<SearchDir>& dirs);
+  /// Loads one file; false (and a recorded failure) when it is refused.
+  bool load_file(const fs::path& file);
+
+  const std::vector<SearchDir>& searched() const { return searched_; }
+  const std::vector<LoadFailure>& failures() const { return failures_; }
+  std::vector<const PluginInfo*> plugins() const;
+
+  const std::vector<Entry<Behavior>>& behaviors() const { return behaviors_; }
+  const std::vector<Entry<TargetKind>>& target_kinds() const { return targets_; }
+  const std::vector<Entry<MapGenerator>>& maps() const { return maps_; }
+  const std::vector<Entry<ContactHandler>>& contact_handlers() const { return handlers_; }
+
+  /// The entry of that name, or UnknownPlugin naming what exists.
+  const Entry<Behavior>& behavior(const std::string& name) const;
+  const Entry<TargetKind>& target_kind(const std::string& name) const;
+  const Entry<MapGenerator>& map(const std::string& name) const;
+  const Entry<ContactHandler>& contact_handler(const std::string& name) const;
+
+  /// A new object from a factory, configured with `values`; it keeps its library loaded. Exceptions
+  /// from plugin code come back as std::runtime_error naming the plugin.
+  template <class Base>
+  static std::shared_ptr<Base> create(const Entry<Base>& entry, const ParameterValues& values);
+
+ private:
+  class Collector;
+  std::vector<SearchDir> searched_;
+  std::vector<LoadFailure> failures_;
+  std::vector<std::shared_ptr<const Library>> libraries_;
+  std::vector<Entry<Behavior>> behaviors_;
+  std::vector<Entry<TargetKind>> targets_;
+  std::vector<Entry<MapGenerator>> maps_;
+  std::vector<Entry<ContactHandler>> handlers_;
+};
+
+}  // namespace salsa

@@ -1,0 +1,59 @@
+#pragma once
+// The map's static geometry (walls and obstacles) as segments in a uniform grid: free-space tests for
+// placement and the obstacle rays of every drone, without touching Box2D or scanning all segments.
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "salsa/map.hpp"
+#include "salsa/world.hpp"
+
+namespace salsa {
+
+struct Segment {
+  Vec2 a, b;
+};
+
+class StaticGeometry {
+ public:
+  StaticGeometry() = default;
+  /// `cell_size` m: about the longest query (the obstacle range) keeps queries to a few cells.
+  StaticGeometry(const MapData& map, double cell_size);
+
+  const Rect& bounds() const { return bounds_; }
+  std::span<const Segment> segments() const { return segments_; }
+
+  /// Inside bounds by `clearance` m, outside every solid obstacle, and farther than `clearance`
+  /// from every wall segment.
+  bool is_free(Vec2 p, double clearance) const;
+  /// Nearest hit on the segment from `from` to `to`.
+  std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const;
+  /// Segment ids whose cells touch the square of half-side `range` around `p` (ascending, unique).
+  void candidates(Vec2 p, double range, std::vector<std::uint32_t>& out) const;
+  /// Nearest hit of a ray from `from` along `direction` (unit) within `range`, among `ids`.
+  std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 direction, double range,
+                                      std::span<const std::uint32_t> ids) const;
+
+ private:
+  void insert(std::uint32_t id);
+  int col(double x) const;
+  int row(double y) const;
+
+  Rect bounds_{};
+  std::vector<Segment> segments_;
+  std::vector<Polyline> solids_;
+  std::vector<Rect> solid_boxes_;
+  double cell_ = 1;
+  Vec2 origin_;
+  int cols_ = 0, rows_ = 0;
+  std::vector<std::vector<std::uint32_t>> cells_;
+};
+
+/// Distance along the ray p + t·d (t ≥ 0, |d| = 1) to segment s, if it crosses it within `range`.
+std::optional<double> ray_segment(Vec2 p, Vec2 d, double range, const Segment& s);
+/// Whether p is inside the closed polygon (even–odd rule).
+bool inside_polygon(Vec2 p, const Polyline& polygon);
+double segment_distance(Vec2 p, const Segment& s);
+
+}  // namespace salsa

@@ -1,0 +1,74 @@
+#pragma once
+// A test: everything one run needs, resolved (defaults filled in, names checked against the loaded
+// plugins, parameters validated). Read from and written to JSON; see docs/test-format.md.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "salsa/core/drone_config.hpp"
+#include "salsa/core/plugin_host.hpp"
+#include "salsa/core/simulation.hpp"
+
+namespace salsa {
+
+/// Bad input: the message is one line naming the file, the field, the value and what is allowed.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct PluginChoice {
+  std::string name;
+  ParameterValues params;  ///< every declared parameter, defaults filled in
+};
+
+struct TestSpec {
+  std::string source;               ///< where it was read from, for messages ("queue.json: tests[2]")
+  std::string name;                 ///< also its output folder's name
+  PluginChoice behavior;
+  DroneConfig drone;
+  std::size_t drones = 10;
+  PluginChoice map;
+  std::string map_file;             ///< for file-based maps; absolute or relative to the working folder
+  std::optional<Vec2> spawn;        ///< overrides the map's spawn point
+  SpawnMode spawn_mode = SpawnMode::disc;
+  double spawn_radius = 0;          ///< m; 0: drones × drone radius
+  PluginChoice target;
+  std::size_t targets = 0;
+  std::vector<std::string> contact_handlers{"detect_targets"};
+  double time = 60;                 ///< s simulated
+  double dt = 1.0 / 60;             ///< s
+  double log_interval = 1;          ///< s between logged rows
+  int velocity_iterations = 8;
+  int position_iterations = 3;
+  std::uint64_t seed = 1;
+
+  std::size_t steps() const;
+  std::size_t log_every() const;
+};
+
+/// Reads a test file: one test object, a JSON list of them, or {"tests": [...]}. Relative map files
+/// resolve against the test file's folder. Throws InputError.
+std::vector<TestSpec> load_tests(const std::filesystem::path& file, const PluginHost& host);
+/// Parses one test from JSON text (`where` names it in errors, e.g. "file.json: tests[2]").
+TestSpec parse_test(const std::string& json_text, const std::string& where, const PluginHost& host,
+                    const std::filesystem::path& base_dir = {});
+
+/// The fully resolved test as JSON (what config.json holds): enough to rerun it exactly, plus the
+/// salsa and plugin versions.
+std::string resolved_json(const TestSpec& test, const PluginHost& host);
+
+/// A live simulation set up for `test`, its plugins created through `host`. Throws InputError.
+SimulationSetup make_setup(const TestSpec& test, const PluginHost& host, int threads = 0);
+
+/// Whether a JSON file is a map file (an object with "bounds") rather than a test file.
+bool is_map_file(const std::filesystem::path& file);
+/// Reads a map file through the "json" map plugin and checks its spawn point. Throws InputError.
+MapData load_map_file(const std::filesystem::path& file, const PluginHost& host, double drone_radius = 1);
+
+/// The library's version, e.g. "0.1.0".
+const char* salsa_version();
+
+}  // namespace salsa

@@ -1,0 +1,423 @@
+#include "salsa/core/simulation.hpp"
+
+#include <box2d/box2d.h>
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace salsa {
+
+namespace {
+
+// Rng streams: a few fixed ones for set-up, then one per drone.
+constexpr std::uint64_t targets_stream = 1, spawn_stream = 2, first_drone_stream = 16;
+
+b2Vec2 to_b2(Vec2 v) { return {static_cast<float>(v.x), static_cast<float>(v.y)}; }
+Vec2 from_b2(b2Vec2 v) { return {v.x, v.y}; }
+
+std::string format_point(Vec2 p) {
+  std::ostringstream s;
+  s << "(" << p.x << ", " << p.y << ")";
+  return s.str();
+}
+
+}  // namespace
+
+// Box2D lives here only: a static body for the map's segments, one dynamic circle per drone.
+struct Simulation::Physics final : b2ContactListener {
+  b2World world{b2Vec2(0, 0)};
+  std::vector<b2Body*> bodies;
+  std::vector<ContactEvent> begun;  // contacts begun during the last Step, in Box2D's order
+
+  explicit Physics(const StaticGeometry& geometry) {
+    world.SetContactListener(this);
+    world.SetContinuousPhysics(false);  // drones move < 0.2 m per step, far below their radius
+    b2BodyDef def;
+    b2Body* walls = world.CreateBody(&def);
+    for (const Segment& s : geometry.segments()) {
+      b2EdgeShape edge;
+      edge.SetTwoSided(to_b2(s.a), to_b2(s.b));
+      walls->CreateFixture(&edge, 0);
+    }
+  }
+  void add_drone(std::uint32_t id, Vec2 position, Vec2 velocity, const DroneConfig& cfg) {
+    b2BodyDef def;
+    def.type = b2_dynamicBody;
+    def.position = to_b2(position);
+    def.linearVelocity = to_b2(velocity);
+    def.fixedRotation = true;
+    def.userData.pointer = id + 1;  // 0 marks static geometry
+    b2Body* body = world.CreateBody(&def);
+    b2CircleShape circle;
+    circle.m_radius = static_cast<float>(cfg.radius);
+    b2FixtureDef fixture;
+    fixture.shape = &circle;
+    fixture.density = static_cast<float>(cfg.mass / (pi * cfg.radius * cfg.radius));
+    fixture.friction = 0;
+    body->CreateFixture(&fixture);
+    bodies.push_back(body);
+  }
+  void remove_drones_from(std::size_t n) {
+    while (bodies.size() > n) {
+      world.DestroyBody(bodies.back());
+      bodies.pop_back();
+    }
+  }
+  void BeginContact(b2Contact* contact) override {
+    const auto a = contact->GetFixtureA()->GetBody()->GetUserData().pointer;
+    const auto b = contact->GetFixtureB()->GetBody()->GetUserData().pointer;
+    if (a && b) {
+      const auto lo = static_cast<std::uint32_t>(std::min(a, b) - 1), hi = static_cast<std::uint32_t>(std::max(a, b) - 1);
+      const Vec2 mid = (from_b2(bodies[lo]->GetPosition()) + from_b2(bodies[hi]->GetPosition())) / 2;
+      begun.push_back({ContactKind::drone_drone, lo, hi, mid, 0});
+    } else if (a || b) {
+      const auto id = static_cast<std::uint32_t>(std::max(a, b) - 1);
+      begun.push_back({ContactKind::drone_obstacle, id, 0, from_b2(bodies[id]->GetPosition()), 0});
+    }
+  }
+};
+
+struct Simulation::Scratch {
+  std::vector<Neighbour> neighbours;
+  std::vector<TargetSeen> targets;
+  std::vector<std::uint32_t> segment_ids;
+};
+
+struct Simulation::Parallel {
+  tbb::task_arena arena;
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  explicit Parallel(int threads) : arena(threads > 0 ? threads : tbb::task_arena::automatic) {}
+
+  /// fn(i, scratch) for i in [0, n), spread over the arena's threads.
+  template <class Fn>
+  void for_each(std::size_t n, Fn&& fn) {
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const tbb::blocked_range<std::size_t>& r) {
+        Scratch& s = scratch.local();
+        for (std::size_t i = r.begin(); i != r.end(); ++i) fn(static_cast<std::uint32_t>(i), s);
+      });
+    });
+  }
+};
+
+Simulation::Simulation(SimulationSetup setup)
+    : setup_(std::move(setup)), parallel_(std::make_unique<Parallel>(setup_.threads)) {
+  if (!setup_.behavior) throw std::invalid_argument("no behavior given");
+  if (!(setup_.dt > 0)) throw std::invalid_argument("time step must be > 0 s");
+  if (setup_.log_every == 0) setup_.log_every = 1;
+  build_world();
+}
+
+Simulation::~Simulation() = default;
+
+// ---------------------------------------------------------------- set-up and live changes
+
+void Simulation::build_world() {
+  const Rect& b = setup_.map.bounds;
+  if (!(b.width() > 0 && b.height() > 0))
+    throw std::invalid_argument("map bounds must have a positive width and height");
+  geometry_ = StaticGeometry(setup_.map, std::max(setup_.drone.obstacle_range, 1.0));
+  spawn_ = setup_.spawn.value_or(setup_.map.spawn);
+  if (!geometry_.is_free(spawn_, setup_.drone.radius))
+    throw std::invalid_argument("spawn point " + format_point(spawn_) +
+                                " is inside an obstacle or outside the map bounds (it needs a free disc of the drone radius)");
+  physics_ = std::make_unique<Physics>(geometry_);
+  const std::size_t n = setup_.drones;
+  positions_.clear();
+  velocities_.clear();
+  spawn_rng_ = Rng(setup_.seed, spawn_stream);
+  spawn_drones(0, n);
+  place_targets();
+  scan_targets();
+  dispatch_contacts();
+}
+
+Vec2 Simulation::spawn_position(std::size_t total) {
+  const double r = setup_.drone.radius;
+  if (setup_.spawn_mode == SpawnMode::disc) {
+    const double disc = setup_.spawn_radius > 0 ? setup_.spawn_radius : static_cast<double>(total) * r;
+    Vec2 p;
+    for (int tries = 0; tries < 100; ++tries) {
+      p = spawn_rng_.in_disc(spawn_, disc);
+      if (geometry_.is_free(p, r)) return p;
+    }
+    // Outside the walls: the paper places such drones inside instead.
+    const Rect& b = setup_.map.bounds;
+    p = {std::clamp(p.x, b.min.x + r, b.max.x - r), std::clamp(p.y, b.min.y + r, b.max.y - r)};
+    if (geometry_.is_free(p, r)) return p;
+  }
+  for (int tries = 0; tries < 1'000'000; ++tries)
+    if (Vec2 p = spawn_rng_.in_rect(setup_.map.bounds); geometry_.is_free(p, r)) return p;
+  return spawn_;
+}
+
+void Simulation::spawn_drones(std::size_t from, std::size_t to) {
+  const DroneConfig& cfg = setup_.drone;
+  for (std::size_t i = from; i < to; ++i) {
+    const Vec2 p = spawn_position(to);
+    const Vec2 v = Vec2::polar(spawn_rng_.uniform(0.1 * cfg.max_speed, cfg.max_speed), spawn_rng_.angle());
+    positions_.push_back(p);
+    velocities_.push_back(v);
+    physics_->add_drone(static_cast<std::uint32_t>(i), p, v, cfg);
+  }
+  positions_.resize(to);
+  velocities_.resize(to);
+  physics_->remove_drones_from(to);
+  steering_.assign(to, {});
+  rngs_.clear();
+  for (std::size_t i = 0; i < to; ++i) rngs_.emplace_back(setup_.seed, first_drone_stream + i);
+  hits_.assign(to * static_cast<std::size_t>(std::max(cfg.obstacle_rays, 0)), {});
+  hit_counts_.assign(to, 0);
+  setup_.drones = to;
+  setup_.behavior->reset(to);
+}
+
+void Simulation::place_targets() {
+  targets_.clear();
+  found_count_ = 0;
+  if (setup_.target_kind && setup_.targets > 0) {
+    Rng rng(setup_.seed, targets_stream);
+    for (Vec2 p : setup_.target_kind->place(setup_.targets, *this, rng)) targets_.push_back({p});
+  }
+  std::vector<Vec2> points;
+  points.reserve(targets_.size());
+  for (const auto& t : targets_) points.push_back(t.position);
+  const double reach = setup_.drone.camera_range + (setup_.target_kind ? setup_.target_kind->radius() : 0);
+  target_grid_.build(points, std::max(reach, 1.0));
+}
+
+void Simulation::set_drone_count(std::size_t n) {
+  if (n < positions_.size()) {
+    physics_->remove_drones_from(n);
+    spawn_drones(n, n);
+  } else {
+    spawn_drones(positions_.size(), n);
+  }
+  scan_targets();
+}
+
+void Simulation::set_drone_config(const DroneConfig& config) {
+  setup_.drone = config;
+  physics_->remove_drones_from(0);
+  for (std::size_t i = 0; i < positions_.size(); ++i)
+    physics_->add_drone(static_cast<std::uint32_t>(i), positions_[i], velocities_[i].clamped(config.max_speed), config);
+  hits_.assign(positions_.size() * static_cast<std::size_t>(std::max(config.obstacle_rays, 0)), {});
+  place_targets();  // the camera range sizes the target grid
+  scan_targets();
+}
+
+void Simulation::set_behavior(std::shared_ptr<Behavior> behavior) {
+  if (!behavior) throw std::invalid_argument("no behavior given");
+  setup_.behavior = std::move(behavior);
+  setup_.behavior->reset(positions_.size());
+}
+
+void Simulation::set_map(const MapData& map, std::optional<Vec2> spawn) {
+  setup_.map = map;
+  setup_.spawn = spawn;
+  build_world();
+}
+
+void Simulation::set_targets(std::shared_ptr<TargetKind> kind, std::size_t count) {
+  setup_.target_kind = std::move(kind);
+  setup_.targets = count;
+  place_targets();
+  scan_targets();
+}
+
+// ---------------------------------------------------------------- one step
+
+void Simulation::step() {
+  using clock = std::chrono::steady_clock;
+  auto timed = [this](Phase phase, auto&& fn) {
+    const auto start = clock::now();
+    fn();
+    profile_[static_cast<std::size_t>(phase)] += std::chrono::duration<double>(clock::now() - start).count();
+  };
+  timed(Phase::sense, [this] { sense(); });
+  timed(Phase::decide, [this] { decide(); });
+  timed(Phase::act, [this] { act(); });
+  timed(Phase::physics, [this] { physics(); });
+  timed(Phase::detect, [this] { detect(); });
+  timed(Phase::observe, [this] { observe(); });
+}
+
+// Sense: index the drones for neighbour queries and cast each drone's obstacle rays against static
+// geometry. Neighbours and targets are gathered per drone in `decide`, where they stay in cache.
+void Simulation::sense() {
+  const DroneConfig& cfg = setup_.drone;
+  drone_grid_.build(positions_, cfg.detection_range);
+  const int rays = std::max(cfg.obstacle_rays, 0);
+  parallel_->for_each(positions_.size(), [&](std::uint32_t i, Scratch& s) {
+    std::uint8_t count = 0;
+    geometry_.candidates(positions_[i], cfg.obstacle_range, s.segment_ids);
+    if (!s.segment_ids.empty())
+      for (int k = 0; k < rays; ++k) {
+        const Vec2 direction = Vec2::polar(1, 2 * pi * k / rays);
+        if (auto hit = geometry_.ray_cast(positions_[i], direction, cfg.obstacle_range, s.segment_ids))
+          hits_[static_cast<std::size_t>(i) * rays + count++] = *hit;
+      }
+    hit_counts_[i] = count;
+  });
+}
+
+Perception Simulation::perceive(std::uint32_t id, Scratch& s) const {
+  const DroneConfig& cfg = setup_.drone;
+  const Vec2 p = positions_[id];
+  s.neighbours.clear();
+  drone_grid_.query(p, cfg.detection_range, [&](std::uint32_t j, Vec2 q, double d2) {
+    if (j != id) s.neighbours.push_back({q, velocities_[j], std::sqrt(d2), j});
+  });
+  s.targets.clear();
+  for (std::uint32_t k = seen_start_[id]; k < seen_start_[id + 1]; ++k) {
+    const auto [t, d] = seen_[k];
+    s.targets.push_back({targets_[t].position, d, t, targets_[t].found()});
+  }
+  const std::size_t rays = static_cast<std::size_t>(std::max(cfg.obstacle_rays, 0));
+  Perception me;
+  me.id = id;
+  me.position = p;
+  me.velocity = velocities_[id];
+  me.max_speed = cfg.max_speed;
+  me.max_force = cfg.max_force;
+  me.radius = cfg.radius;
+  me.mass = cfg.mass;
+  me.camera_range = cfg.camera_range;
+  me.obstacle_range = cfg.obstacle_range;
+  me.detection_range = cfg.detection_range;
+  me.dt = setup_.dt;
+  me.time = time();
+  me.neighbours = s.neighbours;
+  me.obstacles = {hits_.data() + id * rays, hit_counts_[id]};
+  me.targets = s.targets;
+  me.world = this;
+  return me;
+}
+
+// Decide: the behavior's shared state first (serial), then every drone in parallel. Each drone writes
+// only its own steering slot and uses its own Rng stream, so any thread count gives the same result.
+void Simulation::decide() {
+  Behavior& behavior = *setup_.behavior;
+  behavior.prepare(*this);
+  parallel_->for_each(positions_.size(), [&](std::uint32_t i, Scratch& s) {
+    steering_[i] = behavior.decide(perceive(i, s), rngs_[i]);
+  });
+}
+
+// Act: clamp to max force and max speed, hand the velocity to Box2D.
+void Simulation::act() {
+  const DroneConfig& cfg = setup_.drone;
+  for (std::size_t i = 0; i < positions_.size(); ++i) {
+    const Vec2 a = steering_[i];
+    if (!std::isfinite(a.x) || !std::isfinite(a.y))
+      throw std::runtime_error("behavior returned a non-finite steering for drone " + std::to_string(i) +
+                               " at t = " + std::to_string(time()) + " s");
+    Vec2 v = velocities_[i] + a.clamped(cfg.max_force);
+    v = v.clamped(cfg.max_speed);
+    physics_->bodies[i]->SetLinearVelocity(to_b2(v));
+  }
+}
+
+void Simulation::physics() {
+  physics_->begun.clear();
+  physics_->world.Step(static_cast<float>(setup_.dt), setup_.velocity_iterations, setup_.position_iterations);
+  ++steps_;
+  read_back();
+}
+
+void Simulation::read_back() {
+  for (std::size_t i = 0; i < positions_.size(); ++i) {
+    positions_[i] = from_b2(physics_->bodies[i]->GetPosition());
+    velocities_[i] = from_b2(physics_->bodies[i]->GetLinearVelocity());
+  }
+}
+
+// Detect: which targets each drone sees now, then every event to the contact handlers in a fixed order
+// (targets by drone, then collisions in Box2D's order).
+void Simulation::detect() {
+  scan_targets();
+  for (ContactEvent e : physics_->begun) {
+    e.time = time();
+    events_.push_back(e);
+    ++collisions_;
+  }
+  dispatch_contacts();
+}
+
+void Simulation::scan_targets() {
+  const std::size_t n = positions_.size();
+  seen_start_.assign(n + 1, 0);
+  seen_.clear();
+  events_.clear();
+  const TargetKind* kind = setup_.target_kind.get();
+  if (kind && !targets_.empty()) {
+    const double camera = setup_.drone.camera_range;
+    const double reach = camera + kind->radius();
+    for (std::uint32_t i = 0; i < n; ++i) {
+      seen_start_[i] = static_cast<std::uint32_t>(seen_.size());
+      target_grid_.query(positions_[i], reach, [&](std::uint32_t t, Vec2 q, double d2) {
+        const double d = std::sqrt(d2);
+        if (!kind->in_view(d, camera)) return;
+        seen_.emplace_back(t, d);
+        ++targets_[t].observations;
+        events_.push_back({ContactKind::target_in_view, i, t, q, time()});
+      });
+    }
+  }
+  seen_start_[n] = static_cast<std::uint32_t>(seen_.size());
+}
+
+namespace {
+class Actions final : public ContactActions {
+ public:
+  Actions(std::vector<TargetState>& targets, std::size_t& found, double time) : targets_(targets), found_(found), time_(time) {}
+  void mark_found(std::uint32_t target, std::uint32_t drone) override {
+    if (target >= targets_.size() || targets_[target].found()) return;
+    targets_[target].found_by = drone;
+    targets_[target].found_time = time_;
+    ++found_;
+  }
+  bool is_found(std::uint32_t target) const override { return target < targets_.size() && targets_[target].found(); }
+
+ private:
+  std::vector<TargetState>& targets_;
+  std::size_t& found_;
+  double time_;
+};
+}  // namespace
+
+void Simulation::dispatch_contacts() {
+  if (setup_.contact_handlers.empty() || events_.empty()) return;
+  Actions actions(targets_, found_count_, time());
+  for (const ContactEvent& e : events_)
+    for (const auto& handler : setup_.contact_handlers) handler->on_contact(e, actions);
+}
+
+void Simulation::observe() {
+  if (steps_ % setup_.log_every != 0) return;
+  for (Observer* o : observers_) o->observe(*this);
+}
+
+std::vector<double> Simulation::nearest_neighbour_distances() const {
+  const std::size_t n = positions_.size();
+  std::vector<double> out(n, std::numeric_limits<double>::infinity());
+  if (n < 2) return out;
+  PointGrid grid;
+  grid.build(positions_, setup_.drone.detection_range);
+  const Rect& b = setup_.map.bounds;
+  const double far = std::hypot(b.width(), b.height()) * 2;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    for (double r = setup_.drone.detection_range; r <= far && std::isinf(out[i]); r *= 4)
+      grid.query(positions_[i], r, [&](std::uint32_t j, Vec2, double d2) {
+        if (j != i) out[i] = std::min(out[i], std::sqrt(d2));
+      });
+  }
+  return out;
+}
+
+}  // namespace salsa

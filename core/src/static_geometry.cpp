@@ -1,0 +1,125 @@
+#include "salsa/core/static_geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace salsa {
+
+std::optional<double> ray_segment(Vec2 p, Vec2 d, double range, const Segment& s) {
+  const Vec2 e = s.b - s.a;
+  const double denom = d.cross(e);
+  if (denom == 0) return std::nullopt;  // parallel: a grazing ray sees the segment's ends elsewhere
+  const Vec2 ap = s.a - p;
+  const double t = ap.cross(e) / denom;
+  const double u = ap.cross(d) / denom;
+  if (t < 0 || t > range || u < 0 || u > 1) return std::nullopt;
+  return t;
+}
+
+bool inside_polygon(Vec2 p, const Polyline& poly) {
+  bool inside = false;
+  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const Vec2 a = poly[i], b = poly[j];
+    if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) inside = !inside;
+  }
+  return inside;
+}
+
+double segment_distance(Vec2 p, const Segment& s) {
+  const Vec2 e = s.b - s.a;
+  const double l2 = e.length_squared();
+  const double t = l2 > 0 ? std::clamp((p - s.a).dot(e) / l2, 0.0, 1.0) : 0.0;
+  return distance(p, s.a + e * t);
+}
+
+StaticGeometry::StaticGeometry(const MapData& map, double cell_size) : bounds_(map.bounds) {
+  const Rect& b = bounds_;
+  segments_ = {{b.min, {b.max.x, b.min.y}}, {{b.max.x, b.min.y}, b.max},
+               {b.max, {b.min.x, b.max.y}}, {{b.min.x, b.max.y}, b.min}};
+  auto add_loop = [&](const Polyline& pts) {
+    for (std::size_t i = 0; i < pts.size(); ++i) segments_.push_back({pts[i], pts[(i + 1) % pts.size()]});
+  };
+  for (const auto& poly : map.obstacles) {
+    add_loop(poly);
+    solids_.push_back(poly);
+    Rect box{poly[0], poly[0]};
+    for (Vec2 p : poly) {
+      box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y)};
+      box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y)};
+    }
+    solid_boxes_.push_back(box);
+  }
+  for (const auto& poly : map.hollow) add_loop(poly);
+  for (const auto& line : map.lines)
+    for (std::size_t i = 0; i + 1 < line.size(); ++i) segments_.push_back({line[i], line[i + 1]});
+
+  // At most ~1M cells however large the map; a little margin so boundary walls fall inside.
+  cell_ = std::max({cell_size, b.width() / 1024, b.height() / 1024, 1e-6});
+  origin_ = b.min - Vec2{cell_, cell_};
+  cols_ = static_cast<int>(b.width() / cell_) + 3;
+  rows_ = static_cast<int>(b.height() / cell_) + 3;
+  cells_.assign(static_cast<std::size_t>(cols_) * rows_, {});
+  for (std::uint32_t i = 0; i < segments_.size(); ++i) insert(i);
+}
+
+int StaticGeometry::col(double x) const {
+  return std::clamp(static_cast<int>(std::floor((x - origin_.x) / cell_)), 0, cols_ - 1);
+}
+int StaticGeometry::row(double y) const {
+  return std::clamp(static_cast<int>(std::floor((y - origin_.y) / cell_)), 0, rows_ - 1);
+}
+
+void StaticGeometry::insert(std::uint32_t id) {
+  const Segment& s = segments_[id];
+  const Vec2 centre_offset{cell_ / 2, cell_ / 2};
+  for (int y = row(std::min(s.a.y, s.b.y)); y <= row(std::max(s.a.y, s.b.y)); ++y)
+    for (int x = col(std::min(s.a.x, s.b.x)); x <= col(std::max(s.a.x, s.b.x)); ++x) {
+      // Only cells the segment really passes (within the cell's circumcircle) for long diagonals.
+      const Vec2 centre = origin_ + Vec2{x * cell_, y * cell_} + centre_offset;
+      if (segment_distance(centre, s) <= cell_ * 0.7072) cells_[static_cast<std::size_t>(y) * cols_ + x].push_back(id);
+    }
+}
+
+void StaticGeometry::candidates(Vec2 p, double range, std::vector<std::uint32_t>& out) const {
+  out.clear();
+  if (cells_.empty()) return;
+  for (int y = row(p.y - range); y <= row(p.y + range); ++y)
+    for (int x = col(p.x - range); x <= col(p.x + range); ++x) {
+      const auto& cell = cells_[static_cast<std::size_t>(y) * cols_ + x];
+      out.insert(out.end(), cell.begin(), cell.end());
+    }
+  if (out.size() > 1) {
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+}
+
+std::optional<ObstacleHit> StaticGeometry::ray_cast(Vec2 from, Vec2 direction, double range,
+                                                    std::span<const std::uint32_t> ids) const {
+  std::optional<double> best;
+  for (std::uint32_t id : ids)
+    if (auto t = ray_segment(from, direction, range, segments_[id]); t && (!best || *t < *best)) best = t;
+  if (!best) return std::nullopt;
+  return ObstacleHit{from + direction * *best, *best};
+}
+
+std::optional<ObstacleHit> StaticGeometry::ray_cast(Vec2 from, Vec2 to) const {
+  const double length = distance(from, to);
+  if (length == 0) return std::nullopt;
+  std::vector<std::uint32_t> ids;
+  candidates((from + to) / 2, length / 2, ids);
+  return ray_cast(from, (to - from) / length, length, ids);
+}
+
+bool StaticGeometry::is_free(Vec2 p, double clearance) const {
+  if (p.x < bounds_.min.x + clearance || p.x > bounds_.max.x - clearance || p.y < bounds_.min.y + clearance ||
+      p.y > bounds_.max.y - clearance)
+    return false;
+  for (std::size_t i = 0; i < solids_.size(); ++i)
+    if (solid_boxes_[i].contains(p) && inside_polygon(p, solids_[i])) return false;
+  std::vector<std::uint32_t> ids;
+  candidates(p, clearance, ids);
+  return std::none_of(ids.begin(), ids.end(), [&](auto id) { return segment_distance(p, segments_[id]) < clearance; });
+}
+
+}  // namespace salsa

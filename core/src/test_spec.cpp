@@ -1,0 +1,439 @@
+#include "salsa/core/test_spec.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace salsa {
+
+using json = nlohmann::ordered_json;
+
+const char* salsa_version() { return SALSA_VERSION; }
+
+std::size_t TestSpec::steps() const { return static_cast<std::size_t>(std::llround(time / dt)); }
+std::size_t TestSpec::log_every() const {
+  return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(log_interval / dt)));
+}
+
+namespace {
+
+std::string show(const json& v) {
+  std::string s = v.dump();
+  return s.size() > 60 ? s.substr(0, 57) + "..." : s;
+}
+std::string num(double v) { return Parameter::format(v); }
+
+/// Reads JSON values with one-line errors: "<where>: <field>: <value> <what is allowed>".
+class Reader {
+ public:
+  Reader(std::string where, std::filesystem::path base) : where_(std::move(where)), base_(std::move(base)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& message) const {
+    throw InputError(where_ + ": " + field + ": " + message);
+  }
+  void only_keys(const json& obj, const std::string& field, std::initializer_list<const char*> allowed) const {
+    if (!obj.is_object()) fail(field.empty() ? "(top level)" : field, show(obj) + " must be an object");
+    for (const auto& [key, value] : obj.items()) {
+      bool ok = false;
+      std::string list;
+      for (const char* a : allowed) {
+        ok = ok || key == a;
+        list += (list.empty() ? "" : ", ") + std::string(a);
+      }
+      if (!ok) fail(join(field, key), "unknown key (allowed: " + list + ")");
+    }
+  }
+  double number(const json& v, const std::string& field, double lo, double hi, const char* unit = "") const {
+    const std::string range = "[" + num(lo) + ", " + num(hi) + "]" + (*unit ? std::string(" ") + unit : "");
+    if (!v.is_number()) fail(field, show(v) + " is not a number (allowed: " + range + ")");
+    const double x = v.get<double>();
+    if (!(x >= lo && x <= hi)) fail(field, show(v) + " is out of range (allowed: " + range + ")");
+    return x;
+  }
+  std::uint64_t integer(const json& v, const std::string& field, double lo, double hi) const {
+    const std::string range = "whole number in [" + num(lo) + ", " + num(hi) + "]";
+    if (!v.is_number() || v.get<double>() != std::floor(v.get<double>()))
+      fail(field, show(v) + " is not a whole number (allowed: " + range + ")");
+    if (!(v.get<double>() >= lo && v.get<double>() <= hi)) fail(field, show(v) + " is out of range (allowed: " + range + ")");
+    return v.is_number_unsigned() ? v.get<std::uint64_t>() : static_cast<std::uint64_t>(v.get<double>());
+  }
+  std::string string(const json& v, const std::string& field) const {
+    if (!v.is_string() || v.get<std::string>().empty()) fail(field, show(v) + " must be a non-empty string");
+    return v.get<std::string>();
+  }
+  std::filesystem::path path(const json& v, const std::string& field) const {
+    std::filesystem::path p = string(v, field);
+    return p.is_relative() && !base_.empty() ? (base_ / p).lexically_normal() : p;
+  }
+  /// Validates given values against the declared parameters and fills in the defaults.
+  ParameterValues params(const json& given, const std::string& field, const Parameters& schema,
+                         const std::string& owner) const {
+    ParameterValues values(schema);
+    if (given.is_null()) return values;
+    if (!given.is_object()) fail(field, show(given) + " must be an object of parameter values");
+    for (const auto& [key, v] : given.items()) {
+      auto it = std::find_if(schema.begin(), schema.end(), [&](const Parameter& p) { return p.name == key; });
+      if (it == schema.end()) {
+        std::string declared;
+        for (const auto& p : schema) declared += (declared.empty() ? "" : ", ") + p.name;
+        fail(join(field, key), "unknown parameter of " + owner + " (declared: " + (declared.empty() ? "none" : declared) + ")");
+      }
+      if (!v.is_number()) fail(join(field, key), show(v) + " is not a number (allowed: " + it->range() + ")");
+      const std::string why = it->check(v.get<double>());
+      if (!why.empty()) fail(join(field, key), show(v) + " " + why);
+      values.set(key, v.get<double>());
+    }
+    return values;
+  }
+  static std::string join(const std::string& field, const std::string& key) { return field.empty() ? key : field + "." + key; }
+
+ private:
+  std::string where_;
+  std::filesystem::path base_;
+};
+
+json read_json_file(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(file.string() + ": cannot open file");
+  std::stringstream text;
+  text << in.rdbuf();
+  try {
+    return json::parse(text.str());
+  } catch (const json::parse_error& e) {
+    // Byte offset to line and column, so an editor can jump there.
+    const std::string s = text.str();
+    const std::size_t at = std::min<std::size_t>(e.byte ? e.byte - 1 : 0, s.size());
+    const auto line = std::count(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(at), '\n') + 1;
+    const auto last_nl = s.rfind('\n', at ? at - 1 : 0);
+    const auto column = at - (last_nl == std::string::npos ? 0 : last_nl + 1) + 1;
+    std::string what = e.what();
+    what = what.substr(what.find(": ") == std::string::npos ? 0 : what.rfind(": ") + 2);
+    throw InputError(file.string() + ": invalid JSON at line " + std::to_string(line) + ", column " +
+                     std::to_string(column) + ": " + what);
+  }
+}
+
+DroneConfig parse_drone(const json& v, const Reader& r, const std::vector<DroneConfig>& named) {
+  auto by_name = [&](const std::string& name, const std::string& field) {
+    for (const auto& c : named)
+      if (c.name == name) return c;
+    std::string list;
+    for (const auto& c : named) list += (list.empty() ? "" : ", ") + c.name;
+    r.fail(field, "unknown drone configuration '" + name + "' (known: " + list + ")");
+  };
+  if (v.is_string()) return by_name(v.get<std::string>(), "drone");
+  r.only_keys(v, "drone", {"name", "base", "camera_range", "obstacle_range", "detection_range", "max_speed",
+                           "max_force", "radius", "mass", "obstacle_rays"});
+  DroneConfig d = v.contains("base") ? by_name(r.string(v["base"], "drone.base"), "drone.base") : DroneConfig{};
+  d.name = v.contains("name") ? r.string(v["name"], "drone.name") : (v.contains("base") ? d.name + "-custom" : "custom");
+  auto field = [&](const char* key, double& target, double lo, double hi, const char* unit) {
+    if (v.contains(key)) target = r.number(v[key], std::string("drone.") + key, lo, hi, unit);
+  };
+  field("camera_range", d.camera_range, 0, 1e4, "m");
+  field("obstacle_range", d.obstacle_range, 0, 1e4, "m");
+  field("detection_range", d.detection_range, 0, 1e5, "m");
+  field("max_speed", d.max_speed, 1e-3, 1e3, "m/s");
+  field("max_force", d.max_force, 1e-6, 1e3, "m/s per step");
+  field("radius", d.radius, 1e-2, 100, "m");
+  field("mass", d.mass, 1e-3, 1e6, "kg");
+  if (v.contains("obstacle_rays")) d.obstacle_rays = static_cast<int>(r.integer(v["obstacle_rays"], "drone.obstacle_rays", 0, 64));
+  return d;
+}
+
+std::vector<DroneConfig> drone_configs_file(const std::filesystem::path& file, const Reader& r) {
+  const json j = read_json_file(file);
+  if (!j.is_object()) throw InputError(file.string() + ": must be an object of named drone configurations");
+  std::vector<DroneConfig> out = builtin_drone_configs();
+  const Reader fr(file.string(), file.parent_path());
+  for (const auto& [name, v] : j.items()) {
+    json copy = v;
+    if (!copy.is_object()) fr.fail(name, show(v) + " must be an object");
+    copy["name"] = name;
+    out.push_back(parse_drone(copy, fr, out));
+  }
+  (void)r;
+  return out;
+}
+
+Vec2 point(const json& v, const Reader& r, const std::string& field) {
+  if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number())
+    r.fail(field, show(v) + " must be a point [x, y] in m");
+  return {v[0].get<double>(), v[1].get<double>()};
+}
+
+TestSpec parse(const json& j, const Reader& r, const PluginHost& host, std::size_t index) {
+  r.only_keys(j, "", {"name", "behavior", "drone", "drone_configs", "drones", "map", "spawn", "targets",
+                      "contact_handlers", "time", "dt", "log_interval", "velocity_iterations",
+                      "position_iterations", "seed", "versions"});
+  TestSpec t;
+  t.seed = 1 + index;
+  if (j.contains("name")) {
+    t.name = r.string(j["name"], "name");
+    if (t.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-") != std::string::npos ||
+        t.name.front() == '.')
+      r.fail("name", show(j["name"]) + " must use only letters, digits, '_', '-' and '.' (it names the output folder)");
+  }
+
+  // behavior: "name" or {"name": ..., "params": {...}}
+  if (!j.contains("behavior")) r.fail("behavior", "missing (e.g. \"behavior\": \"flocking\")");
+  {
+    const json& b = j["behavior"];
+    json params;
+    if (b.is_object()) {
+      r.only_keys(b, "behavior", {"name", "params"});
+      if (!b.contains("name")) r.fail("behavior.name", "missing");
+      t.behavior.name = r.string(b["name"], "behavior.name");
+      params = b.value("params", json());
+    } else {
+      t.behavior.name = r.string(b, "behavior");
+    }
+    try {
+      const auto& e = host.behavior(t.behavior.name);
+      t.behavior.params = r.params(params, "behavior.params", e.factory.parameters, "behavior '" + t.behavior.name + "'");
+    } catch (const UnknownPlugin& e) {
+      r.fail("behavior", e.what());
+    }
+  }
+
+  std::vector<DroneConfig> named = builtin_drone_configs();
+  if (j.contains("drone_configs")) named = drone_configs_file(r.path(j["drone_configs"], "drone_configs"), r);
+  if (j.contains("drone")) t.drone = parse_drone(j["drone"], r, named);
+  if (j.contains("drones")) t.drones = r.integer(j["drones"], "drones", 1, 1'000'000);
+
+  // map: "name" | "file.json" | {"name", "params", "file"}
+  {
+    json m = j.value("map", json("empty"));
+    json params;
+    if (m.is_string() && m.get<std::string>().ends_with(".json")) m = json{{"file", m}};
+    if (m.is_object()) {
+      r.only_keys(m, "map", {"name", "params", "file"});
+      t.map.name = m.contains("name") ? r.string(m["name"], "map.name") : (m.contains("file") ? "json" : "");
+      if (t.map.name.empty()) r.fail("map", "needs a \"name\" or a \"file\"");
+      if (m.contains("file")) t.map_file = r.path(m["file"], "map.file").string();
+      params = m.value("params", json());
+    } else {
+      t.map.name = r.string(m, "map");
+    }
+    try {
+      const auto& e = host.map(t.map.name);
+      t.map.params = r.params(params, "map.params", e.factory.parameters, "map '" + t.map.name + "'");
+    } catch (const UnknownPlugin& e) {
+      r.fail("map", e.what());
+    }
+  }
+
+  if (j.contains("spawn")) {
+    const json& s = j["spawn"];
+    r.only_keys(s, "spawn", {"mode", "point", "radius"});
+    if (s.contains("mode")) {
+      const std::string mode = r.string(s["mode"], "spawn.mode");
+      if (mode == "disc") t.spawn_mode = SpawnMode::disc;
+      else if (mode == "uniform") t.spawn_mode = SpawnMode::uniform;
+      else r.fail("spawn.mode", show(s["mode"]) + " is not a spawn mode (allowed: disc, uniform)");
+    }
+    if (s.contains("point")) t.spawn = point(s["point"], r, "spawn.point");
+    if (s.contains("radius")) t.spawn_radius = r.number(s["radius"], "spawn.radius", 0, 1e7, "m");
+  }
+
+  // targets: {"kind": "tree", "count": 100, "params": {...}}
+  {
+    const json tg = j.value("targets", json::object());
+    r.only_keys(tg, "targets", {"kind", "count", "params"});
+    t.target.name = tg.contains("kind") ? r.string(tg["kind"], "targets.kind") : "tree";
+    if (tg.contains("count")) t.targets = r.integer(tg["count"], "targets.count", 0, 10'000'000);
+    try {
+      const auto& e = host.target_kind(t.target.name);
+      t.target.params = r.params(tg.value("params", json()), "targets.params", e.factory.parameters,
+                                 "target kind '" + t.target.name + "'");
+    } catch (const UnknownPlugin& e) {
+      if (t.targets > 0 || tg.contains("kind")) r.fail("targets.kind", e.what());
+    }
+  }
+
+  if (j.contains("contact_handlers")) {
+    const json& h = j["contact_handlers"];
+    if (!h.is_array()) r.fail("contact_handlers", show(h) + " must be a list of handler names");
+    t.contact_handlers.clear();
+    for (std::size_t i = 0; i < h.size(); ++i) {
+      const std::string field = "contact_handlers[" + std::to_string(i) + "]";
+      t.contact_handlers.push_back(r.string(h[i], field));
+    }
+  }
+  for (std::size_t i = 0; i < t.contact_handlers.size(); ++i) {
+    try {
+      host.contact_handler(t.contact_handlers[i]);
+    } catch (const UnknownPlugin& e) {
+      r.fail("contact_handlers[" + std::to_string(i) + "]", e.what());
+    }
+  }
+
+  if (j.contains("dt")) t.dt = r.number(j["dt"], "dt", 1e-4, 1, "s");
+  if (j.contains("time")) t.time = r.number(j["time"], "time", t.dt, 1e7, "s");
+  if (j.contains("log_interval")) t.log_interval = r.number(j["log_interval"], "log_interval", t.dt, 1e7, "s");
+  if (j.contains("velocity_iterations")) t.velocity_iterations = static_cast<int>(r.integer(j["velocity_iterations"], "velocity_iterations", 1, 100));
+  if (j.contains("position_iterations")) t.position_iterations = static_cast<int>(r.integer(j["position_iterations"], "position_iterations", 1, 100));
+  if (j.contains("seed")) t.seed = r.integer(j["seed"], "seed", 0, 9007199254740992.0);
+  return t;
+}
+
+}  // namespace
+
+std::vector<TestSpec> load_tests(const std::filesystem::path& file, const PluginHost& host) {
+  const json j = read_json_file(file);
+  const json* list = &j;
+  std::string prefix;
+  if (j.is_object() && j.contains("tests")) {
+    list = &j["tests"];
+    prefix = "tests";
+    if (j.size() != 1) throw InputError(file.string() + ": a queue object may only hold \"tests\"");
+  }
+  std::vector<TestSpec> tests;
+  const std::string stem = file.stem().string();
+  if (list->is_array()) {
+    if (list->empty()) throw InputError(file.string() + ": " + (prefix.empty() ? "the list" : prefix) + " holds no tests");
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      const std::string where = file.string() + ": " + prefix + "[" + std::to_string(i) + "]";
+      TestSpec t = parse((*list)[i], Reader(where, file.parent_path()), host, i);
+      t.source = where;
+      if (t.name.empty()) t.name = stem + "-" + std::to_string(i + 1);
+      tests.push_back(std::move(t));
+    }
+  } else {
+    TestSpec t = parse(j, Reader(file.string(), file.parent_path()), host, 0);
+    t.source = file.string();
+    if (t.name.empty()) t.name = stem;
+    tests.push_back(std::move(t));
+  }
+  for (std::size_t i = 0; i < tests.size(); ++i)
+    for (std::size_t k = 0; k < i; ++k)
+      if (tests[i].name == tests[k].name)
+        throw InputError(tests[i].source + ": name: \"" + tests[i].name + "\" is already used by " + tests[k].source +
+                         " (each test writes to a folder of its name)");
+  return tests;
+}
+
+TestSpec parse_test(const std::string& json_text, const std::string& where, const PluginHost& host,
+                    const std::filesystem::path& base_dir) {
+  json j;
+  try {
+    j = json::parse(json_text);
+  } catch (const json::parse_error& e) {
+    throw InputError(where + ": invalid JSON: " + e.what());
+  }
+  TestSpec t = parse(j, Reader(where, base_dir), host, 0);
+  t.source = where;
+  if (t.name.empty()) t.name = "test";
+  return t;
+}
+
+namespace {
+json params_json(const ParameterValues& v) {
+  json out = json::object();
+  for (const auto& [k, x] : v.items()) out[k] = x;
+  return out;
+}
+template <class Base>
+json plugin_json(const Entry<Base>& e) {
+  return {{"plugin", e.plugin().name}, {"version", e.plugin().version}};
+}
+}  // namespace
+
+std::string resolved_json(const TestSpec& t, const PluginHost& host) {
+  json j;
+  j["name"] = t.name;
+  j["behavior"] = {{"name", t.behavior.name}, {"params", params_json(t.behavior.params)}};
+  const DroneConfig& d = t.drone;
+  j["drone"] = {{"name", d.name},           {"camera_range", d.camera_range}, {"obstacle_range", d.obstacle_range},
+                {"detection_range", d.detection_range}, {"max_speed", d.max_speed}, {"max_force", d.max_force},
+                {"radius", d.radius},       {"mass", d.mass},                 {"obstacle_rays", d.obstacle_rays}};
+  j["drones"] = t.drones;
+  j["map"] = {{"name", t.map.name}, {"params", params_json(t.map.params)}};
+  if (!t.map_file.empty()) j["map"]["file"] = t.map_file;
+  j["spawn"] = {{"mode", t.spawn_mode == SpawnMode::disc ? "disc" : "uniform"}, {"radius", t.spawn_radius}};
+  if (t.spawn) j["spawn"]["point"] = {t.spawn->x, t.spawn->y};
+  j["targets"] = {{"kind", t.target.name}, {"count", t.targets}, {"params", params_json(t.target.params)}};
+  j["contact_handlers"] = t.contact_handlers;
+  j["time"] = t.time;
+  j["dt"] = t.dt;
+  j["log_interval"] = t.log_interval;
+  j["velocity_iterations"] = t.velocity_iterations;
+  j["position_iterations"] = t.position_iterations;
+  j["seed"] = t.seed;
+  json versions = {{"salsa", salsa_version()}, {"behavior", plugin_json(host.behavior(t.behavior.name))},
+                   {"map", plugin_json(host.map(t.map.name))}};
+  if (t.targets > 0) versions["target"] = plugin_json(host.target_kind(t.target.name));
+  json handlers = json::array();
+  for (const auto& h : t.contact_handlers) handlers.push_back(plugin_json(host.contact_handler(h)));
+  versions["contact_handlers"] = handlers;
+  j["versions"] = versions;
+  return j.dump(2) + "\n";
+}
+
+SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int threads) {
+  SimulationSetup s;
+  try {
+    auto map = PluginHost::create(host.map(t.map.name), t.map.params);
+    Rng map_rng(t.seed, 0);
+    s.map = map->generate(t.map_file, map_rng);
+    s.behavior = PluginHost::create(host.behavior(t.behavior.name), t.behavior.params);
+    if (t.targets > 0) s.target_kind = PluginHost::create(host.target_kind(t.target.name), t.target.params);
+    for (const auto& h : t.contact_handlers)
+      s.contact_handlers.push_back(PluginHost::create(host.contact_handler(h), ParameterValues(host.contact_handler(h).factory.parameters)));
+  } catch (const MapError& e) {
+    throw InputError(e.what());
+  } catch (const std::exception& e) {
+    throw InputError(t.source + ": " + e.what());
+  }
+  s.spawn = t.spawn;
+  s.spawn_mode = t.spawn_mode;
+  s.spawn_radius = t.spawn_radius;
+  s.drone = t.drone;
+  s.drones = t.drones;
+  s.targets = t.targets;
+  s.dt = t.dt;
+  s.velocity_iterations = t.velocity_iterations;
+  s.position_iterations = t.position_iterations;
+  s.seed = t.seed;
+  s.threads = threads;
+  s.log_every = t.log_every();
+  // The spawn point must be free before anything is built on it.
+  const Vec2 spawn = t.spawn.value_or(s.map.spawn);
+  if (!StaticGeometry(s.map, std::max(t.drone.obstacle_range, 1.0)).is_free(spawn, t.drone.radius))
+    throw InputError(t.source + ": " + (t.spawn ? "spawn.point" : "map " + (t.map_file.empty() ? "'" + t.map.name + "'" : t.map_file)) +
+                     ": spawn point [" + num(spawn.x) + ", " + num(spawn.y) +
+                     "] is inside an obstacle or outside the bounds (allowed: free space, at least the drone radius " +
+                     num(t.drone.radius) + " m from any wall)");
+  return s;
+}
+
+bool is_map_file(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  try {
+    const json j = json::parse(in);
+    return j.is_object() && j.contains("bounds");
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+MapData load_map_file(const std::filesystem::path& file, const PluginHost& host, double drone_radius) {
+  MapData map;
+  try {
+    auto generator = PluginHost::create(host.map("json"), ParameterValues(host.map("json").factory.parameters));
+    Rng rng(0, 0);
+    map = generator->generate(file.string(), rng);
+  } catch (const MapError& e) {
+    throw InputError(e.what());
+  } catch (const std::exception& e) {
+    throw InputError(file.string() + ": " + e.what());
+  }
+  if (!StaticGeometry(map, 50).is_free(map.spawn, drone_radius))
+    throw InputError(file.string() + ": spawn: [" + num(map.spawn.x) + ", " + num(map.spawn.y) +
+                     "] is inside an obstacle or outside the bounds (allowed: free space, at least " + num(drone_radius) +
+                     " m from any wall)");
+  return map;
+}
+
+}  // namespace salsa

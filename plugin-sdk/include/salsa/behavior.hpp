@@ -1,0 +1,82 @@
+#pragma once
+// Behaviors: how a drone decides. `prepare` runs once per step, serially; `decide` runs once per drone
+// and may run in parallel, so it may only write that drone's own memory.
+#include <cstddef>
+#include <vector>
+
+#include "salsa/parameters.hpp"
+#include "salsa/rng.hpp"
+#include "salsa/world.hpp"
+
+namespace salsa {
+
+class Behavior : public Configurable {
+ public:
+  /// Shared state (a pheromone field, partitions) is updated here, once per step before any `decide`.
+  virtual void prepare(const WorldView&) {}
+  /// Desired steering for one drone: a velocity change for this step (m/s). The core clamps it to the
+  /// drone's max force, adds it to the velocity and clamps the speed to max speed.
+  virtual Vec2 decide(const Perception& me, Rng& rng) = 0;
+  /// Drones were (re)spawned: `drones` drones with ids 0..drones-1 and fresh memory.
+  virtual void reset(std::size_t drones) { (void)drones; }
+};
+
+/// A behavior with per-drone memory `Memory`, one slot per drone, owned and sized by the core through
+/// `reset`; `decide` gets the slot of the drone it decides for.
+template <class Memory>
+class BehaviorWithMemory : public Behavior {
+ public:
+  virtual Vec2 decide(const Perception& me, Memory& memory, Rng& rng) = 0;
+  Vec2 decide(const Perception& me, Rng& rng) final { return decide(me, memory_[me.id], rng); }
+  void reset(std::size_t drones) override { memory_.assign(drones, Memory{}); }
+
+ protected:
+  const std::vector<Memory>& memory() const { return memory_; }
+
+ private:
+  std::vector<Memory> memory_;
+};
+
+// ---- Steering helpers (Reynolds' steering, as the SALSA paper's Behavior class offers) ----
+
+/// Steering that turns the velocity towards `desired` (m/s), at most max force.
+inline Vec2 steer_towards(const Perception& me, Vec2 desired) {
+  return (desired - me.velocity).clamped(me.max_force);
+}
+/// Full speed towards a point.
+inline Vec2 seek(const Perception& me, Vec2 point) {
+  return steer_towards(me, (point - me.position).with_length(me.max_speed));
+}
+/// Full speed along `direction` (any length); zero when the direction is zero.
+inline Vec2 steer_along(const Perception& me, Vec2 direction) {
+  return direction.is_zero() ? Vec2{} : steer_towards(me, direction.with_length(me.max_speed));
+}
+/// Match the neighbours' mean velocity.
+inline Vec2 alignment(const Perception& me) {
+  Vec2 sum;
+  for (const auto& n : me.neighbours) sum += n.velocity;
+  return steer_along(me, sum);
+}
+/// Fly towards the neighbours' centre.
+inline Vec2 cohesion(const Perception& me) {
+  if (me.neighbours.empty()) return {};
+  Vec2 sum;
+  for (const auto& n : me.neighbours) sum += n.position;
+  return steer_along(me, sum / static_cast<double>(me.neighbours.size()) - me.position);
+}
+/// Fly away from neighbours closer than `distance` m, weighting each by 1/d.
+inline Vec2 avoid_drones(const Perception& me, double distance) {
+  Vec2 sum;
+  for (const auto& n : me.neighbours)
+    if (n.distance > 0 && n.distance < distance) sum += (me.position - n.position).normalized() / n.distance;
+  return steer_along(me, sum);
+}
+/// Fly away from the obstacle points the rays hit, weighting each by 1/d.
+inline Vec2 avoid_obstacles(const Perception& me) {
+  Vec2 sum;
+  for (const auto& h : me.obstacles)
+    if (h.distance > 0) sum += (me.position - h.point).normalized() / h.distance;
+  return steer_along(me, sum);
+}
+
+}  // namespace salsa

@@ -1,0 +1,103 @@
+// Pheromone avoidance: drones mark the ground they fly over in a shared, evaporating field and steer
+// towards the least-marked direction ahead, so the swarm spreads over ground nobody visited lately.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <salsa/sdk.hpp>
+
+namespace {
+
+class PheromoneAvoidance final : public salsa::Behavior {
+ public:
+  static salsa::Parameters declare() {
+    return {
+        {"cell_size", 10.0, 1.0, 1000.0, "m", "side of one cell of the pheromone field"},
+        {"deposit", 1.0, 0.001, 1000.0, "", "pheromone a drone adds to its cell each step"},
+        {"evaporation_rate", 0.01, 0.0, 10.0, "1/s", "exponential decay rate of the pheromone"},
+        {"look_ahead", 30.0, 1.0, 1000.0, "m", "how far ahead the field is sampled"},
+        {"directions", 8, 3, 64, "", "directions sampled around the current heading", 1},
+        {"obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"},
+    };
+  }
+
+  void prepare(const salsa::WorldView& world) override {
+    if (cells_.empty() || world.bounds() != bounds_ || cell_size_ != built_cell_size_) build(world.bounds());
+    const double t = world.time();
+    for (salsa::Vec2 p : world.drone_positions()) {  // O(drones): cells decay lazily, never swept
+      Cell& c = cells_[index(p)];
+      c.value = c.value * decay(t - c.time) + deposit_;
+      c.time = t;
+    }
+  }
+
+  salsa::Vec2 decide(const salsa::Perception& me, salsa::Rng& rng) override {
+    const double heading = me.velocity.is_zero() ? rng.angle() : me.velocity.angle();
+    double best_score = 0;
+    salsa::Vec2 best;
+    for (int k = 0; k < directions_; ++k) {
+      const double turn = 2 * salsa::pi * k / directions_;
+      const salsa::Vec2 dir = salsa::Vec2::polar(1, heading + turn);
+      const salsa::Vec2 ahead = me.position + dir * look_ahead_;
+      // Marks in deposits; leaving the area or flying at a near obstacle counts as maximally marked.
+      double score = bounds_.contains(ahead) ? marks(ahead, me.time) / deposit_ : kBlocked;
+      for (const auto& h : me.obstacles)
+        if (h.distance < look_ahead_ && dir.dot(h.point - me.position) > cone_ * h.distance) score += kBlocked;
+      // Ties (untouched ground) go to the smallest turn, so drones keep straight; jitter breaks symmetry.
+      score += (1 - std::cos(turn)) / 2 + rng.uniform(0, 0.1);
+      if (k == 0 || score < best_score) best_score = score, best = dir;
+    }
+    return salsa::steer_along(me, best) + obstacle_weight_ * salsa::avoid_obstacles(me);
+  }
+
+  void reset(std::size_t) override { cells_.clear(); }  // a fresh run starts with a clean field
+
+ protected:
+  void configure() override {
+    cell_size_ = param("cell_size");
+    deposit_ = param("deposit");
+    rate_ = param("evaporation_rate");
+    look_ahead_ = param("look_ahead");
+    directions_ = static_cast<int>(param("directions"));
+    cone_ = std::cos(2 * salsa::pi / directions_);
+    obstacle_weight_ = param("obstacle_avoidance_weight");
+  }
+
+ private:
+  struct Cell {
+    double value = 0;  // pheromone at `time`
+    double time = 0;   // s, when `value` was last brought up to date
+  };
+  static constexpr double kBlocked = 1e9;
+  static constexpr double kMaxCells = 1 << 22;  // 64 MiB at most; huge maps get coarser cells
+
+  void build(const salsa::Rect& b) {
+    bounds_ = b;
+    built_cell_size_ = cell_size_;
+    cell_ = std::max(cell_size_, std::sqrt(b.area() / kMaxCells));
+    cols_ = static_cast<int>(std::ceil(b.width() / cell_)) + 1;
+    rows_ = static_cast<int>(std::ceil(b.height() / cell_)) + 1;
+    cells_.assign(static_cast<std::size_t>(cols_) * rows_, Cell{});
+  }
+  std::size_t index(salsa::Vec2 p) const {
+    const int x = std::clamp(static_cast<int>((p.x - bounds_.min.x) / cell_), 0, cols_ - 1);
+    const int y = std::clamp(static_cast<int>((p.y - bounds_.min.y) / cell_), 0, rows_ - 1);
+    return static_cast<std::size_t>(y) * cols_ + x;
+  }
+  double decay(double elapsed) const { return rate_ > 0 ? std::exp(-rate_ * elapsed) : 1.0; }
+  double marks(salsa::Vec2 p, double t) const {
+    const Cell& c = cells_[index(p)];
+    return c.value > 0 ? c.value * decay(t - c.time) : 0.0;
+  }
+
+  double cell_size_ = 10, deposit_ = 1, rate_ = 0, look_ahead_ = 30, cone_ = 0, obstacle_weight_ = 0;
+  int directions_ = 8;
+  salsa::Rect bounds_;
+  double cell_ = 10, built_cell_size_ = 0;
+  int cols_ = 0, rows_ = 0;
+  std::vector<Cell> cells_;
+};
+
+}  // namespace
+
+SALSA_BEHAVIOR(PheromoneAvoidance, "pheromone_avoidance", "Steers towards the least recently visited ground")

@@ -1,0 +1,89 @@
+// Forest: clusters of convex obstacles (rocks, buildings) scattered over a square, with a clear disc
+// around the spawn point. Obstacles lie inside the bounds and never overlap: their bounding circles
+// are kept `gap` apart (and from the walls) so drones can pass between them.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include <salsa/sdk.hpp>
+
+namespace {
+
+class ForestMap final : public salsa::MapGenerator {
+ public:
+  static salsa::Parameters declare() {
+    return {
+        {"size", 500.0, 50.0, 1e5, "m", "side of the square"},
+        {"clusters", 12, 0, 1000, "", "number of obstacle clusters", 1},
+        {"obstacles_per_cluster", 4, 1, 100, "", "obstacles tried per cluster (fewer if they do not fit)", 1},
+        {"min_obstacle_size", 8.0, 1.0, 1000.0, "m", "smallest obstacle diameter"},
+        {"max_obstacle_size", 25.0, 1.0, 1000.0, "m", "largest obstacle diameter"},
+        {"cluster_radius", 40.0, 0.0, 1e4, "m", "obstacles lie within this distance of their cluster's centre"},
+        {"clear_radius", 30.0, 0.0, 1e4, "m", "no obstacle within this distance of the spawn point"},
+        {"gap", 4.0, 0.0, 100.0, "m", "least free space between obstacles, and between obstacles and walls"},
+    };
+  }
+
+  salsa::MapData generate(const std::string&, salsa::Rng& rng) const override {
+    const double size = param("size"), min_size = param("min_obstacle_size"), gap = param("gap");
+    const double max_size = std::max(min_size, param("max_obstacle_size"));
+    const double cluster_radius = param("cluster_radius"), clear = param("clear_radius");
+    salsa::MapData map;
+    map.bounds = {{0, 0}, {size, size}};
+    map.spawn = map.bounds.centre();
+
+    // Placed bounding circles in a hash grid whose cells are as wide as any overlap distance, so an
+    // overlap test looks at 3 × 3 cells instead of every obstacle.
+    struct Circle { salsa::Vec2 c; double r; };
+    const double cell = max_size + gap;
+    std::unordered_map<std::uint64_t, std::vector<Circle>> placed;
+    auto key = [&](long long cx, long long cy) { return static_cast<std::uint64_t>(cx) << 32 ^ static_cast<std::uint32_t>(cy); };
+    auto fits = [&](salsa::Vec2 c, double r) {
+      if (c.x - r - gap < 0 || c.y - r - gap < 0 || c.x + r + gap > size || c.y + r + gap > size) return false;
+      if (salsa::distance(c, map.spawn) < clear + r) return false;
+      const auto cx = static_cast<long long>(c.x / cell), cy = static_cast<long long>(c.y / cell);
+      for (long long x = cx - 1; x <= cx + 1; ++x)
+        for (long long y = cy - 1; y <= cy + 1; ++y)
+          if (auto it = placed.find(key(x, y)); it != placed.end())
+            for (const Circle& o : it->second)
+              if (salsa::distance(c, o.c) < r + o.r + gap) return false;
+      return true;
+    };
+
+    const auto clusters = static_cast<int>(param("clusters"));
+    const auto per_cluster = static_cast<int>(param("obstacles_per_cluster"));
+    for (int k = 0; k < clusters; ++k) {
+      const salsa::Vec2 centre = rng.in_rect(map.bounds);
+      for (int i = 0; i < per_cluster; ++i)
+        for (int attempt = 0; attempt < 20; ++attempt) {
+          const double r = rng.uniform(min_size, max_size) / 2;
+          const salsa::Vec2 c = rng.in_disc(centre, cluster_radius);
+          if (!fits(c, r)) continue;
+          placed[key(static_cast<long long>(c.x / cell), static_cast<long long>(c.y / cell))].push_back({c, r});
+          map.obstacles.push_back(polygon(c, r, rng));
+          break;
+        }
+    }
+    return map;
+  }
+
+ private:
+  // 3–8 vertices at increasing angles on a squashed, rotated circle of radius r: convex and CCW
+  // (an affine map with positive determinant keeps both), and inside the bounding circle.
+  static salsa::Polyline polygon(salsa::Vec2 c, double r, salsa::Rng& rng) {
+    const int n = 3 + static_cast<int>(rng.index(6));
+    const double aspect = rng.uniform(0.5, 1.0), rotation = rng.angle(), phase = rng.angle();
+    salsa::Polyline points;
+    for (int v = 0; v < n; ++v) {
+      const double a = phase + 2 * salsa::pi * (v + rng.uniform(-0.3, 0.3)) / n;
+      points.push_back(c + salsa::Vec2{r * std::cos(a), aspect * r * std::sin(a)}.rotated(rotation));
+    }
+    return points;
+  }
+};
+
+}  // namespace
+
+SALSA_MAP(ForestMap, "forest", "Clusters of convex rocks and buildings, clear around the spawn point")
