@@ -18,7 +18,7 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Walk> {
  public:
   static salsa::Parameters declare() {
     return {
-        {"point_speed", 5.0, 0.1, 100.0, "m/s", "top speed of the virtual points while they spread"},
+        {"point_speed", 8.0, 0.1, 100.0, "m/s", "top speed of the virtual points while they spread"},
         {"cutoff", 1.5, 0.5, 3.0, "", "points repel within this multiple of the equilibrium spacing"},
         {"arrival_fraction", 0.3, 0.01, 1.0, "", "within this fraction of the spacing a drone wanders around its point"},
         {"turn_interval", 3.0, 0.1, 60.0, "s", "mean time between heading changes around the point"},
