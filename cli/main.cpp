@@ -9,6 +9,7 @@
 #include "salsa/core/plugin_host.hpp"
 #include "salsa/core/runner.hpp"
 #include "salsa/core/test_spec.hpp"
+#include "commands.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -239,6 +240,7 @@ int main(int argc, char** argv) {
     if (command == "validate") return cmd_validate(argc - 1, argv + 1);
     if (command == "plugins") return cmd_plugins(argc - 1, argv + 1);
     if (command == "describe") return cmd_describe(argc - 1, argv + 1);
+    if (command == "bench") return cmd_bench(argc - 1, argv + 1);
     std::cerr << "salsa: unknown command '" << command << "' (allowed: run, validate, plugins, describe, bench)\n";
     return 2;
   } catch (const po::error& e) {

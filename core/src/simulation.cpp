@@ -3,6 +3,7 @@
 #include <box2d/box2d.h>
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_group.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include <chrono>
@@ -93,6 +94,17 @@ struct Simulation::Parallel {
   tbb::enumerable_thread_specific<Scratch> scratch;
   explicit Parallel(int threads) : arena(threads > 0 ? threads : tbb::task_arena::automatic) {}
 
+  /// Runs `side` (one long serial job) while this thread goes on with `main`; both done on return.
+  template <class Side, class Main>
+  void overlap(Side&& side, Main&& main) {
+    arena.execute([&] {
+      tbb::task_group group;
+      group.run(side);  // the oldest task: the first a free worker steals
+      main();
+      group.wait();
+    });
+  }
+
   /// fn(i, scratch) for i in [0, n), spread over the arena's threads.
   template <class Fn>
   void for_each(std::size_t n, Fn&& fn) {
@@ -133,8 +145,6 @@ void Simulation::build_world() {
   spawn_rng_ = Rng(setup_.seed, spawn_stream);
   spawn_drones(0, n);
   place_targets();
-  scan_targets();
-  dispatch_contacts();
 }
 
 Vec2 Simulation::spawn_position(std::size_t total) {
@@ -198,7 +208,6 @@ void Simulation::set_drone_count(std::size_t n) {
   } else {
     spawn_drones(positions_.size(), n);
   }
-  scan_targets();
 }
 
 void Simulation::set_drone_config(const DroneConfig& config) {
@@ -208,7 +217,6 @@ void Simulation::set_drone_config(const DroneConfig& config) {
     physics_->add_drone(static_cast<std::uint32_t>(i), positions_[i], velocities_[i].clamped(config.max_speed), config);
   hits_.assign(positions_.size() * static_cast<std::size_t>(std::max(config.obstacle_rays, 0)), {});
   place_targets();  // the camera range sizes the target grid
-  scan_targets();
 }
 
 void Simulation::set_behavior(std::shared_ptr<Behavior> behavior) {
@@ -227,42 +235,66 @@ void Simulation::set_targets(std::shared_ptr<TargetKind> kind, std::size_t count
   setup_.target_kind = std::move(kind);
   setup_.targets = count;
   place_targets();
-  scan_targets();
 }
 
 // ---------------------------------------------------------------- one step
 
+double Simulation::timed(Phase phase, const auto& fn) {
+  const auto start = std::chrono::steady_clock::now();
+  fn();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  profile_[static_cast<std::size_t>(phase)] += seconds;
+  return seconds;
+}
+
 void Simulation::step() {
-  using clock = std::chrono::steady_clock;
-  auto timed = [this](Phase phase, auto&& fn) {
-    const auto start = clock::now();
-    fn();
-    profile_[static_cast<std::size_t>(phase)] += std::chrono::duration<double>(clock::now() - start).count();
-  };
-  timed(Phase::sense, [this] { sense(); });
-  timed(Phase::decide, [this] { decide(); });
-  timed(Phase::act, [this] { act(); });
-  timed(Phase::physics, [this] { physics(); });
+  if (setup_.decision_lag == 0) {
+    timed(Phase::sense, [this] { sense(); });
+    timed(Phase::decide, [this] { decide(); });
+    timed(Phase::act, [this] { act(); });
+    timed(Phase::physics, [this] { physics(); });
+  } else {
+    // Last step's decisions go to Box2D; while it steps, the drones sense and decide on the snapshot
+    // of positions it started from. Nothing here writes what the other side reads.
+    timed(Phase::act, [this] { act(); });
+    parallel_->overlap([this] { timed(Phase::physics, [this] { physics(); }); },
+                       [this] {
+                         timed(Phase::sense, [this] { sense(); });
+                         timed(Phase::decide, [this] { decide(); });
+                       });
+  }
+  ++steps_;
+  read_back();
   timed(Phase::detect, [this] { detect(); });
   timed(Phase::observe, [this] { observe(); });
 }
 
-// Sense: index the drones for neighbour queries and cast each drone's obstacle rays against static
-// geometry. Neighbours and targets are gathered per drone in `decide`, where they stay in cache.
+// Sense: index the drones for neighbour queries, cast each drone's obstacle rays against static
+// geometry and find the targets in its camera view. Neighbours are gathered per drone in `decide`,
+// where they stay in cache.
 void Simulation::sense() {
   const DroneConfig& cfg = setup_.drone;
   drone_grid_.build(positions_, cfg.detection_range);
   const int rays = std::max(cfg.obstacle_rays, 0);
+  seen_.resize(positions_.size());
+  const TargetKind* kind = targets_.empty() ? nullptr : setup_.target_kind.get();
+  const double reach = kind ? cfg.camera_range + kind->radius() : 0;
   parallel_->for_each(positions_.size(), [&](std::uint32_t i, Scratch& s) {
+    const Vec2 p = positions_[i];
     std::uint8_t count = 0;
-    geometry_.candidates(positions_[i], cfg.obstacle_range, s.segment_ids);
+    geometry_.candidates(p, cfg.obstacle_range, s.segment_ids);
     if (!s.segment_ids.empty())
       for (int k = 0; k < rays; ++k) {
         const Vec2 direction = Vec2::polar(1, 2 * pi * k / rays);
-        if (auto hit = geometry_.ray_cast(positions_[i], direction, cfg.obstacle_range, s.segment_ids))
+        if (auto hit = geometry_.ray_cast(p, direction, cfg.obstacle_range, s.segment_ids))
           hits_[static_cast<std::size_t>(i) * rays + count++] = *hit;
       }
     hit_counts_[i] = count;
+    seen_[i].clear();
+    if (kind)
+      target_grid_.query(p, reach, [&](std::uint32_t t, Vec2, double d2) {
+        if (const double d = std::sqrt(d2); kind->in_view(d, cfg.camera_range)) seen_[i].emplace_back(t, d);
+      });
   });
 }
 
@@ -274,10 +306,7 @@ Perception Simulation::perceive(std::uint32_t id, Scratch& s) const {
     if (j != id) s.neighbours.push_back({q, velocities_[j], std::sqrt(d2), j});
   });
   s.targets.clear();
-  for (std::uint32_t k = seen_start_[id]; k < seen_start_[id + 1]; ++k) {
-    const auto [t, d] = seen_[k];
-    s.targets.push_back({targets_[t].position, d, t, targets_[t].found()});
-  }
+  for (const auto& [t, d] : seen_[id]) s.targets.push_back({targets_[t].position, d, t, targets_[t].found()});
   const std::size_t rays = static_cast<std::size_t>(std::max(cfg.obstacle_rays, 0));
   Perception me;
   me.id = id;
@@ -326,8 +355,6 @@ void Simulation::act() {
 void Simulation::physics() {
   physics_->begun.clear();
   physics_->world.Step(static_cast<float>(setup_.dt), setup_.velocity_iterations, setup_.position_iterations);
-  ++steps_;
-  read_back();
 }
 
 void Simulation::read_back() {
@@ -335,41 +362,6 @@ void Simulation::read_back() {
     positions_[i] = from_b2(physics_->bodies[i]->GetPosition());
     velocities_[i] = from_b2(physics_->bodies[i]->GetLinearVelocity());
   }
-}
-
-// Detect: which targets each drone sees now, then every event to the contact handlers in a fixed order
-// (targets by drone, then collisions in Box2D's order).
-void Simulation::detect() {
-  scan_targets();
-  for (ContactEvent e : physics_->begun) {
-    e.time = time();
-    events_.push_back(e);
-    ++collisions_;
-  }
-  dispatch_contacts();
-}
-
-void Simulation::scan_targets() {
-  const std::size_t n = positions_.size();
-  seen_start_.assign(n + 1, 0);
-  seen_.clear();
-  events_.clear();
-  const TargetKind* kind = setup_.target_kind.get();
-  if (kind && !targets_.empty()) {
-    const double camera = setup_.drone.camera_range;
-    const double reach = camera + kind->radius();
-    for (std::uint32_t i = 0; i < n; ++i) {
-      seen_start_[i] = static_cast<std::uint32_t>(seen_.size());
-      target_grid_.query(positions_[i], reach, [&](std::uint32_t t, Vec2 q, double d2) {
-        const double d = std::sqrt(d2);
-        if (!kind->in_view(d, camera)) return;
-        seen_.emplace_back(t, d);
-        ++targets_[t].observations;
-        events_.push_back({ContactKind::target_in_view, i, t, q, time()});
-      });
-    }
-  }
-  seen_start_[n] = static_cast<std::uint32_t>(seen_.size());
 }
 
 namespace {
@@ -391,11 +383,24 @@ class Actions final : public ContactActions {
 };
 }  // namespace
 
-void Simulation::dispatch_contacts() {
-  if (setup_.contact_handlers.empty() || events_.empty()) return;
-  Actions actions(targets_, found_count_, time());
-  for (const ContactEvent& e : events_)
+// Detect: events to the contact handlers in a fixed order: the targets each drone had in view when it
+// sensed (by drone), then the contacts Box2D began (in its order).
+void Simulation::detect() {
+  const double sensed_at = time() - setup_.dt;
+  Actions on_sensed(targets_, found_count_, sensed_at), on_contact(targets_, found_count_, time());
+  auto dispatch = [&](const ContactEvent& e, Actions& actions) {
     for (const auto& handler : setup_.contact_handlers) handler->on_contact(e, actions);
+  };
+  for (std::uint32_t i = 0; i < seen_.size(); ++i)
+    for (const auto& [t, d] : seen_[i]) {
+      ++targets_[t].observations;
+      dispatch({ContactKind::target_in_view, i, t, targets_[t].position, sensed_at}, on_sensed);
+    }
+  for (ContactEvent e : physics_->begun) {
+    e.time = time();
+    ++collisions_;
+    dispatch(e, on_contact);
+  }
 }
 
 void Simulation::observe() {

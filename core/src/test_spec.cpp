@@ -166,7 +166,7 @@ Vec2 point(const json& v, const Reader& r, const std::string& field) {
 TestSpec parse(const json& j, const Reader& r, const PluginHost& host, std::size_t index) {
   r.only_keys(j, "", {"name", "behavior", "drone", "drone_configs", "drones", "map", "spawn", "targets",
                       "contact_handlers", "time", "dt", "log_interval", "velocity_iterations",
-                      "position_iterations", "seed", "versions"});
+                      "position_iterations", "decision_lag", "seed", "versions"});
   TestSpec t;
   t.seed = 1 + index;
   if (j.contains("name")) {
@@ -274,6 +274,7 @@ TestSpec parse(const json& j, const Reader& r, const PluginHost& host, std::size
   if (j.contains("log_interval")) t.log_interval = r.number(j["log_interval"], "log_interval", t.dt, 1e7, "s");
   if (j.contains("velocity_iterations")) t.velocity_iterations = static_cast<int>(r.integer(j["velocity_iterations"], "velocity_iterations", 1, 100));
   if (j.contains("position_iterations")) t.position_iterations = static_cast<int>(r.integer(j["position_iterations"], "position_iterations", 1, 100));
+  if (j.contains("decision_lag")) t.decision_lag = static_cast<int>(r.integer(j["decision_lag"], "decision_lag", 0, 1));
   if (j.contains("seed")) t.seed = r.integer(j["seed"], "seed", 0, 9007199254740992.0);
   return t;
 }
@@ -360,6 +361,7 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   j["log_interval"] = t.log_interval;
   j["velocity_iterations"] = t.velocity_iterations;
   j["position_iterations"] = t.position_iterations;
+  j["decision_lag"] = t.decision_lag;
   j["seed"] = t.seed;
   json versions = {{"salsa", salsa_version()}, {"behavior", plugin_json(host.behavior(t.behavior.name))},
                    {"map", plugin_json(host.map(t.map.name))}};
@@ -395,6 +397,7 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   s.dt = t.dt;
   s.velocity_iterations = t.velocity_iterations;
   s.position_iterations = t.position_iterations;
+  s.decision_lag = t.decision_lag;
   s.seed = t.seed;
   s.threads = threads;
   s.log_every = t.log_every();

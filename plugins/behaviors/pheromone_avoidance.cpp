@@ -17,6 +17,7 @@ class PheromoneAvoidance final : public salsa::Behavior {
         {"evaporation_rate", 0.01, 0.0, 10.0, "1/s", "exponential decay rate of the pheromone"},
         {"look_ahead", 30.0, 1.0, 1000.0, "m", "how far ahead the field is sampled"},
         {"directions", 8, 3, 64, "", "directions sampled around the current heading", 1},
+        {"turn_cost", 2.0, 0.0, 20.0, "", "penalty of a 90° turn against log(1 + marks / deposit): higher flies straighter"},
         {"obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"},
     };
   }
@@ -32,19 +33,20 @@ class PheromoneAvoidance final : public salsa::Behavior {
   }
 
   salsa::Vec2 decide(const salsa::Perception& me, salsa::Rng& rng) override {
-    const double heading = me.velocity.is_zero() ? rng.angle() : me.velocity.angle();
+    const salsa::Vec2 heading = me.velocity.is_zero() ? salsa::Vec2::polar(1, rng.angle()) : me.velocity.normalized();
     double best_score = 0;
     salsa::Vec2 best;
-    for (int k = 0; k < directions_; ++k) {
-      const double turn = 2 * salsa::pi * k / directions_;
-      const salsa::Vec2 dir = salsa::Vec2::polar(1, heading + turn);
+    for (std::size_t k = 0; k < turns_.size(); ++k) {
+      const salsa::Vec2 dir{heading.x * turns_[k].x - heading.y * turns_[k].y,
+                            heading.x * turns_[k].y + heading.y * turns_[k].x};  // heading rotated by turn k
       const salsa::Vec2 ahead = me.position + dir * look_ahead_;
-      // Marks in deposits; leaving the area or flying at a near obstacle counts as maximally marked.
-      double score = bounds_.contains(ahead) ? marks(ahead, me.time) / deposit_ : kBlocked;
+      // Log scale: fresh ground beats marked ground clearly, but among marked directions the turn cost
+      // wins, so drones cross trodden ground in straight lines instead of circling in it. Leaving the
+      // area or flying at a near obstacle counts as maximally marked.
+      double score = bounds_.contains(ahead) ? std::log1p(marks(ahead, me.time) / deposit_) : kBlocked;
       for (const auto& h : me.obstacles)
         if (h.distance < look_ahead_ && dir.dot(h.point - me.position) > cone_ * h.distance) score += kBlocked;
-      // Ties (untouched ground) go to the smallest turn, so drones keep straight; jitter breaks symmetry.
-      score += (1 - std::cos(turn)) / 2 + rng.uniform(0, 0.1);
+      score += turn_cost_ * (1 - turns_[k].x) + rng.uniform(0, 0.1);  // jitter breaks symmetric ties
       if (k == 0 || score < best_score) best_score = score, best = dir;
     }
     return salsa::steer_along(me, best) + obstacle_weight_ * salsa::avoid_obstacles(me);
@@ -58,9 +60,12 @@ class PheromoneAvoidance final : public salsa::Behavior {
     deposit_ = param("deposit");
     rate_ = param("evaporation_rate");
     look_ahead_ = param("look_ahead");
-    directions_ = static_cast<int>(param("directions"));
-    cone_ = std::cos(2 * salsa::pi / directions_);
+    turn_cost_ = param("turn_cost");
     obstacle_weight_ = param("obstacle_avoidance_weight");
+    const auto n = static_cast<int>(param("directions"));
+    turns_.clear();  // (cos, sin) of each sampled turn, so decide needs no trigonometry
+    for (int k = 0; k < n; ++k) turns_.push_back(salsa::Vec2::polar(1, 2 * salsa::pi * k / n));
+    cone_ = std::cos(2 * salsa::pi / n);  // a hit within one sector of a direction blocks it
   }
 
  private:
@@ -90,8 +95,8 @@ class PheromoneAvoidance final : public salsa::Behavior {
     return c.value > 0 ? c.value * decay(t - c.time) : 0.0;
   }
 
-  double cell_size_ = 10, deposit_ = 1, rate_ = 0, look_ahead_ = 30, cone_ = 0, obstacle_weight_ = 0;
-  int directions_ = 8;
+  double cell_size_ = 10, deposit_ = 1, rate_ = 0, look_ahead_ = 30, turn_cost_ = 2, cone_ = 0, obstacle_weight_ = 0;
+  std::vector<salsa::Vec2> turns_;
   salsa::Rect bounds_;
   double cell_ = 10, built_cell_size_ = 0;
   int cols_ = 0, rows_ = 0;

@@ -47,6 +47,10 @@ struct SimulationSetup {
   std::uint64_t seed = 1;
   int threads = 0;                    ///< worker threads for `decide`; 0: all cores
   std::size_t log_every = 60;         ///< steps between observer calls
+  /// 1: a decision takes effect one step later (as in ARGoS), so Box2D steps on one core while the
+  /// drones sense and decide on the others. 0: it takes effect in the step it was made (all phases in
+  /// sequence; slower on several cores).
+  int decision_lag = 1;
 };
 
 /// Step phases, timed separately (DESIGN §3).
@@ -120,13 +124,12 @@ class Simulation final : public WorldView {
   void observe();
 
   void build_world();
-  void scan_targets();
-  void dispatch_contacts();
   void spawn_drones(std::size_t from, std::size_t to);
   void place_targets();
   Vec2 spawn_position(std::size_t total);
   Perception perceive(std::uint32_t id, Scratch& scratch) const;
   void read_back();
+  double timed(Phase phase, const auto& fn);
 
   SimulationSetup setup_;
   Vec2 spawn_;
@@ -144,11 +147,9 @@ class Simulation final : public WorldView {
   // Targets.
   std::vector<TargetState> targets_;
   PointGrid target_grid_;
-  std::vector<std::uint32_t> seen_start_;  ///< per drone, into seen_ (CSR)
-  std::vector<std::pair<std::uint32_t, double>> seen_;  ///< (target, distance)
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> seen_;  ///< per drone: (target, distance) in view
   std::size_t found_count_ = 0;
 
-  std::vector<ContactEvent> events_;
   std::vector<Observer*> observers_;
   Rng spawn_rng_;
   std::uint64_t steps_ = 0;

@@ -43,6 +43,7 @@ struct TestSpec {
   double log_interval = 1;          ///< s between logged rows
   int velocity_iterations = 8;
   int position_iterations = 3;
+  int decision_lag = 1;             ///< steps until a decision takes effect (SimulationSetup)
   std::uint64_t seed = 1;
 
   std::size_t steps() const;

@@ -1,0 +1,208 @@
+// salsa bench: whole-workload speed figures (../shared/workloads/table1.md), beside the Box2D floor.
+#include <boost/program_options.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include <oneapi/tbb/info.h>
+
+#include "commands.hpp"
+#include "salsa/core/bench.hpp"
+#include "salsa/core/test_spec.hpp"
+
+namespace po = boost::program_options;
+using namespace salsa;
+
+namespace {
+
+struct Cell {
+  std::size_t drones, targets;
+};
+
+struct Stats {
+  double mean = 0, min = 0, max = 0;
+};
+Stats stats(const std::vector<double>& v) {
+  Stats s{0, *std::min_element(v.begin(), v.end()), *std::max_element(v.begin(), v.end())};
+  for (double x : v) s.mean += x;
+  s.mean /= static_cast<double>(v.size());
+  return s;
+}
+
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown CPU";
+}
+
+std::vector<Cell> parse_cells(const std::string& text) {
+  std::vector<Cell> cells;
+  std::stringstream list(text);
+  for (std::string item; std::getline(list, item, ',');) {
+    const auto x = item.find('x');
+    try {
+      if (x == std::string::npos) throw std::invalid_argument(item);
+      cells.push_back({std::stoul(item.substr(0, x)), std::stoul(item.substr(x + 1))});
+      if (cells.back().drones == 0 || cells.back().drones > 1'000'000 || cells.back().targets > 10'000'000)
+        throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      throw InputError("--cells: '" + item + "' is not DRONESxTARGETS (allowed: 1..1000000 drones, 0..10000000 targets, e.g. 100x1000)");
+    }
+  }
+  return cells;
+}
+
+}  // namespace
+
+int cmd_bench(int argc, char** argv) {
+  po::options_description o("bench options");
+  o.add_options()("help,h", "show this help")("workload", po::value<std::string>(), "table1 or scale")(
+      "cells", po::value<std::string>(), "table1 cells DRONESxTARGETS, comma-separated (default: the 12 cells of Table I)")(
+      "sizes", po::value<std::string>()->default_value("1000,10000,100000"), "scale: drone counts")(
+      "seeds", po::value<int>(), "seeds 1..N per cell (default: 5 for table1, 1 for scale)")(
+      "threads", po::value<int>()->default_value(0), "decide threads (0: all cores)")(
+      "time", po::value<double>(), "simulated seconds per run (default: 100 for table1, 10 for scale)")(
+      "floor", "also time the bare-Box2D floor of each cell and print the ratio")(
+      "profile", "print the time spent in each step phase")("json", po::value<std::string>(), "write all figures to this JSON file")(
+      "plugin-dir", po::value<std::vector<std::string>>()->composing(), "also search this folder for plugins");
+  po::positional_options_description pos;
+  pos.add("workload", 1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(argc, argv).options(o).positional(pos).run(), vm);
+  po::notify(vm);
+  if (vm.count("help") || !vm.count("workload")) {
+    std::cout << "usage: salsa bench table1|scale [options]\n\n" << o;
+    return vm.count("help") ? 0 : 2;
+  }
+  const std::string workload = vm["workload"].as<std::string>();
+  if (workload != "table1" && workload != "scale")
+    throw InputError("bench: unknown workload '" + workload + "' (allowed: table1, scale)");
+  const bool is_table1 = workload == "table1";
+  const int threads = vm["threads"].as<int>();
+  if (threads < 0 || threads > 1024) throw InputError("--threads: " + std::to_string(threads) + " is out of range (allowed: 0 to 1024)");
+  const int seeds = vm.count("seeds") ? vm["seeds"].as<int>() : (is_table1 ? 5 : 1);
+  if (seeds < 1 || seeds > 1000) throw InputError("--seeds: " + std::to_string(seeds) + " is out of range (allowed: 1 to 1000)");
+  const double sim_time = vm.count("time") ? vm["time"].as<double>() : (is_table1 ? 100.0 : 10.0);
+  if (!(sim_time >= 1.0 / 60 && sim_time <= 1e5)) throw InputError("--time: out of range (allowed: 1/60 to 100000 s)");
+  const bool floor = vm.count("floor"), profile = vm.count("profile");
+
+  std::vector<Cell> cells;
+  if (!is_table1) {
+    for (const Cell& c : parse_cells([&] {
+           std::string s = vm["sizes"].as<std::string>(), out;
+           std::stringstream in(s);
+           for (std::string n; std::getline(in, n, ',');) out += (out.empty() ? "" : ",") + n + "x0";
+           return out;
+         }()))
+      cells.push_back({c.drones, 10 * c.drones});
+  } else if (vm.count("cells")) {
+    cells = parse_cells(vm["cells"].as<std::string>());
+  } else {
+    for (std::size_t n : {10, 100, 500, 1000})
+      for (std::size_t m : {100, 1000, 10000}) cells.push_back({n, m});
+  }
+
+  PluginHost host;
+  std::vector<std::filesystem::path> extra;
+  if (vm.count("plugin-dir"))
+    for (const auto& d : vm["plugin-dir"].as<std::vector<std::string>>()) extra.emplace_back(d);
+  host.load(PluginHost::default_search_path(extra));
+
+  const int used_threads = threads > 0 ? threads : tbb::info::default_concurrency();
+  std::cout << "salsa " << salsa_version() << " bench " << workload << ": " << std::thread::hardware_concurrency()
+            << " cores (" << cpu_model() << "), " << used_threads << " decide thread(s), " << sim_time
+            << " s simulated per run, seeds 1.." << seeds << "\n";
+  std::cout << std::left << std::setw(8) << "drones" << std::setw(9) << "targets" << std::right << std::setw(9) << "setup_s"
+            << std::setw(9) << "wall_s" << std::setw(10) << "RTF" << std::setw(22) << "RTF min-max" << std::setw(13)
+            << "steps/s" << std::setw(15) << "drone-steps/s" << std::setw(9) << "peak_MB" << std::setw(8) << "found";
+  if (floor) std::cout << std::setw(11) << "floor_RTF" << std::setw(8) << "ratio";
+  std::cout << std::endl;
+
+  nlohmann::ordered_json report;
+  report["workload"] = workload;
+  report["salsa"] = salsa_version();
+  report["cores"] = std::thread::hardware_concurrency();
+  report["cpu"] = cpu_model();
+  report["threads"] = used_threads;
+  report["simulated_s"] = sim_time;
+  report["seeds"] = seeds;
+  report["cells"] = nlohmann::ordered_json::array();
+
+  const std::size_t steps = static_cast<std::size_t>(std::llround(sim_time * 60));
+  for (const Cell& cell : cells) {
+    std::vector<double> walls, setups, floors, found;
+    std::array<double, 6> phases{};
+    std::size_t peak = 0;
+    for (int seed = 1; seed <= seeds; ++seed) {
+      bench::Workload w = is_table1 ? bench::Workload{} : bench::scale(cell.drones, 0, 0);
+      w.drones = cell.drones;
+      w.targets = cell.targets;
+      w.seed = static_cast<std::uint64_t>(seed);
+      w.threads = threads;
+      bench::reset_peak_rss();
+      const auto t0 = std::chrono::steady_clock::now();
+      SimulationSetup setup = bench::table1(host, w);
+      Simulation sim(setup);
+      const auto t1 = std::chrono::steady_clock::now();
+      sim.run_steps(steps);
+      const auto t2 = std::chrono::steady_clock::now();
+      setups.push_back(std::chrono::duration<double>(t1 - t0).count());
+      walls.push_back(std::chrono::duration<double>(t2 - t1).count());
+      found.push_back(static_cast<double>(sim.targets_found()));
+      for (std::size_t k = 0; k < phases.size(); ++k) phases[k] += sim.profile()[k];
+      peak = std::max(peak, bench::peak_rss_bytes());
+      if (floor) floors.push_back(bench::box2d_floor_seconds(setup, steps));
+    }
+    const Stats wall = stats(walls), setup_s = stats(setups), found_s = stats(found);
+    const double rtf = wall.mean / sim_time;
+    const double drone_steps = static_cast<double>(cell.drones) * static_cast<double>(steps) / wall.mean;
+    std::ostringstream range;
+    range << std::fixed << std::setprecision(4) << wall.min / sim_time << "-" << wall.max / sim_time;
+    std::cout << std::left << std::setw(8) << cell.drones << std::setw(9) << cell.targets << std::right << std::fixed
+              << std::setprecision(3) << std::setw(9) << setup_s.mean << std::setw(9) << wall.mean << std::setprecision(4)
+              << std::setw(10) << rtf << std::setw(22) << range.str() << std::setprecision(0) << std::setw(13)
+              << static_cast<double>(steps) / wall.mean << std::setw(15) << drone_steps << std::setw(9)
+              << static_cast<double>(peak) / 1e6 << std::setprecision(1) << std::setw(8) << found_s.mean;
+    nlohmann::ordered_json j = {{"drones", cell.drones},
+                                {"targets", cell.targets},
+                                {"setup_s", setup_s.mean},
+                                {"wall_s", wall.mean},
+                                {"rtf", rtf},
+                                {"rtf_min", wall.min / sim_time},
+                                {"rtf_max", wall.max / sim_time},
+                                {"drone_steps_per_s", drone_steps},
+                                {"peak_bytes", peak},
+                                {"targets_found", found_s.mean}};
+    if (floor) {
+      const double floor_rtf = stats(floors).mean / sim_time;
+      std::cout << std::setprecision(4) << std::setw(11) << floor_rtf << std::setprecision(2) << std::setw(8) << rtf / floor_rtf;
+      j["floor_rtf"] = floor_rtf;
+      j["ratio_to_floor"] = rtf / floor_rtf;
+    }
+    std::cout << std::endl;
+    nlohmann::ordered_json phase_json;
+    if (profile) std::cout << "    ms/step:";
+    for (std::size_t k = 0; k < phases.size(); ++k) {
+      const double ms = phases[k] / seeds / static_cast<double>(steps) * 1e3;
+      phase_json[phase_names[k]] = ms;
+      if (profile) std::cout << " " << phase_names[k] << " " << std::setprecision(4) << ms;
+    }
+    if (profile) std::cout << std::endl;
+    j["phase_ms_per_step"] = phase_json;
+    report["cells"].push_back(j);
+  }
+  if (vm.count("json")) {
+    std::ofstream out(vm["json"].as<std::string>());
+    out << report.dump(2) << "\n";
+    if (!out) throw std::runtime_error(vm["json"].as<std::string>() + ": cannot write");
+  }
+  return 0;
+}

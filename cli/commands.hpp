@@ -1,0 +1,3 @@
+#pragma once
+// Subcommands implemented outside main.cpp.
+int cmd_bench(int argc, char** argv);

@@ -1,0 +1,37 @@
+#pragma once
+// Benchmark workloads (../shared/workloads/table1.md) and the bare-Box2D floor they are compared with.
+#include <cstddef>
+#include <cstdint>
+
+#include "salsa/core/plugin_host.hpp"
+#include "salsa/core/simulation.hpp"
+
+namespace salsa::bench {
+
+struct Workload {
+  std::size_t drones = 100;
+  std::size_t targets = 1000;
+  double side = 2000;                    ///< m, square map closed by four walls
+  Vec2 spawn{924.55, 950.54};            ///< m
+  SpawnMode spawn_mode = SpawnMode::disc;
+  std::uint64_t seed = 1;
+  int threads = 0;
+};
+
+/// Table I: flocking with the paper's parameters, "small" drones, trees of radius 5 m, summary every
+/// 50 steps. Needs the flocking, tree and detect_targets plugins.
+SimulationSetup table1(const PluginHost& host, const Workload& w);
+
+/// Constant density for `drones` drones: the Table I density (1,000 drones on 2 km × 2 km), 10 targets
+/// per drone, spawned uniformly (a disc of N m would not fit the map at 100,000 drones).
+Workload scale(std::size_t drones, std::uint64_t seed, int threads);
+
+/// Wall seconds for `steps` steps of a bare Box2D world with the same walls, bodies, spawn and Box2D
+/// settings as `setup`: velocities set every step, no sensing, behaviors or targets.
+double box2d_floor_seconds(const SimulationSetup& setup, std::size_t steps);
+
+/// Peak resident memory of this process since the last reset (bytes); reset works on Linux ≥ 4.0.
+std::size_t peak_rss_bytes();
+void reset_peak_rss();
+
+}  // namespace salsa::bench

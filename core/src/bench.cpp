@@ -1,0 +1,111 @@
+#include "salsa/core/bench.hpp"
+
+#include <box2d/box2d.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <string>
+
+namespace salsa::bench {
+
+SimulationSetup table1(const PluginHost& host, const Workload& w) {
+  SimulationSetup s;
+  s.map.bounds = {{0, 0}, {w.side, w.side}};
+  s.map.spawn = w.spawn;
+  s.spawn_mode = w.spawn_mode;
+  s.drone = builtin_drone_configs().front();  // "small"
+  s.drones = w.drones;
+  const auto& flocking = host.behavior("flocking");
+  ParameterValues params(flocking.factory.parameters);
+  params.set("separation_distance", 250);
+  params.set("alignment_weight", 1.6);
+  params.set("cohesion_weight", 1.0);
+  params.set("separation_weight", 3.0);
+  params.set("obstacle_avoidance_weight", 4.0);
+  s.behavior = PluginHost::create(flocking, params);
+  const auto& tree = host.target_kind("tree");
+  ParameterValues tree_params(tree.factory.parameters);
+  tree_params.set("radius", 5);
+  s.target_kind = PluginHost::create(tree, tree_params);
+  s.targets = w.targets;
+  const auto& detect = host.contact_handler("detect_targets");
+  s.contact_handlers.push_back(PluginHost::create(detect, ParameterValues(detect.factory.parameters)));
+  s.dt = 1.0 / 60;
+  s.velocity_iterations = 8;
+  s.position_iterations = 3;
+  s.seed = w.seed;
+  s.threads = w.threads;
+  s.log_every = 50;
+  return s;
+}
+
+Workload scale(std::size_t drones, std::uint64_t seed, int threads) {
+  Workload w;
+  w.drones = drones;
+  w.targets = 10 * drones;
+  w.side = 2000 * std::sqrt(static_cast<double>(drones) / 1000.0);
+  w.spawn = {w.side / 2, w.side / 2};
+  w.spawn_mode = SpawnMode::uniform;
+  w.seed = seed;
+  w.threads = threads;
+  return w;
+}
+
+double box2d_floor_seconds(const SimulationSetup& setup, std::size_t steps) {
+  // The same drones in the same places as salsa would spawn them: take them from a Simulation without
+  // targets, then step a world of our own.
+  SimulationSetup copy = setup;
+  copy.target_kind = nullptr;
+  copy.targets = 0;
+  copy.contact_handlers.clear();
+  Simulation spawned(copy);
+  const auto positions = spawned.drone_positions();
+  const auto velocities = spawned.drone_velocities();
+
+  b2World world(b2Vec2(0, 0));
+  world.SetContinuousPhysics(false);  // as salsa configures it
+  b2BodyDef wall_def;
+  b2Body* walls = world.CreateBody(&wall_def);
+  for (const Segment& s : spawned.geometry().segments()) {
+    b2EdgeShape edge;
+    edge.SetTwoSided(b2Vec2(static_cast<float>(s.a.x), static_cast<float>(s.a.y)),
+                     b2Vec2(static_cast<float>(s.b.x), static_cast<float>(s.b.y)));
+    walls->CreateFixture(&edge, 0);
+  }
+  const DroneConfig& cfg = setup.drone;
+  std::vector<b2Body*> bodies;
+  std::vector<b2Vec2> wanted;
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    b2BodyDef def;
+    def.type = b2_dynamicBody;
+    def.position.Set(static_cast<float>(positions[i].x), static_cast<float>(positions[i].y));
+    def.fixedRotation = true;
+    b2Body* body = world.CreateBody(&def);
+    b2CircleShape circle;
+    circle.m_radius = static_cast<float>(cfg.radius);
+    body->CreateFixture(&circle, static_cast<float>(cfg.mass / (pi * cfg.radius * cfg.radius)));
+    bodies.push_back(body);
+    wanted.emplace_back(static_cast<float>(velocities[i].x), static_cast<float>(velocities[i].y));
+  }
+  const auto start = std::chrono::steady_clock::now();
+  for (std::size_t k = 0; k < steps; ++k) {
+    for (std::size_t i = 0; i < bodies.size(); ++i) bodies[i]->SetLinearVelocity(wanted[i]);
+    world.Step(static_cast<float>(setup.dt), setup.velocity_iterations, setup.position_iterations);
+    for (std::size_t i = 0; i < bodies.size(); ++i) wanted[i] = bodies[i]->GetLinearVelocity();
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::size_t peak_rss_bytes() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmHWM:", 0) == 0) return static_cast<std::size_t>(std::stoull(line.substr(6))) * 1024;
+  return 0;
+}
+
+void reset_peak_rss() {
+  std::ofstream("/proc/self/clear_refs") << "5";
+}
+
+}  // namespace salsa::bench
