@@ -70,6 +70,7 @@ int cmd_bench(int argc, char** argv) {
       "seeds", po::value<int>(), "seeds 1..N per cell (default: 5 for table1, 1 for scale)")(
       "threads", po::value<int>()->default_value(0), "decide threads (0: all cores)")(
       "time", po::value<double>(), "simulated seconds per run (default: 100 for table1, 10 for scale)")(
+      "decision-lag", po::value<int>()->default_value(1), "1: Box2D overlaps sensing and deciding (default); 0: all phases in sequence")(
       "floor", "also time the bare-Box2D floor of each cell and print the ratio")(
       "profile", "print the time spent in each step phase")("json", po::value<std::string>(), "write all figures to this JSON file")(
       "plugin-dir", po::value<std::vector<std::string>>()->composing(), "also search this folder for plugins");
@@ -93,6 +94,8 @@ int cmd_bench(int argc, char** argv) {
   const double sim_time = vm.count("time") ? vm["time"].as<double>() : (is_table1 ? 100.0 : 10.0);
   if (!(sim_time >= 1.0 / 60 && sim_time <= 1e5)) throw InputError("--time: out of range (allowed: 1/60 to 100000 s)");
   const bool floor = vm.count("floor"), profile = vm.count("profile");
+  const int lag = vm["decision-lag"].as<int>();
+  if (lag != 0 && lag != 1) throw InputError("--decision-lag: " + std::to_string(lag) + " is out of range (allowed: 0 or 1)");
 
   std::vector<Cell> cells;
   if (!is_table1) {
@@ -119,7 +122,7 @@ int cmd_bench(int argc, char** argv) {
   const int used_threads = threads > 0 ? threads : tbb::info::default_concurrency();
   std::cout << "salsa " << salsa_version() << " bench " << workload << ": " << std::thread::hardware_concurrency()
             << " cores (" << cpu_model() << "), " << used_threads << " decide thread(s), " << sim_time
-            << " s simulated per run, seeds 1.." << seeds << "\n";
+            << " s simulated per run, seeds 1.." << seeds << ", decision lag " << lag << "\n";
   std::cout << std::left << std::setw(8) << "drones" << std::setw(9) << "targets" << std::right << std::setw(9) << "setup_s"
             << std::setw(9) << "wall_s" << std::setw(10) << "RTF" << std::setw(22) << "RTF min-max" << std::setw(13)
             << "steps/s" << std::setw(15) << "drone-steps/s" << std::setw(9) << "peak_MB" << std::setw(8) << "found";
@@ -134,6 +137,7 @@ int cmd_bench(int argc, char** argv) {
   report["threads"] = used_threads;
   report["simulated_s"] = sim_time;
   report["seeds"] = seeds;
+  report["decision_lag"] = lag;
   report["cells"] = nlohmann::ordered_json::array();
 
   const std::size_t steps = static_cast<std::size_t>(std::llround(sim_time * 60));
@@ -150,6 +154,7 @@ int cmd_bench(int argc, char** argv) {
       bench::reset_peak_rss();
       const auto t0 = std::chrono::steady_clock::now();
       SimulationSetup setup = bench::table1(host, w);
+      setup.decision_lag = lag;
       Simulation sim(setup);
       const auto t1 = std::chrono::steady_clock::now();
       sim.run_steps(steps);

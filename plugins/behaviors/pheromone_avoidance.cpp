@@ -17,7 +17,7 @@ class PheromoneAvoidance final : public salsa::Behavior {
         {"evaporation_rate", 0.01, 0.0, 10.0, "1/s", "exponential decay rate of the pheromone"},
         {"look_ahead", 30.0, 1.0, 1000.0, "m", "how far ahead the field is sampled"},
         {"directions", 8, 3, 64, "", "directions sampled around the current heading", 1},
-        {"turn_cost", 2.0, 0.0, 20.0, "", "penalty of a 90° turn against log(1 + marks / deposit): higher flies straighter"},
+        {"turn_cost", 2.0, 0.0, 20.0, "", "penalty of a 90 degree turn against log(1 + marks / deposit): higher flies straighter"},
         {"obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"},
     };
   }

@@ -94,6 +94,9 @@ class Reader {
       if (auto at = message.find(", column "); at != std::string::npos && message.find(": ", at) != std::string::npos)
         message.erase(0, message.find(": ", at) + 2);
       fail("", "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + message);
+    } catch (const json::exception& e) {  // e.g. a number too large for a double; no position given
+      const std::string message = e.what();
+      fail("", "invalid JSON: " + message.substr(message.find("] ") == std::string::npos ? 0 : message.find("] ") + 2));
     }
   }
 

@@ -1,0 +1,75 @@
+#pragma once
+// A small fixture for plugin authors: build one drone's Perception by hand and call `decide`, no
+// simulation needed.
+//
+//   salsa::testing::Scene scene;                    // a "small" drone at the origin, at rest
+//   scene.neighbour({10, 0}, {1, 0});               // another drone 10 m east, flying east
+//   Flocking flocking;
+//   salsa::Vec2 a = scene.decide(flocking);         // steering for this step (m/s)
+#include <vector>
+
+#include "salsa/sdk.hpp"
+
+namespace salsa::testing {
+
+class Scene {
+ public:
+  Scene() {
+    me_.max_speed = 10;
+    me_.max_force = 0.3;
+    me_.radius = 1;
+    me_.mass = 1.5;
+    me_.camera_range = 15;
+    me_.obstacle_range = 50.2;
+    me_.detection_range = 134;
+    me_.dt = 1.0 / 60;
+  }
+  /// The drone's own state and properties; edit freely (ranges, max speed, time, ...).
+  Perception& me() { return me_; }
+  Scene& at(Vec2 position, Vec2 velocity = {}) {
+    me_.position = position;
+    me_.velocity = velocity;
+    return *this;
+  }
+  Scene& neighbour(Vec2 position, Vec2 velocity = {}) {
+    neighbours_.push_back({position, velocity, distance(position, me_.position),
+                           static_cast<std::uint32_t>(neighbours_.size() + 1)});
+    return *this;
+  }
+  Scene& obstacle(Vec2 point) {
+    obstacles_.push_back({point, distance(point, me_.position)});
+    return *this;
+  }
+  Scene& target(Vec2 position, bool found = false) {
+    targets_.push_back({position, distance(position, me_.position), static_cast<std::uint32_t>(targets_.size()), found});
+    return *this;
+  }
+  /// The Perception as the core would hand it to `decide` (valid while the Scene lives).
+  const Perception& perception() {
+    me_.neighbours = neighbours_;
+    me_.obstacles = obstacles_;
+    me_.targets = targets_;
+    return me_;
+  }
+  /// One `decide` for this drone (id 0) with a fresh Rng. The first time, a behavior without parameter
+  /// values gets its declared defaults and memory for one drone.
+  template <class B>
+  Vec2 decide(B& behavior, std::uint64_t seed = 1) {
+    if (!reset_) {
+      if (behavior.parameters().items().empty()) behavior.set_parameters(ParameterValues(detail::declared_parameters<B>()));
+      behavior.reset(1);
+      reset_ = true;
+    }
+    Rng rng(seed, 0);
+    return static_cast<Behavior&>(behavior).decide(perception(), rng);
+  }
+
+ private:
+  Perception me_;
+  std::vector<Neighbour> neighbours_;
+  std::vector<ObstacleHit> obstacles_;
+  std::vector<TargetSeen> targets_;
+  bool reset_ = false;
+};
+
+}  // namespace salsa::testing

@@ -1,0 +1,110 @@
+#pragma once
+// Shared helpers of the test suites: where things are (set by tests/CMakeLists.txt), the built-in
+// plugins, running the salsa CLI, small file utilities.
+#include <QByteArray>
+#include <QDir>
+#include <QFile>
+#include <QProcess>
+#include <QString>
+#include <QStringList>
+#include <QTemporaryDir>
+#include <QtTest>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#ifdef SALSA_TEST_WITH_CORE
+#include "salsa/core/plugin_host.hpp"
+#endif
+
+namespace salsa_test {
+
+namespace fs = std::filesystem;
+
+inline fs::path source_dir() { return SALSA_SOURCE_DIR; }
+inline fs::path plugin_dir() { return SALSA_PLUGIN_DIR; }
+inline fs::path test_plugins_dir() { return SALSA_TEST_PLUGINS_DIR; }
+inline QString salsa_executable() { return QStringLiteral(SALSA_EXECUTABLE); }
+
+inline QString q(const fs::path& p) { return QString::fromStdString(p.string()); }
+inline QString q(const std::string& s) { return QString::fromStdString(s); }
+
+inline QByteArray read_file(const QString& path) {
+  QFile f(path);
+  if (!f.open(QIODevice::ReadOnly)) return {};
+  return f.readAll();
+}
+inline bool write_file(const QString& path, const QByteArray& content) {
+  QDir().mkpath(QFileInfo(path).absolutePath());
+  QFile f(path);
+  if (!f.open(QIODevice::WriteOnly | QIODevice::Truncate)) return false;
+  return f.write(content) == content.size();
+}
+
+/// Every file under `dir` (relative path → contents), to compare a folder before and after.
+inline QMap<QString, QByteArray> snapshot(const QString& dir) {
+  QMap<QString, QByteArray> out;
+  QDirIterator it(dir, QDir::Files | QDir::Hidden | QDir::NoDotAndDotDot, QDirIterator::Subdirectories);
+  while (it.hasNext()) {
+    const QString file = it.next();
+    out.insert(QDir(dir).relativeFilePath(file), read_file(file));
+  }
+  return out;
+}
+
+inline QStringList non_empty_lines(const QString& text) {
+  QStringList out;
+  for (const QString& line : text.split('\n'))
+    if (!line.trimmed().isEmpty()) out << line;
+  return out;
+}
+
+struct CliResult {
+  int exit_code = -1;
+  bool crashed = false;
+  QString out, err;
+};
+
+/// Runs the salsa CLI with a clean environment: no $SALSA_PLUGIN_PATH and an empty user folder, so
+/// only the build's plugins (and any --plugin-dir) are found.
+inline CliResult run_salsa(const QStringList& args, const QString& working_dir = {}) {
+  static QTemporaryDir home;
+  QProcess p;
+  QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+  env.remove("SALSA_PLUGIN_PATH");
+  env.insert("HOME", home.path());
+  p.setProcessEnvironment(env);
+  if (!working_dir.isEmpty()) p.setWorkingDirectory(working_dir);
+  p.start(salsa_executable(), args);
+  CliResult r;
+  if (!p.waitForStarted(30000)) {
+    r.err = "could not start " + salsa_executable();
+    return r;
+  }
+  p.waitForFinished(120000);
+  r.crashed = p.exitStatus() != QProcess::NormalExit;
+  r.exit_code = p.exitCode();
+  r.out = QString::fromUtf8(p.readAllStandardOutput());
+  r.err = QString::fromUtf8(p.readAllStandardError());
+  return r;
+}
+
+/// For failure messages: what the CLI printed.
+inline QByteArray describe(const CliResult& r) {
+  return ("exit " + QString::number(r.exit_code) + (r.crashed ? " (crashed)" : "") + "\n--- stdout\n" + r.out +
+          "--- stderr\n" + r.err)
+      .toUtf8();
+}
+
+#ifdef SALSA_TEST_WITH_CORE
+/// A host with the build's built-in plugins only; fails the test if any of them is refused.
+inline std::unique_ptr<salsa::PluginHost> builtin_host() {
+  auto host = std::make_unique<salsa::PluginHost>();
+  host->load({{plugin_dir(), "test"}});
+  for (const auto& f : host->failures()) qWarning("plugin %s refused: %s", f.file.c_str(), f.reason.c_str());
+  return host;
+}
+#endif
+
+}  // namespace salsa_test
