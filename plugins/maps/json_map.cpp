@@ -86,10 +86,11 @@ class Reader {
     try {
       return json::parse(content);
     } catch (const json::parse_error& e) {
-      // Line and column from the byte offset; the parser's own text follows its "column N: " prefix.
-      const auto end = content.begin() + static_cast<std::ptrdiff_t>(std::min(e.byte, content.size()));
+      // e.byte is the 1-based offset of the offending byte (size + 1 at the end of input); count the
+      // lines and columns before it. The parser's own text follows its "column N: " prefix.
+      const auto end = content.begin() + static_cast<std::ptrdiff_t>(std::min(std::max<std::size_t>(e.byte, 1) - 1, content.size()));
       const auto line = 1 + std::count(content.begin(), end, '\n');
-      const auto column = end - std::find(std::make_reverse_iterator(end), content.rend(), '\n').base();
+      const auto column = 1 + (end - std::find(std::make_reverse_iterator(end), content.rend(), '\n').base());
       std::string message = e.what();
       if (auto at = message.find(", column "); at != std::string::npos && message.find(": ", at) != std::string::npos)
         message.erase(0, message.find(": ", at) + 2);
