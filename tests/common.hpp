@@ -3,6 +3,7 @@
 // plugins, running the salsa CLI, small file utilities.
 #include <QByteArray>
 #include <QDir>
+#include <QDirIterator>
 #include <QFile>
 #include <QProcess>
 #include <QString>

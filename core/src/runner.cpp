@@ -79,14 +79,23 @@ void write_targets(const fs::path& file, const Simulation& sim) {
 
 fs::path partial_folder(const fs::path& out, const std::string& name) { return out / ("." + name + ".partial"); }
 
+/// Why a test's existing output folder may not be written to ("" when it may).
+std::string refusal(const fs::path& folder, const RunOptions& options) {
+  if (options.force || !fs::exists(folder)) return {};
+  if (!options.resume)
+    return folder.string() + ": already exists (allowed: a new folder; use --resume to skip finished tests or --force " +
+           "to replace them)";
+  if (!fs::exists(folder / "config.json"))
+    return folder.string() + ": already exists but holds no finished test (no config.json), so --resume cannot skip it " +
+           "(allowed: a finished test's folder or a new folder; use --force to replace it)";
+  return {};
+}
+
 }  // namespace
 
 void check_outputs(const std::vector<TestSpec>& tests, const RunOptions& options) {
-  if (options.force || options.resume) return;
   for (const auto& t : tests)
-    if (fs::exists(options.out / t.name))
-      throw InputError((options.out / t.name).string() + ": already exists (allowed: a new folder; use --resume to " +
-                       "skip finished tests or --force to replace them)");
+    if (const std::string why = refusal(options.out / t.name, options); !why.empty()) throw InputError(why);
 }
 
 RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOptions& options) {
@@ -96,8 +105,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     result.skipped = true;
     return result;
   }
-  if (!options.force && fs::exists(result.folder))
-    throw InputError(result.folder.string() + ": already exists (use --resume or --force)");
+  if (const std::string why = refusal(result.folder, options); !why.empty()) throw InputError(why);
 
   // Everything that can fail on bad input fails here, before a file is written.
   SimulationSetup setup = make_setup(test, host, options.threads);

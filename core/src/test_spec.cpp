@@ -415,7 +415,9 @@ bool is_map_file(const std::filesystem::path& file) {
   std::ifstream in(file);
   try {
     const json j = json::parse(in);
-    return j.is_object() && j.contains("bounds");
+    // A map file missing its bounds is still a map file (so the error says "bounds: missing").
+    return j.is_object() && (j.contains("bounds") || (!j.contains("behavior") && !j.contains("tests") &&
+                                                      (j.contains("obstacles") || j.contains("hollow") || j.contains("lines"))));
   } catch (const std::exception&) {
     return false;
   }

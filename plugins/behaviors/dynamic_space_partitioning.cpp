@@ -3,11 +3,22 @@
 // and random-walks around it, so the area is shared out among the drones.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include <salsa/sdk.hpp>
 
 namespace {
+
+// Obstacle avoidance fading in over the nearer half of the obstacle range (squared: gentle at first,
+// full weight at the obstacle), so that walls merely in range (in a room narrower than twice the range
+// there always are some) do not drown the drone's own steering and pin it to the room's middle.
+salsa::Vec2 near_obstacles(const salsa::Perception& me) {
+  double nearest = me.obstacle_range;
+  for (const auto& h : me.obstacles) nearest = std::min(nearest, h.distance);
+  const double closeness = me.obstacle_range > 0 ? std::max(0.0, 1 - 2 * nearest / me.obstacle_range) : 0;
+  return closeness * closeness * salsa::avoid_obstacles(me);
+}
 
 struct Walk {
   double heading = 0;    // rad
@@ -20,7 +31,8 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Walk> {
     return {
         {"point_speed", 8.0, 0.1, 100.0, "m/s", "top speed of the virtual points while they spread"},
         {"cutoff", 1.5, 0.5, 3.0, "", "points repel within this multiple of the equilibrium spacing"},
-        {"arrival_fraction", 0.3, 0.01, 1.0, "", "within this fraction of the spacing a drone wanders around its point"},
+        {"arrival_fraction", 0.3, 0.01, 1.0, "",
+         "within this fraction of the spacing a drone wanders around its point"},
         {"turn_interval", 3.0, 0.1, 60.0, "s", "mean time between heading changes around the point"},
         {"obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"},
     };
@@ -50,11 +62,11 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Walk> {
         push += (d > 0 ? (p - q) / d : salsa::Vec2::polar(1, 2.39996 * i)) * (1 - d / cutoff);
       });
       salsa::Vec2 m = p + push.clamped(1) * step;
-      m = {std::clamp(m.x, b.min.x + margin, b.max.x - margin), std::clamp(m.y, b.min.y + margin, b.max.y - margin)};
-      if (!world.is_free(m, kClearance) && world.is_free(p, kClearance)) {  // slide along obstacles
-        if (world.is_free({m.x, p.y}, kClearance)) m.y = p.y;
-        else if (world.is_free({p.x, m.y}, kClearance)) m.x = p.x;
-        else m = p;
+      m = {std::clamp(m.x, b.min.x + margin, b.max.x - margin),
+           std::clamp(m.y, b.min.y + margin, b.max.y - margin)};
+      if (!world.is_free(m, kClearance) && world.is_free(p, kClearance)) {  // slide along obstacles, or stay
+        const salsa::Vec2 along_x{m.x, p.y}, along_y{p.x, m.y};
+        m = world.is_free(along_x, kClearance) ? along_x : world.is_free(along_y, kClearance) ? along_y : p;
       }
       next_[i] = m;
     }
@@ -74,7 +86,7 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Walk> {
         steer = salsa::steer_towards(me, salsa::Vec2::polar(me.max_speed, w.heading));
       }
     }
-    return steer + obstacle_weight_ * salsa::avoid_obstacles(me);
+    return steer + obstacle_weight_ * near_obstacles(me);
   }
 
  protected:

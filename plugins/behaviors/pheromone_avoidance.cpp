@@ -8,6 +8,16 @@
 
 namespace {
 
+// Obstacle avoidance fading in over the nearer half of the obstacle range (squared: gentle at first,
+// full weight at the obstacle), so that walls merely in range (in a room narrower than twice the range
+// there always are some) do not drown the drone's own steering and pin it to the room's middle.
+salsa::Vec2 near_obstacles(const salsa::Perception& me) {
+  double nearest = me.obstacle_range;
+  for (const auto& h : me.obstacles) nearest = std::min(nearest, h.distance);
+  const double closeness = me.obstacle_range > 0 ? std::max(0.0, 1 - 2 * nearest / me.obstacle_range) : 0;
+  return closeness * closeness * salsa::avoid_obstacles(me);
+}
+
 class PheromoneAvoidance final : public salsa::Behavior {
  public:
   static salsa::Parameters declare() {
@@ -17,7 +27,8 @@ class PheromoneAvoidance final : public salsa::Behavior {
         {"evaporation_rate", 0.01, 0.0, 10.0, "1/s", "exponential decay rate of the pheromone"},
         {"look_ahead", 30.0, 1.0, 1000.0, "m", "how far ahead the field is sampled"},
         {"directions", 8, 3, 64, "", "directions sampled around the current heading", 1},
-        {"turn_cost", 2.0, 0.0, 20.0, "", "penalty of a 90 degree turn against log(1 + marks / deposit): higher flies straighter"},
+        {"turn_cost", 2.0, 0.0, 20.0, "",
+         "penalty of a 90 degree turn against log(1 + marks / deposit): higher flies straighter"},
         {"obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"},
     };
   }
@@ -33,23 +44,29 @@ class PheromoneAvoidance final : public salsa::Behavior {
   }
 
   salsa::Vec2 decide(const salsa::Perception& me, salsa::Rng& rng) override {
-    const salsa::Vec2 heading = me.velocity.is_zero() ? salsa::Vec2::polar(1, rng.angle()) : me.velocity.normalized();
+    const salsa::Vec2 heading =
+        me.velocity.is_zero() ? salsa::Vec2::polar(1, rng.angle()) : me.velocity.normalized();
     double best_score = 0;
     salsa::Vec2 best;
     for (std::size_t k = 0; k < turns_.size(); ++k) {
       const salsa::Vec2 dir{heading.x * turns_[k].x - heading.y * turns_[k].y,
                             heading.x * turns_[k].y + heading.y * turns_[k].x};  // heading rotated by turn k
-      const salsa::Vec2 ahead = me.position + dir * look_ahead_;
-      // Log scale: fresh ground beats marked ground clearly, but among marked directions the turn cost
-      // wins, so drones cross trodden ground in straight lines instead of circling in it. Leaving the
-      // area or flying at a near obstacle counts as maximally marked.
-      double score = bounds_.contains(ahead) ? std::log1p(marks(ahead, me.time) / deposit_) : kBlocked;
+      // Sample short of any obstacle that direction (the ground beyond is out of reach); a direction
+      // blocked right ahead, or leading out of the area, counts as maximally marked.
+      double reach = look_ahead_;
       for (const auto& h : me.obstacles)
-        if (h.distance < look_ahead_ && dir.dot(h.point - me.position) > cone_ * h.distance) score += kBlocked;
+        if (dir.dot(h.point - me.position) > cone_ * h.distance)
+          reach = std::min(reach, h.distance - margin_);
+      const salsa::Vec2 ahead = me.position + dir * reach;
+      // Log scale: fresh ground beats marked ground clearly, but among marked directions the turn cost
+      // wins, so drones cross trodden ground in straight lines instead of circling in it.
+      double score = reach >= margin_ && bounds_.contains(ahead)
+                         ? std::log1p(marks(ahead, me.time) / deposit_)
+                         : kBlocked;
       score += turn_cost_ * (1 - turns_[k].x) + rng.uniform(0, 0.1);  // jitter breaks symmetric ties
       if (k == 0 || score < best_score) best_score = score, best = dir;
     }
-    return salsa::steer_along(me, best) + obstacle_weight_ * salsa::avoid_obstacles(me);
+    return salsa::steer_along(me, best) + obstacle_weight_ * near_obstacles(me);
   }
 
   void reset(std::size_t) override { cells_.clear(); }  // a fresh run starts with a clean field
@@ -60,6 +77,7 @@ class PheromoneAvoidance final : public salsa::Behavior {
     deposit_ = param("deposit");
     rate_ = param("evaporation_rate");
     look_ahead_ = param("look_ahead");
+    margin_ = look_ahead_ / 3;
     turn_cost_ = param("turn_cost");
     obstacle_weight_ = param("obstacle_avoidance_weight");
     const auto n = static_cast<int>(param("directions"));
@@ -95,7 +113,8 @@ class PheromoneAvoidance final : public salsa::Behavior {
     return c.value > 0 ? c.value * decay(t - c.time) : 0.0;
   }
 
-  double cell_size_ = 10, deposit_ = 1, rate_ = 0, look_ahead_ = 30, turn_cost_ = 2, cone_ = 0, obstacle_weight_ = 0;
+  double cell_size_ = 10, deposit_ = 1, rate_ = 0, look_ahead_ = 30, margin_ = 10, turn_cost_ = 2, cone_ = 0,
+         obstacle_weight_ = 0;
   std::vector<salsa::Vec2> turns_;
   salsa::Rect bounds_;
   double cell_ = 10, built_cell_size_ = 0;

@@ -6,6 +6,16 @@
 
 namespace {
 
+// Obstacle avoidance fading in over the nearer half of the obstacle range (squared: gentle at first,
+// full weight at the obstacle), so that walls merely in range (in a room narrower than twice the range
+// there always are some) do not drown the drone's own steering and pin it to the room's middle.
+salsa::Vec2 near_obstacles(const salsa::Perception& me) {
+  double nearest = me.obstacle_range;
+  for (const auto& h : me.obstacles) nearest = std::min(nearest, h.distance);
+  const double closeness = me.obstacle_range > 0 ? std::max(0.0, 1 - 2 * nearest / me.obstacle_range) : 0;
+  return closeness * closeness * salsa::avoid_obstacles(me);
+}
+
 struct Walk {
   double heading = 0;    // rad
   double time_left = 0;  // s until the next heading change
@@ -18,7 +28,8 @@ class RandomWalk final : public salsa::BehaviorWithMemory<Walk> {
     return {
         {"min_duration", 2.0, 0.1, 600.0, "s", "shortest time a heading is kept"},
         {"max_duration", 10.0, 0.1, 600.0, "s", "longest time a heading is kept"},
-        {"turn_distance", 0.33, 0.0, 1.0, "", "obstacle hits closer than this fraction of obstacle range make the drone turn away"},
+        {"turn_distance", 0.33, 0.0, 1.0, "",
+         "obstacle hits closer than this fraction of obstacle range make the drone turn away"},
         {"obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"},
     };
   }
@@ -38,7 +49,7 @@ class RandomWalk final : public salsa::BehaviorWithMemory<Walk> {
       w = {away.angle() + rng.uniform(-salsa::pi / 3, salsa::pi / 3), duration(rng), true};
 
     return salsa::steer_towards(me, salsa::Vec2::polar(me.max_speed, w.heading)) +
-           obstacle_weight_ * salsa::avoid_obstacles(me);
+           obstacle_weight_ * near_obstacles(me);
   }
 
  protected:

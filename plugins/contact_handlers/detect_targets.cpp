@@ -12,4 +12,5 @@ class DetectTargets final : public salsa::ContactHandler {
 
 }  // namespace
 
-SALSA_CONTACT_HANDLER(DetectTargets, "detect_targets", "Marks a target found the first time a drone has it in view")
+SALSA_CONTACT_HANDLER(DetectTargets, "detect_targets",
+                      "Marks a target found the first time a drone has it in view")

@@ -20,7 +20,8 @@ class ForestMap final : public salsa::MapGenerator {
         {"obstacles_per_cluster", 4, 1, 100, "", "obstacles tried per cluster (fewer if they do not fit)", 1},
         {"min_obstacle_size", 8.0, 1.0, 1000.0, "m", "smallest obstacle diameter"},
         {"max_obstacle_size", 25.0, 1.0, 1000.0, "m", "largest obstacle diameter"},
-        {"cluster_radius", 40.0, 0.0, 1e4, "m", "obstacles lie within this distance of their cluster's centre"},
+        {"cluster_radius", 40.0, 0.0, 1e4, "m",
+         "obstacles lie within this distance of their cluster's centre"},
         {"clear_radius", 30.0, 0.0, 1e4, "m", "no obstacle within this distance of the spawn point"},
         {"gap", 4.0, 0.0, 100.0, "m", "least free space between obstacles, and between obstacles and walls"},
     };
@@ -36,16 +37,22 @@ class ForestMap final : public salsa::MapGenerator {
 
     // Placed bounding circles in a hash grid whose cells are as wide as any overlap distance, so an
     // overlap test looks at 3 × 3 cells instead of every obstacle.
-    struct Circle { salsa::Vec2 c; double r; };
+    struct Circle {
+      salsa::Vec2 c;
+      double r;
+    };
     const double cell = max_size + gap;
     std::unordered_map<std::uint64_t, std::vector<Circle>> placed;
-    auto key = [&](long long cx, long long cy) { return static_cast<std::uint64_t>(cx) << 32 ^ static_cast<std::uint32_t>(cy); };
+    auto cell_of = [&](double v) { return static_cast<long long>(v / cell); };  // v >= 0
+    auto key = [](long long cx, long long cy) {
+      return static_cast<std::uint64_t>(cx) << 32 ^ static_cast<std::uint32_t>(cy);
+    };
     auto fits = [&](salsa::Vec2 c, double r) {
-      if (c.x - r - gap < 0 || c.y - r - gap < 0 || c.x + r + gap > size || c.y + r + gap > size) return false;
+      if (c.x - r - gap < 0 || c.y - r - gap < 0 || c.x + r + gap > size || c.y + r + gap > size)
+        return false;
       if (salsa::distance(c, map.spawn) < clear + r) return false;
-      const auto cx = static_cast<long long>(c.x / cell), cy = static_cast<long long>(c.y / cell);
-      for (long long x = cx - 1; x <= cx + 1; ++x)
-        for (long long y = cy - 1; y <= cy + 1; ++y)
+      for (long long x = cell_of(c.x) - 1; x <= cell_of(c.x) + 1; ++x)
+        for (long long y = cell_of(c.y) - 1; y <= cell_of(c.y) + 1; ++y)
           if (auto it = placed.find(key(x, y)); it != placed.end())
             for (const Circle& o : it->second)
               if (salsa::distance(c, o.c) < r + o.r + gap) return false;
@@ -61,7 +68,7 @@ class ForestMap final : public salsa::MapGenerator {
           const double r = rng.uniform(min_size, max_size) / 2;
           const salsa::Vec2 c = rng.in_disc(centre, cluster_radius);
           if (!fits(c, r)) continue;
-          placed[key(static_cast<long long>(c.x / cell), static_cast<long long>(c.y / cell))].push_back({c, r});
+          placed[key(cell_of(c.x), cell_of(c.y))].push_back({c, r});
           map.obstacles.push_back(polygon(c, r, rng));
           break;
         }

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -50,7 +51,8 @@ class Reader {
     salsa::MapData map;
     if (!root.contains("bounds")) fail("bounds", "missing; expected {\"min\": [x, y], \"max\": [x, y]}");
     const json& bounds = root["bounds"];
-    if (!bounds.is_object()) fail("bounds", "expected {\"min\": [x, y], \"max\": [x, y]}, got " + shown(bounds));
+    if (!bounds.is_object())
+      fail("bounds", "expected {\"min\": [x, y], \"max\": [x, y]}, got " + shown(bounds));
     for (const auto& [key, value] : bounds.items())
       if (key != "min" && key != "max") fail("bounds", "unknown key '" + key + "' (allowed: min, max)");
     if (!bounds.contains("min") || !bounds.contains("max")) fail("bounds", "needs both \"min\" and \"max\"");
@@ -63,10 +65,12 @@ class Reader {
     map.lines = polylines(root, "lines", "line", 2, map.bounds);
 
     map.spawn = root.contains("spawn") ? point(root["spawn"], "spawn") : map.bounds.centre();
-    if (!map.bounds.contains(map.spawn)) fail("spawn", text(map.spawn) + " is outside " + bounds_text(map.bounds));
+    if (!map.bounds.contains(map.spawn))
+      fail("spawn", text(map.spawn) + " is outside " + bounds_text(map.bounds));
     for (std::size_t i = 0; i < map.obstacles.size(); ++i)
       if (inside_polygon(map.spawn, map.obstacles[i]))
-        fail("spawn", text(map.spawn) + (root.contains("spawn") ? "" : " (the default, centre of the bounds)") +
+        fail("spawn", text(map.spawn) +
+                          (root.contains("spawn") ? "" : " (the default, centre of the bounds)") +
                           " is inside obstacles[" + std::to_string(i) + "]; drones must start in free space");
     return map;
   }
@@ -77,7 +81,8 @@ class Reader {
   }
 
   json parse() const {
-    if (std::filesystem::is_directory(file_)) fail("", "is a directory, not a map file");
+    if (std::error_code ec; std::filesystem::is_directory(file_, ec))
+      fail("", "is a directory, not a map file");
     std::ifstream in(file_, std::ios::binary);
     if (!in) fail("", "cannot open file");
     std::ostringstream buffer;
@@ -86,26 +91,33 @@ class Reader {
     try {
       return json::parse(content);
     } catch (const json::parse_error& e) {
-      // e.byte is the 1-based offset of the offending byte (size + 1 at the end of input); count the
-      // lines and columns before it. The parser's own text follows its "column N: " prefix.
-      const auto end = content.begin() + static_cast<std::ptrdiff_t>(std::min(std::max<std::size_t>(e.byte, 1) - 1, content.size()));
+      // e.byte is the 1-based offset of the offending byte (size + 1 at the end of input).
+      const std::size_t offset = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, content.size());
+      const auto end = content.begin() + static_cast<std::ptrdiff_t>(offset);
       const auto line = 1 + std::count(content.begin(), end, '\n');
       const auto column = 1 + (end - std::find(std::make_reverse_iterator(end), content.rend(), '\n').base());
-      std::string message = e.what();
-      if (auto at = message.find(", column "); at != std::string::npos && message.find(": ", at) != std::string::npos)
-        message.erase(0, message.find(": ", at) + 2);
-      fail("", "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " + message);
+      fail("", "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " +
+                   parser_text(e));
     } catch (const json::exception& e) {  // e.g. a number too large for a double; no position given
-      const std::string message = e.what();
-      fail("", "invalid JSON: " + message.substr(message.find("] ") == std::string::npos ? 0 : message.find("] ") + 2));
+      fail("", "invalid JSON: " + parser_text(e));
     }
+  }
+
+  // The parser's message without its "[json.exception.parse_error.101] parse error at line 3, column 7: ".
+  static std::string parser_text(const json::exception& e) {
+    std::string s = e.what();
+    if (const auto at = s.find("] "); at != std::string::npos) s.erase(0, at + 2);
+    if (const auto at = s.find(": "); s.starts_with("parse error") && at != std::string::npos)
+      s.erase(0, at + 2);
+    return s;
   }
 
   salsa::Vec2 point(const json& j, const std::string& field) const {
     if (!j.is_array() || j.size() != 2 || !j[0].is_number() || !j[1].is_number())
       fail(field, "expected a point [x, y] of two numbers, got " + shown(j));
     const salsa::Vec2 p{j[0].get<double>(), j[1].get<double>()};
-    if (!std::isfinite(p.x) || !std::isfinite(p.y)) fail(field, "coordinates must be finite numbers, got " + shown(j));
+    if (!std::isfinite(p.x) || !std::isfinite(p.y))
+      fail(field, "coordinates must be finite numbers, got " + shown(j));
     return p;
   }
 
@@ -118,7 +130,8 @@ class Reader {
     std::vector<salsa::Polyline> out;
     if (!root.contains(key)) return out;
     const json& list = root[key];
-    if (!list.is_array()) fail(key, "expected an array of " + what + "s (arrays of [x, y]), got " + shown(list));
+    if (!list.is_array())
+      fail(key, "expected an array of " + what + "s (arrays of [x, y]), got " + shown(list));
     for (std::size_t i = 0; i < list.size(); ++i) {
       const std::string field = key + "[" + std::to_string(i) + "]";
       if (!list[i].is_array()) fail(field, "expected an array of points [x, y], got " + shown(list[i]));
@@ -131,7 +144,8 @@ class Reader {
       // A closed outline may repeat its first point at the end; the closing edge is implied anyway.
       if (min_points == 3 && pts.size() > 1 && pts.front() == pts.back()) pts.pop_back();
       if (pts.size() < min_points)
-        fail(field, what + " needs at least " + std::to_string(min_points) + " points, got " + std::to_string(pts.size()));
+        fail(field, what + " needs at least " + std::to_string(min_points) + " points, got " +
+                        std::to_string(pts.size()));
     }
     return out;
   }

@@ -6,7 +6,9 @@ namespace {
 
 class Tree final : public salsa::TargetKind {
  public:
-  static salsa::Parameters declare() { return {{"radius", 5.0, 0.1, 100.0, "m", "radius of a tree's crown"}}; }
+  static salsa::Parameters declare() {
+    return {{"radius", 5.0, 0.1, 100.0, "m", "radius of a tree's crown"}};
+  }
   double radius() const override { return radius_; }
 
  protected:

@@ -32,20 +32,22 @@ class Scene {
     return *this;
   }
   Scene& neighbour(Vec2 position, Vec2 velocity = {}) {
-    neighbours_.push_back({position, velocity, distance(position, me_.position),
-                           static_cast<std::uint32_t>(neighbours_.size() + 1)});
+    neighbours_.push_back({position, velocity, 0, static_cast<std::uint32_t>(neighbours_.size() + 1)});
     return *this;
   }
   Scene& obstacle(Vec2 point) {
-    obstacles_.push_back({point, distance(point, me_.position)});
+    obstacles_.push_back({point, 0});
     return *this;
   }
   Scene& target(Vec2 position, bool found = false) {
-    targets_.push_back({position, distance(position, me_.position), static_cast<std::uint32_t>(targets_.size()), found});
+    targets_.push_back({position, 0, static_cast<std::uint32_t>(targets_.size()), found});
     return *this;
   }
   /// The Perception as the core would hand it to `decide` (valid while the Scene lives).
   const Perception& perception() {
+    for (auto& n : neighbours_) n.distance = distance(n.position, me_.position);  // wherever `at` put me
+    for (auto& o : obstacles_) o.distance = distance(o.point, me_.position);
+    for (auto& t : targets_) t.distance = distance(t.position, me_.position);
     me_.neighbours = neighbours_;
     me_.obstacles = obstacles_;
     me_.targets = targets_;

@@ -64,7 +64,8 @@ std::string resolved_json(const TestSpec& test, const PluginHost& host);
 /// A live simulation set up for `test`, its plugins created through `host`. Throws InputError.
 SimulationSetup make_setup(const TestSpec& test, const PluginHost& host, int threads = 0);
 
-/// Whether a JSON file is a map file (an object with "bounds") rather than a test file.
+/// Whether a JSON file is a map file (an object with "bounds", or with obstacles, hollow outlines or
+/// lines and no "behavior" or "tests") rather than a test file.
 bool is_map_file(const std::filesystem::path& file);
 /// Reads a map file through the "json" map plugin and checks its spawn point. Throws InputError.
 MapData load_map_file(const std::filesystem::path& file, const PluginHost& host, double drone_radius = 1);

@@ -1,0 +1,215 @@
+// The built-in behaviors do what they are for, measured through real simulations with the real
+// plugins: flocking aligns, dynamic space partitioning spreads out, pheromone avoidance covers more
+// ground than a random walk, and no drone ever leaves the map or enters an obstacle.
+#include <QtTest>
+
+#include <cmath>
+#include <set>
+#include <unordered_set>
+
+#include "common.hpp"
+#include "salsa/core/simulation.hpp"
+#include "salsa/core/static_geometry.hpp"
+#include "salsa/core/test_spec.hpp"
+
+using namespace salsa_test;
+using salsa::Vec2;
+
+namespace {
+
+/// |mean of the unit velocities|: 1 when all drones fly the same way, about 1/sqrt(N) when random.
+double polarisation(const salsa::Simulation& sim) {
+  Vec2 sum;
+  for (Vec2 v : sim.drone_velocities()) sum += v.normalized();
+  return sum.length() / static_cast<double>(sim.drone_count());
+}
+
+double mean_nearest_neighbour(const salsa::Simulation& sim) {
+  double sum = 0;
+  for (double d : sim.nearest_neighbour_distances()) sum += d;
+  return sum / static_cast<double>(sim.drone_count());
+}
+
+}  // namespace
+
+class TestBehaviors : public QObject {
+  Q_OBJECT
+
+  std::unique_ptr<salsa::PluginHost> host_;
+
+  std::unique_ptr<salsa::Simulation> simulation(const QString& json) {
+    const salsa::TestSpec test = salsa::parse_test(json.toStdString(), "test_behaviors", *host_);
+    return std::make_unique<salsa::Simulation>(salsa::make_setup(test, *host_, 2));
+  }
+
+ private Q_SLOTS:
+  void initTestCase() {
+    host_ = builtin_host();
+    QVERIFY(host_->failures().empty());
+  }
+
+  // The flocking plugin's decision is the weighted sum of table1.md, computed by hand (see
+  // test_sdk's steering_helpers for the terms): 1.6 alignment + 3 separation + 1 cohesion + 4 obstacles.
+  void flocking_decision_is_the_table1_formula_data() {
+    QTest::addColumn<double>("max_force");
+    QTest::addColumn<double>("x");
+    QTest::addColumn<double>("y");
+    QTest::newRow("max force 0.3") << 0.3 << -0.713096151261362 << 0.8220374745343582;
+    QTest::newRow("max force 100") << 100.0 << -25.87626032246688 << 27.687946136074757;
+  }
+  void flocking_decision_is_the_table1_formula() {
+    QFETCH(double, max_force);
+    QFETCH(double, x);
+    QFETCH(double, y);
+    const auto& entry = host_->behavior("flocking");
+    auto flocking = salsa::PluginHost::create(entry, salsa::ParameterValues(entry.factory.parameters));
+    QCOMPARE(flocking->param("separation_distance"), 250.0);  // table1's values are the defaults
+    QCOMPARE(flocking->param("alignment_weight"), 1.6);
+    QCOMPARE(flocking->param("cohesion_weight"), 1.0);
+    QCOMPARE(flocking->param("separation_weight"), 3.0);
+    QCOMPARE(flocking->param("obstacle_avoidance_weight"), 4.0);
+    flocking->reset(3);
+    salsa::Perception me;
+    me.velocity = {1, 0};
+    me.max_speed = 10;
+    me.max_force = max_force;
+    const std::vector<salsa::Neighbour> neighbours{{{3, 4}, {0, 2}, 5, 1}, {{-6, 8}, {2, 0}, 10, 2}};
+    const std::vector<salsa::ObstacleHit> hits{{{10, 0}, 10}, {{0, -5}, 5}};
+    me.neighbours = neighbours;
+    me.obstacles = hits;
+    salsa::Rng rng;
+    const Vec2 a = flocking->decide(me, rng);
+    QVERIFY2(std::abs(a.x - x) < 1e-12 && std::abs(a.y - y) < 1e-12,
+             qPrintable(QString("got (%1, %2), expected (%3, %4)").arg(a.x, 0, 'g', 17).arg(a.y, 0, 'g', 17).arg(x).arg(y)));
+  }
+
+  // Table I's separation distance (250 m) exceeds the detection range (134 m): every neighbour repels,
+  // the swarm only expands and never forms a flock. A flock needs a separation distance well inside
+  // the detection range, as in examples/flocking-forest.json (60 m).
+  void flocking_aligns_the_swarm_data() {
+    QTest::addColumn<int>("seed");
+    QTest::newRow("seed 3") << 3;
+    QTest::newRow("seed 4") << 4;
+    QTest::newRow("seed 5") << 5;
+  }
+  void flocking_aligns_the_swarm() {
+    QFETCH(int, seed);
+    auto sim = simulation(QString(R"({"behavior": {"name": "flocking", "params": {"separation_distance": 60}},
+                                      "drones": 30, "map": {"name": "empty", "params": {"size": 2000}}, "seed": %1})")
+                              .arg(seed));
+    const double initial = polarisation(*sim);
+    sim->run_steps(60 * 60);  // 60 s
+    const double final = polarisation(*sim);
+    qInfo("polarisation %.3f -> %.3f", initial, final);
+    QVERIFY2(final > 0.8, qPrintable(QString::number(final)));
+    QVERIFY2(final > initial + 0.3, qPrintable(QString("%1 -> %2").arg(initial).arg(final)));
+  }
+
+  void flocking_without_alignment_and_cohesion_does_not_align() {
+    // The control: the same start with only separation and obstacle avoidance stays disordered, so
+    // the alignment above comes from the behavior's alignment and cohesion, not from the physics.
+    auto sim = simulation(R"({"behavior": {"name": "flocking", "params": {"separation_distance": 60,
+                              "alignment_weight": 0, "cohesion_weight": 0}},
+                              "drones": 30, "map": {"name": "empty", "params": {"size": 2000}}, "seed": 3})");
+    sim->run_steps(60 * 60);
+    const double final = polarisation(*sim);
+    qInfo("polarisation without alignment and cohesion %.3f", final);
+    QVERIFY2(final < 0.5, qPrintable(QString::number(final)));
+  }
+
+  void dynamic_space_partitioning_spreads_out() {
+    const int drones = 20;
+    const double size = 500;
+    auto sim = simulation(QString(R"({"behavior": "dynamic_space_partitioning", "drones": %1,
+                                      "map": {"name": "empty", "params": {"size": %2}},
+                                      "spawn": {"radius": 15}, "seed": 5})")
+                              .arg(drones)
+                              .arg(size));
+    const double spacing = std::sqrt(size * size / drones);  // the equilibrium spacing, about 112 m
+    std::vector<double> nn{mean_nearest_neighbour(*sim)};
+    for (int k = 0; k < 4; ++k) {
+      sim->run_steps(15 * 60);  // 15 s
+      nn.push_back(mean_nearest_neighbour(*sim));
+    }
+    qInfo("mean nearest-neighbour distance %.1f %.1f %.1f %.1f %.1f m (equilibrium spacing %.1f m)", nn[0], nn[1], nn[2],
+          nn[3], nn[4], spacing);
+    QVERIFY2(nn[0] < 0.2 * spacing, "the start must be tight for this test to mean anything");
+    QVERIFY2(nn[1] > nn[0] && nn[2] > nn[1], "the spacing must grow while the swarm spreads");
+    QVERIFY2(nn.back() > 0.5 * spacing, qPrintable(QString::number(nn.back())));
+    // Spread over the whole area: a drone in each quadrant.
+    std::set<int> quadrants;
+    for (Vec2 p : sim->drone_positions()) quadrants.insert((p.x > size / 2) + 2 * (p.y > size / 2));
+    QCOMPARE(quadrants.size(), std::size_t(4));
+  }
+
+  void pheromone_avoidance_covers_more_than_random_walk_data() {
+    QTest::addColumn<QString>("map");
+    QTest::addColumn<int>("seed");
+    QTest::newRow("forest, seed 1") << "forest" << 1;
+    QTest::newRow("forest, seed 2") << "forest" << 2;
+    QTest::newRow("empty, seed 1") << "empty" << 1;
+  }
+  void pheromone_avoidance_covers_more_than_random_walk() {
+    QFETCH(QString, map);
+    QFETCH(int, seed);
+    auto coverage = [&](const char* behavior) {
+      auto sim = simulation(QString(R"({"behavior": "%1", "drones": 10, "map": {"name": "%3", "params": {"size": 400}},
+                                        "seed": %2})")
+                                .arg(behavior)
+                                .arg(seed)
+                                .arg(map));
+      std::unordered_set<long long> cells;  // 10 m cells visited by any drone, sampled every step
+      for (int step = 0; step < 150 * 60; ++step) {
+        sim->step();
+        for (Vec2 p : sim->drone_positions())
+          cells.insert(static_cast<long long>(std::floor(p.x / 10)) * 100000 + static_cast<long long>(std::floor(p.y / 10)));
+      }
+      return cells.size();
+    };
+    const std::size_t pheromone = coverage("pheromone_avoidance"), random = coverage("random_walk");
+    qInfo("cells visited in 150 s: pheromone_avoidance %zu, random_walk %zu (of 1600)", pheromone, random);
+    QVERIFY2(static_cast<double>(pheromone) > 1.1 * static_cast<double>(random),
+             qPrintable(QString("%1 vs %2").arg(pheromone).arg(random)));
+  }
+
+  // Every step, every drone: inside the bounds and outside every obstacle polygon. "blind" switches
+  // the behavior's obstacle avoidance off, so drones fly into obstacles and walls all the time and the
+  // physics alone must keep them out.
+  void random_walk_stays_in_bounds_and_out_of_obstacles_data() {
+    QTest::addColumn<QString>("params");
+    QTest::addColumn<double>("near");  // m: drones must come this close to walls or obstacles
+    QTest::newRow("default") << "{}" << 10.0;
+    QTest::newRow("blind") << R"({"obstacle_avoidance_weight": 0, "turn_distance": 0})" << 1.2;
+  }
+  void random_walk_stays_in_bounds_and_out_of_obstacles() {
+    QFETCH(QString, params);
+    QFETCH(double, near);
+    auto sim = simulation(QString(R"({"behavior": {"name": "random_walk", "params": %1}, "drones": 30,
+                                      "map": {"name": "forest", "params": {"size": 300, "clusters": 20}}, "seed": 11})")
+                              .arg(params));
+    const salsa::MapData& map = sim->map();
+    QVERIFY2(map.obstacles.size() >= 20, "the forest must have obstacles for this test to mean anything");
+    const salsa::Rect b = map.bounds;
+    const double r = sim->drone_config().radius;
+    std::size_t close = 0;
+    for (int step = 0; step < 60 * 60; ++step) {
+      sim->step();
+      const auto positions = sim->drone_positions();
+      for (std::size_t i = 0; i < positions.size(); ++i) {
+        const Vec2 p = positions[i];
+        // The body keeps (almost) its radius from the walls: Box2D allows a little overlap.
+        if (!(p.x > b.min.x + 0.8 * r && p.x < b.max.x - 0.8 * r && p.y > b.min.y + 0.8 * r && p.y < b.max.y - 0.8 * r))
+          QFAIL(qPrintable(QString("drone %1 left the map at t = %2 s: (%3, %4)").arg(i).arg(sim->time()).arg(p.x).arg(p.y)));
+        for (std::size_t k = 0; k < map.obstacles.size(); ++k)
+          if (salsa::inside_polygon(p, map.obstacles[k]))
+            QFAIL(qPrintable(QString("drone %1 inside obstacle %2 at t = %3 s").arg(i).arg(k).arg(sim->time())));
+        if (!sim->geometry().is_free(p, near)) ++close;
+      }
+    }
+    qInfo("drone-steps within %.1f m of a wall or obstacle: %zu", near, close);
+    QVERIFY2(close > 0, "the drones never came near an obstacle: the test would prove nothing");
+  }
+};
+
+QTEST_GUILESS_MAIN(TestBehaviors)
+#include "test_behaviors.moc"

@@ -1,0 +1,130 @@
+// Every shipped example is a test (DESIGN §7): each test file under examples/ validates and runs
+// (shortened to 5 s) through the salsa CLI and writes its data; each map file validates.
+#include <QDirIterator>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QtTest>
+
+#include <cmath>
+
+#include "common.hpp"
+
+using namespace salsa_test;
+
+namespace {
+
+/// The names of the tests in a test file, as salsa names their output folders.
+QStringList test_names(const QString& file) {
+  const QJsonDocument doc = QJsonDocument::fromJson(read_file(file));
+  const QString stem = QFileInfo(file).completeBaseName();
+  QJsonArray list;
+  if (doc.isArray()) list = doc.array();
+  else if (doc.object().contains("tests")) list = doc.object()["tests"].toArray();
+  else return {doc.object().value("name").toString(stem)};
+  QStringList names;
+  for (qsizetype i = 0; i < list.size(); ++i)
+    names << list[i].toObject().value("name").toString(stem + "-" + QString::number(i + 1));
+  return names;
+}
+
+bool is_map_file(const QString& file) {
+  const QJsonDocument doc = QJsonDocument::fromJson(read_file(file));
+  return doc.isObject() && doc.object().contains("bounds");
+}
+
+}  // namespace
+
+class TestExamples : public QObject {
+  Q_OBJECT
+
+  static void add_rows(bool maps) {
+    QTest::addColumn<QString>("file");
+    const QString root = q(source_dir() / "examples");
+    QDirIterator it(root, {"*.json"}, QDir::Files, QDirIterator::Subdirectories);
+    QStringList files;
+    while (it.hasNext()) files << it.next();
+    files.sort();
+    for (const QString& f : files)
+      if (is_map_file(f) == maps) QTest::newRow(qPrintable(QDir(root).relativeFilePath(f))) << f;
+  }
+
+ private Q_SLOTS:
+  void there_are_examples() {
+    QDirIterator it(q(source_dir() / "examples"), {"*.json"}, QDir::Files, QDirIterator::Subdirectories);
+    int tests = 0, maps = 0;
+    while (it.hasNext()) (is_map_file(it.next()) ? maps : tests)++;
+    QVERIFY2(tests >= 4, "examples/ should hold a test file per built-in behavior");
+    QVERIFY2(maps >= 1, "examples/maps/ should hold a map file");
+  }
+
+  void test_file_validates_data() { add_rows(false); }
+  void test_file_validates() {
+    QFETCH(QString, file);
+    const CliResult r = run_salsa({"validate", file});
+    QVERIFY2(!r.crashed && r.exit_code == 0, describe(r));
+    QVERIFY2(r.err.trimmed().isEmpty(), describe(r));  // not even a warning
+    QVERIFY2(r.out.contains(": ok ("), describe(r));
+  }
+
+  void test_file_runs_data() { add_rows(false); }
+  void test_file_runs() {
+    QFETCH(QString, file);
+    QTemporaryDir out;
+    QVERIFY(out.isValid());
+    // From another working folder: relative map files resolve against the test file's folder.
+    const CliResult r = run_salsa({"run", file, "--time", "5", "--out", out.path()}, out.path());
+    QVERIFY2(!r.crashed && r.exit_code == 0, describe(r));
+    QVERIFY2(r.err.trimmed().isEmpty(), describe(r));
+    const QStringList names = test_names(file);
+    QVERIFY(!names.isEmpty());
+    for (const QString& name : names) {
+      const QString dir = out.filePath(name);
+      for (const char* f : {"config.json", "summary.csv", "drones.csv", "targets.csv"})
+        QVERIFY2(QFileInfo(dir + "/" + f).size() > 0, qPrintable(dir + "/" + f + " missing or empty\n" + describe(r)));
+      // 5 s simulated, whatever the file says, logged from t = 0.
+      const QJsonObject config = QJsonDocument::fromJson(read_file(dir + "/config.json")).object();
+      QCOMPARE(config["time"].toDouble(), 5.0);
+      const double interval = config["log_interval"].toDouble();
+      const QStringList summary = non_empty_lines(QString::fromUtf8(read_file(dir + "/summary.csv")));
+      QCOMPARE(summary.size(), 2 + qsizetype(std::floor(5 / interval + 1e-9)));
+      QVERIFY(summary.last().startsWith("5.0000,"));
+      // One targets.csv row per target.
+      const QStringList targets = non_empty_lines(QString::fromUtf8(read_file(dir + "/targets.csv")));
+      QCOMPARE(targets.size(), 1 + config["targets"].toObject()["count"].toInt());
+    }
+    // Nothing else left behind (no half-written ".partial" folders).
+    QCOMPARE(QDir(out.path()).entryList(QDir::Dirs | QDir::NoDotAndDotDot | QDir::Hidden).size(), names.size());
+  }
+
+  void map_file_validates_data() { add_rows(true); }
+  void map_file_validates() {
+    QFETCH(QString, file);
+    const CliResult r = run_salsa({"validate", file});
+    QVERIFY2(!r.crashed && r.exit_code == 0, describe(r));
+    QVERIFY2(r.err.trimmed().isEmpty(), describe(r));
+    QVERIFY2(r.out.contains("ok (map)"), describe(r));
+  }
+
+  void map_file_runs_data() { add_rows(true); }
+  void map_file_runs() {
+    // A map file is only useful if drones can fly in it: run every behavior on it briefly.
+    QFETCH(QString, file);
+    QTemporaryDir out;
+    QVERIFY(out.isValid());
+    const QString test = out.filePath("on-map.json");
+    QVERIFY(write_file(test, QString(R"([
+      {"name": "flocking", "behavior": "flocking", "drones": 20, "map": "%1", "targets": {"count": 20}, "time": 3},
+      {"name": "pheromone", "behavior": "pheromone_avoidance", "drones": 20, "map": "%1", "targets": {"count": 20}, "time": 3},
+      {"name": "dsp", "behavior": "dynamic_space_partitioning", "drones": 20, "map": "%1", "targets": {"count": 20}, "time": 3},
+      {"name": "random", "behavior": "random_walk", "drones": 20, "map": "%1", "targets": {"count": 20}, "time": 3}
+    ])").arg(file).toUtf8()));
+    const CliResult r = run_salsa({"run", test, "--out", out.filePath("results")});
+    QVERIFY2(!r.crashed && r.exit_code == 0, describe(r));
+    for (const char* name : {"flocking", "pheromone", "dsp", "random"})
+      QVERIFY2(QFileInfo(out.filePath(QString("results/%1/config.json").arg(name))).exists(), describe(r));
+  }
+};
+
+QTEST_GUILESS_MAIN(TestExamples)
+#include "test_examples.moc"
