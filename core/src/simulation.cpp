@@ -253,19 +253,24 @@ void Simulation::step() {
     timed(Phase::decide, [this] { decide(); });
     timed(Phase::act, [this] { act(); });
     timed(Phase::physics, [this] { physics(); });
+    ++steps_;
+    read_back();
+    timed(Phase::detect, [this] { dispatch_sightings(); });
   } else {
-    // Last step's decisions go to Box2D; while it steps, the drones sense and decide on the snapshot
-    // of positions it started from. Nothing here writes what the other side reads.
+    // Last step's decisions go to Box2D; while it steps, the drones sense, decide and report what they
+    // saw, all on the snapshot of positions the step started from. Nothing one side writes is read by
+    // the other.
     timed(Phase::act, [this] { act(); });
     parallel_->overlap([this] { timed(Phase::physics, [this] { physics(); }); },
                        [this] {
                          timed(Phase::sense, [this] { sense(); });
                          timed(Phase::decide, [this] { decide(); });
+                         timed(Phase::detect, [this] { dispatch_sightings(); });
                        });
+    ++steps_;
+    read_back();
   }
-  ++steps_;
-  read_back();
-  timed(Phase::detect, [this] { detect(); });
+  timed(Phase::detect, [this] { dispatch_contacts(); });
   timed(Phase::observe, [this] { observe(); });
 }
 
@@ -277,6 +282,7 @@ void Simulation::sense() {
   drone_grid_.build(positions_, cfg.detection_range);
   const int rays = std::max(cfg.obstacle_rays, 0);
   seen_.resize(positions_.size());
+  sensed_time_ = time();
   const TargetKind* kind = targets_.empty() ? nullptr : setup_.target_kind.get();
   const double reach = kind ? cfg.camera_range + kind->radius() : 0;
   parallel_->for_each(positions_.size(), [&](std::uint32_t i, Scratch& s) {
@@ -383,23 +389,25 @@ class Actions final : public ContactActions {
 };
 }  // namespace
 
-// Detect: events to the contact handlers in a fixed order: the targets each drone had in view when it
-// sensed (by drone), then the contacts Box2D began (in its order).
-void Simulation::detect() {
-  const double sensed_at = time() - setup_.dt;
-  Actions on_sensed(targets_, found_count_, sensed_at), on_contact(targets_, found_count_, time());
-  auto dispatch = [&](const ContactEvent& e, Actions& actions) {
-    for (const auto& handler : setup_.contact_handlers) handler->on_contact(e, actions);
-  };
+// Detect: events to the contact handlers, serially and in a fixed order: first the targets each drone
+// had in view when it sensed (by drone), then the contacts Box2D began in its step (in its order).
+void Simulation::dispatch_sightings() {
+  const double sensed_at = sensed_time_;
+  Actions actions(targets_, found_count_, sensed_at);
   for (std::uint32_t i = 0; i < seen_.size(); ++i)
     for (const auto& [t, d] : seen_[i]) {
       ++targets_[t].observations;
-      dispatch({ContactKind::target_in_view, i, t, targets_[t].position, sensed_at}, on_sensed);
+      const ContactEvent e{ContactKind::target_in_view, i, t, targets_[t].position, sensed_at};
+      for (const auto& handler : setup_.contact_handlers) handler->on_contact(e, actions);
     }
+}
+
+void Simulation::dispatch_contacts() {
+  Actions actions(targets_, found_count_, time());
   for (ContactEvent e : physics_->begun) {
     e.time = time();
     ++collisions_;
-    dispatch(e, on_contact);
+    for (const auto& handler : setup_.contact_handlers) handler->on_contact(e, actions);
   }
 }
 

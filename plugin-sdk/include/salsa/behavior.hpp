@@ -64,18 +64,19 @@ inline Vec2 cohesion(const Perception& me) {
   for (const auto& n : me.neighbours) sum += n.position;
   return steer_along(me, sum / static_cast<double>(me.neighbours.size()) - me.position);
 }
-/// Fly away from neighbours closer than `distance` m, weighting each by 1/d.
+/// Fly away from neighbours closer than `distance` m, weighting each by 1/d (unit(p - q) / d, written
+/// as (p - q) / d² since d is known).
 inline Vec2 avoid_drones(const Perception& me, double distance) {
   Vec2 sum;
   for (const auto& n : me.neighbours)
-    if (n.distance > 0 && n.distance < distance) sum += (me.position - n.position).normalized() / n.distance;
+    if (n.distance > 0 && n.distance < distance) sum += (me.position - n.position) / (n.distance * n.distance);
   return steer_along(me, sum);
 }
 /// Fly away from the obstacle points the rays hit, weighting each by 1/d.
 inline Vec2 avoid_obstacles(const Perception& me) {
   Vec2 sum;
   for (const auto& h : me.obstacles)
-    if (h.distance > 0) sum += (me.position - h.point).normalized() / h.distance;
+    if (h.distance > 0) sum += (me.position - h.point) / (h.distance * h.distance);
   return steer_along(me, sum);
 }
 

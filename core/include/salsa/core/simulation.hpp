@@ -120,7 +120,8 @@ class Simulation final : public WorldView {
   void decide();
   void act();
   void physics();
-  void detect();
+  void dispatch_sightings();  // detect, part 1
+  void dispatch_contacts();   // detect, part 2
   void observe();
 
   void build_world();
@@ -149,6 +150,7 @@ class Simulation final : public WorldView {
   PointGrid target_grid_;
   std::vector<std::vector<std::pair<std::uint32_t, double>>> seen_;  ///< per drone: (target, distance) in view
   std::size_t found_count_ = 0;
+  double sensed_time_ = 0;  ///< s: when `seen_` was sensed
 
   std::vector<Observer*> observers_;
   Rng spawn_rng_;
