@@ -117,7 +117,7 @@ bool StaticGeometry::is_free(Vec2 p, double clearance) const {
     return false;
   for (std::size_t i = 0; i < solids_.size(); ++i)
     if (solid_boxes_[i].contains(p) && inside_polygon(p, solids_[i])) return false;
-  std::vector<std::uint32_t> ids;
+  thread_local std::vector<std::uint32_t> ids;  // called per target placed and per virtual point: no allocation
   candidates(p, clearance, ids);
   return std::none_of(ids.begin(), ids.end(), [&](auto id) { return segment_distance(p, segments_[id]) < clearance; });
 }

@@ -22,7 +22,13 @@ std::string number(double v) {
   const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;
   return {buf, end};
 }
-std::string text(salsa::Vec2 p) { return "[" + number(p.x) + ", " + number(p.y) + "]"; }
+std::string text(salsa::Vec2 p) {  // appended, not "[" + ...: GCC 12 -O3 warns (-Wrestrict) on that
+  std::string s = "[";
+  s += number(p.x);
+  s += ", ";
+  s += number(p.y);
+  return s += ']';
+}
 std::string shown(const json& j) {  // a value quoted in a message, cut so the message stays one line
   std::string s = j.dump();
   return s.size() > 60 ? s.substr(0, 57) + "..." : s;
