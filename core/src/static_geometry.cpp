@@ -83,8 +83,9 @@ void StaticGeometry::insert(std::uint32_t id) {
 void StaticGeometry::candidates(Vec2 p, double range, std::vector<std::uint32_t>& out) const {
   out.clear();
   if (cells_.empty()) return;
-  for (int y = row(p.y - range); y <= row(p.y + range); ++y)
-    for (int x = col(p.x - range); x <= col(p.x + range); ++x) {
+  const int x0 = col(p.x - range), x1 = col(p.x + range), y0 = row(p.y - range), y1 = row(p.y + range);
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
       const auto& cell = cells_[static_cast<std::size_t>(y) * cols_ + x];
       out.insert(out.end(), cell.begin(), cell.end());
     }

@@ -70,7 +70,38 @@ class PointGrid {
     }
   }
 
+  struct Hit {
+    std::uint32_t index;
+    double distance_squared;
+  };
+  /// The same points as `query`, in the same order, appended to `out`. Written without a branch per
+  /// point (about half the candidates are rejected, so a branch would mispredict half the time).
+  void gather(Vec2 p, double radius, std::vector<Hit>& out) const {
+    if (items_.empty()) return;
+    const double r2 = radius * radius;
+    const int x0 = std::max(0, cell_coord(p.x - radius - origin_.x));
+    const int x1 = std::min(cols_ - 1, cell_coord(p.x + radius - origin_.x));
+    const int y0 = std::max(0, cell_coord(p.y - radius - origin_.y));
+    const int y1 = std::min(rows_ - 1, cell_coord(p.y + radius - origin_.y));
+    if (x0 > x1 || y0 > y1) return;
+    std::size_t n = out.size();
+    for (int y = y0; y <= y1; ++y) {
+      const std::size_t row = static_cast<std::size_t>(y) * cols_;
+      const std::uint32_t begin = start_[row + x0], end = start_[row + x1 + 1];
+      out.resize(n + (end - begin));
+      Hit* slot = out.data();
+      for (std::uint32_t k = begin; k < end; ++k) {
+        const double d2 = distance_squared(sorted_[k], p);
+        slot[n] = {items_[k], d2};
+        n += d2 < r2;
+      }
+    }
+    out.resize(n);
+  }
+
   std::size_t size() const { return items_.size(); }
+  /// Point indices in cell order: visiting points in this order keeps neighbouring work in cache.
+  std::span<const std::uint32_t> cell_order() const { return items_; }
   double cell_size() const { return cell_; }
 
  private:
