@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -155,16 +156,23 @@ int cmd_bench(int argc, char** argv) {
       const auto t0 = std::chrono::steady_clock::now();
       SimulationSetup setup = bench::table1(host, w);
       setup.decision_lag = lag;
+      setup.profile = profile;
       Simulation sim(setup);
+      std::optional<bench::Floor> recording;
+      if (floor) recording.emplace(cell.drones, steps);
       const auto t1 = std::chrono::steady_clock::now();
-      sim.run_steps(steps);
+      if (recording)
+        for (std::size_t k = 0; k < steps; ++k) sim.step(), recording->record(sim);  // ~1 µs per 1,000 drones
+      else
+        sim.run_steps(steps);
       const auto t2 = std::chrono::steady_clock::now();
       setups.push_back(std::chrono::duration<double>(t1 - t0).count());
       walls.push_back(std::chrono::duration<double>(t2 - t1).count());
       found.push_back(static_cast<double>(sim.targets_found()));
       for (std::size_t k = 0; k < phases.size(); ++k) phases[k] += sim.profile()[k];
-      peak = std::max(peak, bench::peak_rss_bytes());
-      if (floor) floors.push_back(bench::box2d_floor_seconds(setup, steps));
+      // The floor's recording is not salsa's memory.
+      peak = std::max(peak, bench::peak_rss_bytes() - (recording ? recording->bytes() : 0));
+      if (recording) floors.push_back(recording->replay_seconds(setup));
     }
     const Stats wall = stats(walls), setup_s = stats(setups), found_s = stats(found);
     const double rtf = wall.mean / sim_time;
@@ -201,7 +209,7 @@ int cmd_bench(int argc, char** argv) {
       if (profile) std::cout << " " << phase_names[k] << " " << std::setprecision(4) << ms;
     }
     if (profile) std::cout << std::endl;
-    j["phase_ms_per_step"] = phase_json;
+    if (profile) j["phase_ms_per_step"] = phase_json;
     report["cells"].push_back(j);
   }
   if (vm.count("json")) {

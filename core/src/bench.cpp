@@ -52,8 +52,17 @@ Workload scale(std::size_t drones, std::uint64_t seed, int threads) {
   return w;
 }
 
-double box2d_floor_seconds(const SimulationSetup& setup, std::size_t steps) {
-  // The same drones in the same places as salsa would spawn them: take them from a Simulation without
+Floor::Floor(std::size_t drones, std::size_t steps) : drones_(drones) { commands_.reserve(2 * drones * steps); }
+
+void Floor::record(const Simulation& sim) {
+  for (Vec2 v : sim.commanded_velocities()) {
+    commands_.push_back(static_cast<float>(v.x));
+    commands_.push_back(static_cast<float>(v.y));
+  }
+}
+
+double Floor::replay_seconds(const SimulationSetup& setup) const {
+  // The same drones in the same places as salsa spawned them: take them from a Simulation without
   // targets, then step a world of our own.
   SimulationSetup copy = setup;
   copy.target_kind = nullptr;
@@ -61,7 +70,6 @@ double box2d_floor_seconds(const SimulationSetup& setup, std::size_t steps) {
   copy.contact_handlers.clear();
   Simulation spawned(copy);
   const auto positions = spawned.drone_positions();
-  const auto velocities = spawned.drone_velocities();
 
   b2World world(b2Vec2(0, 0));
   world.SetContinuousPhysics(false);  // as salsa configures it
@@ -75,7 +83,6 @@ double box2d_floor_seconds(const SimulationSetup& setup, std::size_t steps) {
   }
   const DroneConfig& cfg = setup.drone;
   std::vector<b2Body*> bodies;
-  std::vector<b2Vec2> wanted;
   for (std::size_t i = 0; i < positions.size(); ++i) {
     b2BodyDef def;
     def.type = b2_dynamicBody;
@@ -84,15 +91,22 @@ double box2d_floor_seconds(const SimulationSetup& setup, std::size_t steps) {
     b2Body* body = world.CreateBody(&def);
     b2CircleShape circle;
     circle.m_radius = static_cast<float>(cfg.radius);
-    body->CreateFixture(&circle, static_cast<float>(cfg.mass / (pi * cfg.radius * cfg.radius)));
+    b2FixtureDef fixture;
+    fixture.shape = &circle;
+    fixture.density = static_cast<float>(cfg.mass / (pi * cfg.radius * cfg.radius));
+    fixture.friction = 0;
+    body->CreateFixture(&fixture);
     bodies.push_back(body);
-    wanted.emplace_back(static_cast<float>(velocities[i].x), static_cast<float>(velocities[i].y));
   }
+  const std::size_t steps = drones_ ? commands_.size() / (2 * drones_) : 0;
   const auto start = std::chrono::steady_clock::now();
+  const float* v = commands_.data();
   for (std::size_t k = 0; k < steps; ++k) {
-    for (std::size_t i = 0; i < bodies.size(); ++i) bodies[i]->SetLinearVelocity(wanted[i]);
+    for (b2Body* body : bodies) {
+      body->SetLinearVelocity(b2Vec2(v[0], v[1]));
+      v += 2;
+    }
     world.Step(static_cast<float>(setup.dt), setup.velocity_iterations, setup.position_iterations);
-    for (std::size_t i = 0; i < bodies.size(); ++i) wanted[i] = bodies[i]->GetLinearVelocity();
   }
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

@@ -91,13 +91,20 @@ struct Simulation::Scratch {
 };
 
 struct Simulation::Parallel {
+  static constexpr std::size_t grain = 64;  // drones per task
   tbb::task_arena arena;
   tbb::enumerable_thread_specific<Scratch> scratch;
   explicit Parallel(int threads) : arena(threads > 0 ? threads : tbb::task_arena::automatic) {}
 
   /// Runs `side` (one long serial job) while this thread goes on with `main`; both done on return.
+  /// With few drones both are shorter than waking a thread, so they simply run one after the other.
   template <class Side, class Main>
-  void overlap(Side&& side, Main&& main) {
+  void overlap(std::size_t drones, Side&& side, Main&& main) {
+    if (drones <= grain) {
+      side();
+      main();
+      return;
+    }
     arena.execute([&] {
       tbb::task_group group;
       group.run(side);  // the oldest task: the first a free worker steals
@@ -110,8 +117,13 @@ struct Simulation::Parallel {
   /// so that neighbouring drones, which read the same cells, run one after the other.
   template <class Fn>
   void for_each(std::span<const std::uint32_t> order, Fn&& fn) {
+    if (order.size() <= grain) {  // one chunk: not worth a task
+      Scratch& s = scratch.local();
+      for (std::uint32_t i : order) fn(i, s);
+      return;
+    }
     arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), grain), [&](const tbb::blocked_range<std::size_t>& r) {
         Scratch& s = scratch.local();
         for (std::size_t k = r.begin(); k != r.end(); ++k) fn(order[k], s);
       });
@@ -181,12 +193,20 @@ void Simulation::spawn_drones(std::size_t from, std::size_t to) {
   velocities_.resize(to);
   physics_->remove_drones_from(to);
   steering_.assign(to, {});
+  commanded_.resize(to);
   rngs_.clear();
   for (std::size_t i = 0; i < to; ++i) rngs_.emplace_back(setup_.seed, first_drone_stream + i);
-  hits_.assign(to * static_cast<std::size_t>(std::max(cfg.obstacle_rays, 0)), {});
+  size_rays();
+  hits_.assign(to * ray_directions_.size(), {});
   hit_counts_.assign(to, 0);
   setup_.drones = to;
   setup_.behavior->reset(to);
+}
+
+void Simulation::size_rays() {
+  const int rays = std::max(setup_.drone.obstacle_rays, 0);
+  ray_directions_.clear();
+  for (int k = 0; k < rays; ++k) ray_directions_.push_back(Vec2::polar(1, 2 * pi * k / rays));
 }
 
 void Simulation::place_targets() {
@@ -217,7 +237,8 @@ void Simulation::set_drone_config(const DroneConfig& config) {
   physics_->remove_drones_from(0);
   for (std::size_t i = 0; i < positions_.size(); ++i)
     physics_->add_drone(static_cast<std::uint32_t>(i), positions_[i], velocities_[i].clamped(config.max_speed), config);
-  hits_.assign(positions_.size() * static_cast<std::size_t>(std::max(config.obstacle_rays, 0)), {});
+  size_rays();
+  hits_.assign(positions_.size() * ray_directions_.size(), {});
   place_targets();  // the camera range sizes the target grid
 }
 
@@ -242,6 +263,10 @@ void Simulation::set_targets(std::shared_ptr<TargetKind> kind, std::size_t count
 // ---------------------------------------------------------------- one step
 
 double Simulation::timed(Phase phase, const auto& fn) {
+  if (!setup_.profile) {
+    fn();
+    return 0;
+  }
   const auto start = std::chrono::steady_clock::now();
   fn();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -263,7 +288,7 @@ void Simulation::step() {
     // saw, all on the snapshot of positions the step started from. Nothing one side writes is read by
     // the other.
     timed(Phase::act, [this] { act(); });
-    parallel_->overlap([this] { timed(Phase::physics, [this] { physics(); }); },
+    parallel_->overlap(positions_.size(), [this] { timed(Phase::physics, [this] { physics(); }); },
                        [this] {
                          timed(Phase::sense, [this] { sense(); });
                          timed(Phase::decide, [this] { decide(); });
@@ -282,7 +307,7 @@ void Simulation::step() {
 void Simulation::sense() {
   const DroneConfig& cfg = setup_.drone;
   drone_grid_.build(positions_, cfg.detection_range / 2);  // 5×5 cells of R/2 cover less than 3×3 of R
-  const int rays = std::max(cfg.obstacle_rays, 0);
+  const std::size_t rays = ray_directions_.size();
   seen_.resize(positions_.size());
   sensed_time_ = time();
   const TargetKind* kind = targets_.empty() ? nullptr : setup_.target_kind.get();
@@ -292,11 +317,9 @@ void Simulation::sense() {
     std::uint8_t count = 0;
     geometry_.candidates(p, cfg.obstacle_range, s.segment_ids);
     if (!s.segment_ids.empty())
-      for (int k = 0; k < rays; ++k) {
-        const Vec2 direction = Vec2::polar(1, 2 * pi * k / rays);
+      for (Vec2 direction : ray_directions_)
         if (auto hit = geometry_.ray_cast(p, direction, cfg.obstacle_range, s.segment_ids))
-          hits_[static_cast<std::size_t>(i) * rays + count++] = *hit;
-      }
+          hits_[i * rays + count++] = *hit;
     hit_counts_[i] = count;
     seen_[i].clear();
     if (kind)
@@ -316,7 +339,7 @@ Perception Simulation::perceive(std::uint32_t id, Scratch& s) const {
     if (j != id) s.neighbours.push_back({positions_[j], velocities_[j], std::sqrt(d2), j});
   s.targets.clear();
   for (const auto& [t, d] : seen_[id]) s.targets.push_back({targets_[t].position, d, t, targets_[t].found()});
-  const std::size_t rays = static_cast<std::size_t>(std::max(cfg.obstacle_rays, 0));
+  const std::size_t rays = ray_directions_.size();
   Perception me;
   me.id = id;
   me.position = p;
@@ -355,8 +378,8 @@ void Simulation::act() {
     if (!std::isfinite(a.x) || !std::isfinite(a.y))
       throw std::runtime_error("behavior returned a non-finite steering for drone " + std::to_string(i) +
                                " at t = " + std::to_string(time()) + " s");
-    Vec2 v = velocities_[i] + a.clamped(cfg.max_force);
-    v = v.clamped(cfg.max_speed);
+    const Vec2 v = (velocities_[i] + a.clamped(cfg.max_force)).clamped(cfg.max_speed);
+    commanded_[i] = v;
     physics_->bodies[i]->SetLinearVelocity(to_b2(v));
   }
 }

@@ -62,13 +62,6 @@ StaticGeometry::StaticGeometry(const MapData& map, double cell_size) : bounds_(m
   for (std::uint32_t i = 0; i < segments_.size(); ++i) insert(i);
 }
 
-int StaticGeometry::col(double x) const {
-  return std::clamp(static_cast<int>(std::floor((x - origin_.x) / cell_)), 0, cols_ - 1);
-}
-int StaticGeometry::row(double y) const {
-  return std::clamp(static_cast<int>(std::floor((y - origin_.y) / cell_)), 0, rows_ - 1);
-}
-
 void StaticGeometry::insert(std::uint32_t id) {
   const Segment& s = segments_[id];
   const Vec2 centre_offset{cell_ / 2, cell_ / 2};

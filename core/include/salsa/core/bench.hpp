@@ -26,9 +26,24 @@ SimulationSetup table1(const PluginHost& host, const Workload& w);
 /// per drone, spawned uniformly (a disc of N m would not fit the map at 100,000 drones).
 Workload scale(std::size_t drones, std::uint64_t seed, int threads);
 
-/// Wall seconds for `steps` steps of a bare Box2D world with the same walls, bodies, spawn and Box2D
-/// settings as `setup`: velocities set every step, no sensing, behaviors or targets.
-double box2d_floor_seconds(const SimulationSetup& setup, std::size_t steps);
+/// The Box2D floor of a run: the same walls, bodies, spawn and Box2D settings stepped in a bare Box2D
+/// world, each body given every step the velocity salsa commanded for it in that step (recorded during
+/// the run), with no sensing, behaviors or targets. So the floor moves exactly the same bodies the same
+/// way, and the difference is salsa's own cost.
+class Floor {
+ public:
+  /// Room for `steps` steps of `drones` drones (float pairs), reserved up front.
+  Floor(std::size_t drones, std::size_t steps);
+  /// Call after each step of the run.
+  void record(const Simulation& sim);
+  /// Wall seconds to replay the recorded steps.
+  double replay_seconds(const SimulationSetup& setup) const;
+  std::size_t bytes() const { return commands_.capacity() * sizeof(float); }
+
+ private:
+  std::size_t drones_;
+  std::vector<float> commands_;
+};
 
 /// Peak resident memory of this process since the last reset (bytes); reset works on Linux ≥ 4.0.
 std::size_t peak_rss_bytes();

@@ -51,6 +51,7 @@ struct SimulationSetup {
   /// drones sense and decide on the others. 0: it takes effect in the step it was made (all phases in
   /// sequence; slower on several cores).
   int decision_lag = 1;
+  bool profile = false;               ///< time each phase (Simulation::profile); off saves ~12 clock reads a step
 };
 
 /// Step phases, timed separately (DESIGN §3).
@@ -98,7 +99,7 @@ class Simulation final : public WorldView {
   const StaticGeometry& geometry() const { return geometry_; }
   /// Nearest other drone's distance for each drone (m); +inf when alone. O(N) through the grid.
   std::vector<double> nearest_neighbour_distances() const;
-  /// Seconds spent in each phase so far.
+  /// Seconds spent in each phase so far (zeros unless SimulationSetup::profile).
   const std::array<double, 6>& profile() const { return profile_; }
 
   // ---- WorldView ----
@@ -107,6 +108,8 @@ class Simulation final : public WorldView {
   double dt() const override { return setup_.dt; }
   std::span<const Vec2> drone_positions() const override { return positions_; }
   std::span<const Vec2> drone_velocities() const override { return velocities_; }
+  /// The velocities the last act phase handed to Box2D (m/s), before collisions changed them.
+  std::span<const Vec2> commanded_velocities() const { return commanded_; }
   bool is_free(Vec2 p, double clearance) const override { return geometry_.is_free(p, clearance); }
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return geometry_.ray_cast(from, to); }
 
@@ -127,6 +130,7 @@ class Simulation final : public WorldView {
   void build_world();
   void spawn_drones(std::size_t from, std::size_t to);
   void place_targets();
+  void size_rays();
   Vec2 spawn_position(std::size_t total);
   Perception perceive(std::uint32_t id, Scratch& scratch) const;
   void read_back();
@@ -139,8 +143,9 @@ class Simulation final : public WorldView {
   std::unique_ptr<Parallel> parallel_;
 
   // Drones, structure of arrays indexed by id.
-  std::vector<Vec2> positions_, velocities_, steering_;
+  std::vector<Vec2> positions_, velocities_, steering_, commanded_;
   std::vector<Rng> rngs_;
+  std::vector<Vec2> ray_directions_;      ///< unit vectors of the obstacle rays
   std::vector<ObstacleHit> hits_;         ///< obstacle_rays slots per drone
   std::vector<std::uint8_t> hit_counts_;
   PointGrid drone_grid_;

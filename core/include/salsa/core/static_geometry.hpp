@@ -1,6 +1,8 @@
 #pragma once
 // The map's static geometry (walls and obstacles) as segments in a uniform grid: free-space tests for
 // placement and the obstacle rays of every drone, without touching Box2D or scanning all segments.
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -37,8 +39,8 @@ class StaticGeometry {
 
  private:
   void insert(std::uint32_t id);
-  int col(double x) const;
-  int row(double y) const;
+  int col(double x) const { return std::clamp(static_cast<int>(std::floor((x - origin_.x) / cell_)), 0, cols_ - 1); }
+  int row(double y) const { return std::clamp(static_cast<int>(std::floor((y - origin_.y) / cell_)), 0, rows_ - 1); }
 
   Rect bounds_{};
   std::vector<Segment> segments_;
