@@ -78,11 +78,10 @@ void StaticGeometry::candidates(Vec2 p, double range, std::vector<std::uint32_t>
   if (cells_.empty()) return;
   const int x0 = col(p.x - range), x1 = col(p.x + range), y0 = row(p.y - range), y1 = row(p.y + range);
   for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x) {
-      const auto& cell = cells_[static_cast<std::size_t>(y) * cols_ + x];
-      out.insert(out.end(), cell.begin(), cell.end());
-    }
-  if (out.size() > 1) {
+    for (int x = x0; x <= x1; ++x)
+      for (std::uint32_t id : cells_[static_cast<std::size_t>(y) * cols_ + x])
+        if (out.size() > 32 || std::find(out.begin(), out.end(), id) == out.end()) out.push_back(id);
+  if (out.size() > 32) {  // many segments: dedupe by sorting instead
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
   }

@@ -28,6 +28,8 @@ class PointGrid {
     }
     cell_ = std::max(cell_size, 1e-9);
     const double max_cells = 4.0 * static_cast<double>(n) + 64;
+    if ((box.width() / cell_ + 1) * (box.height() / cell_ + 1) > max_cells)
+      cell_ = std::max(cell_, std::sqrt(box.area() / max_cells) * 1.5);
     while ((box.width() / cell_ + 1) * (box.height() / cell_ + 1) > max_cells) cell_ *= 1.5;
     origin_ = box.min;
     cols_ = static_cast<int>(box.width() / cell_) + 1;

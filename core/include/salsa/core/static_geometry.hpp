@@ -31,7 +31,8 @@ class StaticGeometry {
   bool is_free(Vec2 p, double clearance) const;
   /// Nearest hit on the segment from `from` to `to`.
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const;
-  /// Segment ids whose cells touch the square of half-side `range` around `p` (ascending, unique).
+  /// Segment ids whose cells touch the square of half-side `range` around `p`, each once (in cell
+  /// order; ascending when there are many).
   void candidates(Vec2 p, double range, std::vector<std::uint32_t>& out) const;
   /// Nearest hit of a ray from `from` along `direction` (unit) within `range`, among `ids`.
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 direction, double range,
