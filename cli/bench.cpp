@@ -126,7 +126,7 @@ int cmd_bench(int argc, char** argv) {
             << " s simulated per run, seeds 1.." << seeds << ", decision lag " << lag << "\n";
   std::cout << std::left << std::setw(8) << "drones" << std::setw(9) << "targets" << std::right << std::setw(9) << "setup_s"
             << std::setw(9) << "wall_s" << std::setw(10) << "RTF" << std::setw(22) << "RTF min-max" << std::setw(13)
-            << "steps/s" << std::setw(15) << "drone-steps/s" << std::setw(9) << "peak_MB" << std::setw(8) << "found";
+            << "steps/s" << std::setw(15) << "drone-steps/s" << std::setw(9) << "peak_MB" << std::setw(10) << "found";
   if (floor) std::cout << std::setw(11) << "floor_RTF" << std::setw(8) << "ratio";
   std::cout << std::endl;
 
@@ -183,7 +183,7 @@ int cmd_bench(int argc, char** argv) {
               << std::setprecision(3) << std::setw(9) << setup_s.mean << std::setw(9) << wall.mean << std::setprecision(4)
               << std::setw(10) << rtf << std::setw(22) << range.str() << std::setprecision(0) << std::setw(13)
               << static_cast<double>(steps) / wall.mean << std::setw(15) << drone_steps << std::setw(9)
-              << static_cast<double>(peak) / 1e6 << std::setprecision(1) << std::setw(8) << found_s.mean;
+              << static_cast<double>(peak) / 1e6 << std::setprecision(1) << std::setw(10) << found_s.mean;
     nlohmann::ordered_json j = {{"drones", cell.drones},
                                 {"targets", cell.targets},
                                 {"setup_s", setup_s.mean},

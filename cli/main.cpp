@@ -1,6 +1,7 @@
 // salsa: the headless front-end. Thin: parses the command line and calls libsalsa.
 #include <boost/program_options.hpp>
 
+#include <array>
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
@@ -75,16 +76,25 @@ int cmd_plugins(int argc, char** argv) {
   for (const auto& d : host.searched())
     std::cout << "  " << std::left << std::setw(18) << d.origin << " " << d.path.string()
               << (fs::is_directory(d.path) ? "" : "  (missing)") << "\n";
-  std::cout << "\nPlugins:\n  " << std::left << std::setw(16) << "KIND" << std::setw(28) << "NAME" << std::setw(9)
-            << "VERSION" << std::setw(52) << "BRIEF" << "FILE\n";
-  auto row = [](const char* kind, const auto& entry) {
-    std::cout << "  " << std::left << std::setw(16) << kind << std::setw(28) << entry.factory.name << std::setw(9)
-              << entry.plugin().version << std::setw(52) << entry.factory.brief << entry.plugin().file.string() << "\n";
+  // Columns as wide as their longest entry.
+  std::vector<std::array<std::string, 5>> rows{{"KIND", "NAME", "VERSION", "BRIEF", "FILE"}};
+  auto add = [&](const char* kind, const auto& entries) {
+    for (const auto& e : entries)
+      rows.push_back({kind, e.factory.name, e.plugin().version, e.factory.brief, e.plugin().file.string()});
   };
-  for (const auto& e : host.behaviors()) row("behavior", e);
-  for (const auto& e : host.target_kinds()) row("target", e);
-  for (const auto& e : host.maps()) row("map", e);
-  for (const auto& e : host.contact_handlers()) row("contact handler", e);
+  add("behavior", host.behaviors());
+  add("target", host.target_kinds());
+  add("map", host.maps());
+  add("contact handler", host.contact_handlers());
+  std::array<std::size_t, 5> width{};
+  for (const auto& r : rows)
+    for (std::size_t c = 0; c < r.size(); ++c) width[c] = std::max(width[c], r[c].size());
+  std::cout << "\nPlugins:\n";
+  for (const auto& r : rows) {
+    std::cout << " ";
+    for (std::size_t c = 0; c < r.size(); ++c) std::cout << " " << std::left << std::setw(c + 1 < r.size() ? int(width[c]) : 0) << r[c];
+    std::cout << "\n";
+  }
   if (!host.failures().empty()) {
     std::cout << "\nRefused:\n";
     for (const auto& f : host.failures()) std::cout << "  " << f.file.string() << ": " << f.reason << "\n";
