@@ -26,6 +26,7 @@ commands:
   plugins            list the plugins found, the folders searched and the files refused
   describe NAME      print a plugin's parameters (name, default, min, max, unit, meaning)
   bench WORKLOAD     measure speed (table1, scale)
+  plot FILE          PNG chart of a bench JSON file or a summary.csv column over time
 
 'salsa <command> --help' shows the options of a command.
 )";
@@ -251,7 +252,8 @@ int main(int argc, char** argv) {
     if (command == "plugins") return cmd_plugins(argc - 1, argv + 1);
     if (command == "describe") return cmd_describe(argc - 1, argv + 1);
     if (command == "bench") return cmd_bench(argc - 1, argv + 1);
-    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, validate, plugins, describe, bench)\n";
+    if (command == "plot") return cmd_plot(argc - 1, argv + 1);
+    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, validate, plugins, describe, bench, plot)\n";
     return 2;
   } catch (const po::error& e) {
     std::cerr << "salsa " << command << ": " << e.what() << " (see 'salsa " << command << " --help')\n";

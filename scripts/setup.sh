@@ -6,7 +6,7 @@ packages=(
   libbox2d-dev
   libboost-dev libboost-program-options-dev libboost-filesystem-dev
   nlohmann-json3-dev libtbb-dev
-  qt6-base-dev qt6-charts-dev libgl-dev
+  qt6-base-dev qt6-charts-dev libqt6opengl6-dev libgl-dev
   libopenmpi-dev openmpi-bin
   libbenchmark-dev
 )

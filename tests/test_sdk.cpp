@@ -600,6 +600,13 @@ class TestSdk : public QObject {
     VEC_COMPARE(salsa::cohesion(me), cohesion, 1e-12);
     VEC_COMPARE(salsa::avoid_drones(me, 250), separation, 1e-12);
     VEC_COMPARE(salsa::avoid_obstacles(me), obstacles, 1e-12);
+    const salsa::BoidTerms boids = salsa::boid_terms(me, 250);  // the one-pass form flocking uses
+    VEC_COMPARE(boids.alignment, alignment, 1e-12);
+    VEC_COMPARE(boids.cohesion, cohesion, 1e-12);
+    VEC_COMPARE(boids.separation, separation, 1e-12);
+    me.neighbours = {};
+    QCOMPARE(salsa::boid_terms(me, 250).separation, Vec2());
+    me.neighbours = neighbours;
     QVERIFY(salsa::alignment(me).length() <= max_force + 1e-12);
     QVERIFY(salsa::avoid_obstacles(me).length() <= max_force + 1e-12);
   }

@@ -17,9 +17,9 @@ class Flocking final : public salsa::Behavior {
   }
 
   salsa::Vec2 decide(const salsa::Perception& me, salsa::Rng&) override {
-    return alignment_weight_ * salsa::alignment(me) +
-           separation_weight_ * salsa::avoid_drones(me, separation_distance_) +
-           cohesion_weight_ * salsa::cohesion(me) + obstacle_weight_ * salsa::avoid_obstacles(me);
+    const auto boids = salsa::boid_terms(me, separation_distance_);
+    return alignment_weight_ * boids.alignment + separation_weight_ * boids.separation +
+           cohesion_weight_ * boids.cohesion + obstacle_weight_ * salsa::avoid_obstacles(me);
   }
 
  protected:

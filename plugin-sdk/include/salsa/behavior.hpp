@@ -72,6 +72,23 @@ inline Vec2 avoid_drones(const Perception& me, double distance) {
     if (n.distance > 0 && n.distance < distance) sum += (me.position - n.position) / (n.distance * n.distance);
   return steer_along(me, sum);
 }
+/// The three boid terms in one pass over the neighbours: the same values as alignment(me),
+/// cohesion(me) and avoid_drones(me, separation_distance).
+struct BoidTerms {
+  Vec2 alignment, cohesion, separation;
+};
+inline BoidTerms boid_terms(const Perception& me, double separation_distance) {
+  Vec2 velocities, positions, away;
+  for (const auto& n : me.neighbours) {
+    velocities += n.velocity;
+    positions += n.position;
+    if (n.distance > 0 && n.distance < separation_distance) away += (me.position - n.position) / (n.distance * n.distance);
+  }
+  if (me.neighbours.empty()) return {};
+  return {steer_along(me, velocities),
+          steer_along(me, positions / static_cast<double>(me.neighbours.size()) - me.position), steer_along(me, away)};
+}
+
 /// Fly away from the obstacle points the rays hit, weighting each by 1/d.
 inline Vec2 avoid_obstacles(const Perception& me) {
   Vec2 sum;
