@@ -10,16 +10,6 @@
 
 namespace {
 
-// Obstacle avoidance fading in over the nearer half of the obstacle range (squared: gentle at first,
-// full weight at the obstacle), so that walls merely in range (in a room narrower than twice the range
-// there always are some) do not drown the drone's own steering and pin it to the room's middle.
-salsa::Vec2 near_obstacles(const salsa::Perception& me) {
-  double nearest = me.obstacle_range;
-  for (const auto& h : me.obstacles) nearest = std::min(nearest, h.distance);
-  const double closeness = me.obstacle_range > 0 ? std::max(0.0, 1 - 2 * nearest / me.obstacle_range) : 0;
-  return closeness * closeness * salsa::avoid_obstacles(me);
-}
-
 struct Walk {
   double heading = 0;    // rad
   double time_left = 0;  // s until the next heading change while around the point
@@ -86,7 +76,7 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Walk> {
         steer = salsa::steer_towards(me, salsa::Vec2::polar(me.max_speed, w.heading));
       }
     }
-    return steer + obstacle_weight_ * near_obstacles(me);
+    return steer + obstacle_weight_ * salsa::avoid_near_obstacles(me);
   }
 
  protected:

@@ -8,16 +8,6 @@
 
 namespace {
 
-// Obstacle avoidance fading in over the nearer half of the obstacle range (squared: gentle at first,
-// full weight at the obstacle), so that walls merely in range (in a room narrower than twice the range
-// there always are some) do not drown the drone's own steering and pin it to the room's middle.
-salsa::Vec2 near_obstacles(const salsa::Perception& me) {
-  double nearest = me.obstacle_range;
-  for (const auto& h : me.obstacles) nearest = std::min(nearest, h.distance);
-  const double closeness = me.obstacle_range > 0 ? std::max(0.0, 1 - 2 * nearest / me.obstacle_range) : 0;
-  return closeness * closeness * salsa::avoid_obstacles(me);
-}
-
 class PheromoneAvoidance final : public salsa::Behavior {
  public:
   static salsa::Parameters declare() {
@@ -66,7 +56,7 @@ class PheromoneAvoidance final : public salsa::Behavior {
       score += turn_cost_ * (1 - turns_[k].x) + rng.uniform(0, 0.1);  // jitter breaks symmetric ties
       if (k == 0 || score < best_score) best_score = score, best = dir;
     }
-    return salsa::steer_along(me, best) + obstacle_weight_ * near_obstacles(me);
+    return salsa::steer_along(me, best) + obstacle_weight_ * salsa::avoid_near_obstacles(me);
   }
 
   void reset(std::size_t) override { cells_.clear(); }  // a fresh run starts with a clean field

@@ -1,6 +1,7 @@
 #pragma once
 // Behaviors: how a drone decides. `prepare` runs once per step, serially; `decide` runs once per drone
 // and may run in parallel, so it may only write that drone's own memory.
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -95,6 +96,17 @@ inline Vec2 avoid_obstacles(const Perception& me) {
   for (const auto& h : me.obstacles)
     if (h.distance > 0) sum += (me.position - h.point) / (h.distance * h.distance);
   return steer_along(me, sum);
+}
+
+/// avoid_obstacles(me) faded in as the nearest hit gets closer: zero beyond `fade` × obstacle range,
+/// full at the obstacle (squared, so gentle at first). Walls that are merely in range (in a room
+/// narrower than twice the range there always are some) then do not drown the drone's own steering.
+inline Vec2 avoid_near_obstacles(const Perception& me, double fade = 0.5) {
+  double nearest = me.obstacle_range;
+  for (const auto& h : me.obstacles) nearest = std::min(nearest, h.distance);
+  const double reach = fade * me.obstacle_range;
+  const double closeness = reach > 0 ? std::max(0.0, 1 - nearest / reach) : 0;
+  return closeness * closeness * avoid_obstacles(me);
 }
 
 }  // namespace salsa
