@@ -1,6 +1,6 @@
 #include "salsa/core/bench.hpp"
 
-#include <box2d/box2d.h>
+#include "physics_world.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -71,42 +71,18 @@ double Floor::replay_seconds(const SimulationSetup& setup) const {
   Simulation spawned(copy);
   const auto positions = spawned.drone_positions();
 
-  b2World world(b2Vec2(0, 0));
-  world.SetContinuousPhysics(false);  // as salsa configures it
-  b2BodyDef wall_def;
-  b2Body* walls = world.CreateBody(&wall_def);
-  for (const Segment& s : spawned.geometry().segments()) {
-    b2EdgeShape edge;
-    edge.SetTwoSided(b2Vec2(static_cast<float>(s.a.x), static_cast<float>(s.a.y)),
-                     b2Vec2(static_cast<float>(s.b.x), static_cast<float>(s.b.y)));
-    walls->CreateFixture(&edge, 0);
-  }
-  const DroneConfig& cfg = setup.drone;
-  std::vector<b2Body*> bodies;
-  for (std::size_t i = 0; i < positions.size(); ++i) {
-    b2BodyDef def;
-    def.type = b2_dynamicBody;
-    def.position.Set(static_cast<float>(positions[i].x), static_cast<float>(positions[i].y));
-    def.fixedRotation = true;
-    b2Body* body = world.CreateBody(&def);
-    b2CircleShape circle;
-    circle.m_radius = static_cast<float>(cfg.radius);
-    b2FixtureDef fixture;
-    fixture.shape = &circle;
-    fixture.density = static_cast<float>(cfg.mass / (pi * cfg.radius * cfg.radius));
-    fixture.friction = 0;
-    body->CreateFixture(&fixture);
-    bodies.push_back(body);
-  }
+  PhysicsWorld world(spawned.geometry());
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    world.add_drone(static_cast<std::uint32_t>(i), positions[i], {}, setup.drone);
   const std::size_t steps = drones_ ? commands_.size() / (2 * drones_) : 0;
   const auto start = std::chrono::steady_clock::now();
   const float* v = commands_.data();
   for (std::size_t k = 0; k < steps; ++k) {
-    for (b2Body* body : bodies) {
+    for (b2Body* body : world.bodies) {
       body->SetLinearVelocity(b2Vec2(v[0], v[1]));
       v += 2;
     }
-    world.Step(static_cast<float>(setup.dt), setup.velocity_iterations, setup.position_iterations);
+    world.step(setup.dt, setup.velocity_iterations, setup.position_iterations);
   }
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

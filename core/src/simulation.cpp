@@ -1,6 +1,7 @@
 #include "salsa/core/simulation.hpp"
 
-#include <box2d/box2d.h>
+#include "physics_world.hpp"
+
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_group.h>
@@ -18,9 +19,6 @@ namespace {
 // Rng streams: a few fixed ones for set-up, then one per drone.
 constexpr std::uint64_t targets_stream = 1, spawn_stream = 2, first_drone_stream = 16;
 
-b2Vec2 to_b2(Vec2 v) { return {static_cast<float>(v.x), static_cast<float>(v.y)}; }
-Vec2 from_b2(b2Vec2 v) { return {v.x, v.y}; }
-
 std::string format_point(Vec2 p) {
   std::ostringstream s;
   s << "(" << p.x << ", " << p.y << ")";
@@ -28,60 +26,6 @@ std::string format_point(Vec2 p) {
 }
 
 }  // namespace
-
-// Box2D lives here only: a static body for the map's segments, one dynamic circle per drone.
-struct Simulation::Physics final : b2ContactListener {
-  b2World world{b2Vec2(0, 0)};
-  std::vector<b2Body*> bodies;
-  std::vector<ContactEvent> begun;  // contacts begun during the last Step, in Box2D's order
-
-  explicit Physics(const StaticGeometry& geometry) {
-    world.SetContactListener(this);
-    world.SetContinuousPhysics(false);  // drones move < 0.2 m per step, far below their radius
-    b2BodyDef def;
-    b2Body* walls = world.CreateBody(&def);
-    for (const Segment& s : geometry.segments()) {
-      b2EdgeShape edge;
-      edge.SetTwoSided(to_b2(s.a), to_b2(s.b));
-      walls->CreateFixture(&edge, 0);
-    }
-  }
-  void add_drone(std::uint32_t id, Vec2 position, Vec2 velocity, const DroneConfig& cfg) {
-    b2BodyDef def;
-    def.type = b2_dynamicBody;
-    def.position = to_b2(position);
-    def.linearVelocity = to_b2(velocity);
-    def.fixedRotation = true;
-    def.userData.pointer = id + 1;  // 0 marks static geometry
-    b2Body* body = world.CreateBody(&def);
-    b2CircleShape circle;
-    circle.m_radius = static_cast<float>(cfg.radius);
-    b2FixtureDef fixture;
-    fixture.shape = &circle;
-    fixture.density = static_cast<float>(cfg.mass / (pi * cfg.radius * cfg.radius));
-    fixture.friction = 0;
-    body->CreateFixture(&fixture);
-    bodies.push_back(body);
-  }
-  void remove_drones_from(std::size_t n) {
-    while (bodies.size() > n) {
-      world.DestroyBody(bodies.back());
-      bodies.pop_back();
-    }
-  }
-  void BeginContact(b2Contact* contact) override {
-    const auto a = contact->GetFixtureA()->GetBody()->GetUserData().pointer;
-    const auto b = contact->GetFixtureB()->GetBody()->GetUserData().pointer;
-    if (a && b) {
-      const auto lo = static_cast<std::uint32_t>(std::min(a, b) - 1), hi = static_cast<std::uint32_t>(std::max(a, b) - 1);
-      const Vec2 mid = (from_b2(bodies[lo]->GetPosition()) + from_b2(bodies[hi]->GetPosition())) / 2;
-      begun.push_back({ContactKind::drone_drone, lo, hi, mid, 0});
-    } else if (a || b) {
-      const auto id = static_cast<std::uint32_t>(std::max(a, b) - 1);
-      begun.push_back({ContactKind::drone_obstacle, id, 0, from_b2(bodies[id]->GetPosition()), 0});
-    }
-  }
-};
 
 struct Simulation::Scratch {
   std::vector<PointGrid::Hit> hits;
@@ -152,7 +96,7 @@ void Simulation::build_world() {
   if (!geometry_.is_free(spawn_, setup_.drone.radius))
     throw std::invalid_argument("spawn point " + format_point(spawn_) +
                                 " is inside an obstacle or outside the map bounds (it needs a free disc of the drone radius)");
-  physics_ = std::make_unique<Physics>(geometry_);
+  physics_ = std::make_unique<PhysicsWorld>(geometry_);
   const std::size_t n = setup_.drones;
   positions_.clear();
   velocities_.clear();
@@ -385,8 +329,7 @@ void Simulation::act() {
 }
 
 void Simulation::physics() {
-  physics_->begun.clear();
-  physics_->world.Step(static_cast<float>(setup_.dt), setup_.velocity_iterations, setup_.position_iterations);
+  physics_->step(setup_.dt, setup_.velocity_iterations, setup_.position_iterations);
 }
 
 void Simulation::read_back() {

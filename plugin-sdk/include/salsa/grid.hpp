@@ -56,13 +56,9 @@ class PointGrid {
   /// (strictly), in a fixed order (cell by cell, ascending index within a cell).
   template <class Fn>
   void query(Vec2 p, double radius, Fn&& fn) const {
-    if (items_.empty()) return;
     const double r2 = radius * radius;
-    const int x0 = std::max(0, cell_coord(p.x - radius - origin_.x));
-    const int x1 = std::min(cols_ - 1, cell_coord(p.x + radius - origin_.x));
-    const int y0 = std::max(0, cell_coord(p.y - radius - origin_.y));
-    const int y1 = std::min(rows_ - 1, cell_coord(p.y + radius - origin_.y));
-    if (x0 > x1 || y0 > y1) return;  // the query disc misses the grid (else start_ is read past its end)
+    const auto [x0, x1, y0, y1] = cells_touched(p, radius);
+    if (x0 > x1 || y0 > y1) return;
     for (int y = y0; y <= y1; ++y) {
       const std::size_t row = static_cast<std::size_t>(y) * cols_;
       for (std::uint32_t k = start_[row + x0], end = start_[row + x1 + 1]; k < end; ++k) {
@@ -79,12 +75,8 @@ class PointGrid {
   /// The same points as `query`, in the same order, appended to `out`. Written without a branch per
   /// point (about half the candidates are rejected, so a branch would mispredict half the time).
   void gather(Vec2 p, double radius, std::vector<Hit>& out) const {
-    if (items_.empty()) return;
     const double r2 = radius * radius;
-    const int x0 = std::max(0, cell_coord(p.x - radius - origin_.x));
-    const int x1 = std::min(cols_ - 1, cell_coord(p.x + radius - origin_.x));
-    const int y0 = std::max(0, cell_coord(p.y - radius - origin_.y));
-    const int y1 = std::min(rows_ - 1, cell_coord(p.y + radius - origin_.y));
+    const auto [x0, x1, y0, y1] = cells_touched(p, radius);
     if (x0 > x1 || y0 > y1) return;
     std::size_t n = out.size();
     for (int y = y0; y <= y1; ++y) {
@@ -107,6 +99,16 @@ class PointGrid {
   double cell_size() const { return cell_; }
 
  private:
+  struct CellRange {
+    int x0, x1, y0, y1;
+  };
+  /// Cells the square around the query disc touches; empty (x0 > x1) when it misses the grid, so that
+  /// start_ is never read past its end.
+  CellRange cells_touched(Vec2 p, double radius) const {
+    if (items_.empty()) return {0, -1, 0, -1};
+    return {std::max(0, cell_coord(p.x - radius - origin_.x)), std::min(cols_ - 1, cell_coord(p.x + radius - origin_.x)),
+            std::max(0, cell_coord(p.y - radius - origin_.y)), std::min(rows_ - 1, cell_coord(p.y + radius - origin_.y))};
+  }
   int cell_coord(double offset) const {
     // Clamped in double first so far-away query points cannot overflow the int.
     return static_cast<int>(std::clamp(std::floor(offset / cell_), -1.0, 2.0e9));

@@ -20,6 +20,7 @@
 namespace salsa {
 
 class Simulation;
+struct PhysicsWorld;  // Box2D, internal to libsalsa
 
 /// Told about the simulation every log interval (and once at time 0). Runs on the stepping thread.
 class Observer {
@@ -114,7 +115,6 @@ class Simulation final : public WorldView {
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return geometry_.ray_cast(from, to); }
 
  private:
-  struct Physics;
   struct Scratch;
   struct Parallel;
 
@@ -139,7 +139,7 @@ class Simulation final : public WorldView {
   SimulationSetup setup_;
   Vec2 spawn_;
   StaticGeometry geometry_;
-  std::unique_ptr<Physics> physics_;
+  std::unique_ptr<PhysicsWorld> physics_;
   std::unique_ptr<Parallel> parallel_;
 
   // Drones, structure of arrays indexed by id.
