@@ -142,7 +142,7 @@ DroneConfig parse_drone(const json& v, const Reader& r, const std::vector<DroneC
   return d;
 }
 
-std::vector<DroneConfig> drone_configs_file(const std::filesystem::path& file, const Reader& r) {
+std::vector<DroneConfig> drone_configs_file(const std::filesystem::path& file) {
   const json j = read_json_file(file);
   if (!j.is_object()) throw InputError(file.string() + ": must be an object of named drone configurations");
   std::vector<DroneConfig> out = builtin_drone_configs();
@@ -153,7 +153,6 @@ std::vector<DroneConfig> drone_configs_file(const std::filesystem::path& file, c
     copy["name"] = name;
     out.push_back(parse_drone(copy, fr, out));
   }
-  (void)r;
   return out;
 }
 
@@ -198,7 +197,7 @@ TestSpec parse(const json& j, const Reader& r, const PluginHost& host, std::size
   }
 
   std::vector<DroneConfig> named = builtin_drone_configs();
-  if (j.contains("drone_configs")) named = drone_configs_file(r.path(j["drone_configs"], "drone_configs"), r);
+  if (j.contains("drone_configs")) named = drone_configs_file(r.path(j["drone_configs"], "drone_configs"));
   if (j.contains("drone")) t.drone = parse_drone(j["drone"], r, named);
   if (j.contains("drones")) t.drones = r.integer(j["drones"], "drones", 1, 1'000'000);
 
