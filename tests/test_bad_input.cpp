@@ -24,6 +24,14 @@ const QByteArray test_using_map = R"({"behavior": "flocking", "drones": 5, "map"
 class TestBadInput : public QObject {
   Q_OBJECT
 
+  /// Writes a queue of two short tests ("first", "second") to `test` and runs it into `out`.
+  static CliResult run_two_tests(const QString& test, const QString& out) {
+    if (!write_file(test, R"([{"name": "first", "behavior": "flocking", "drones": 5, "time": 2},
+                              {"name": "second", "behavior": "random_walk", "drones": 5, "time": 2}])"))
+      return {};
+    return run_salsa({"run", test, "--out", out});
+  }
+
  private Q_SLOTS:
   void one_line_error_data() {
     QTest::addColumn<QString>("command");     // run or validate
@@ -159,11 +167,8 @@ class TestBadInput : public QObject {
   void existing_output_is_refused_and_left_alone() {
     QTemporaryDir dir;
     QVERIFY(dir.isValid());
-    const QString test = dir.filePath("queue.json");
-    QVERIFY(write_file(test, R"([{"name": "first", "behavior": "flocking", "drones": 5, "time": 2},
-                                 {"name": "second", "behavior": "random_walk", "drones": 5, "time": 2}])"));
-    const QString out = dir.filePath("out");
-    CliResult r = run_salsa({"run", test, "--out", out});
+    const QString test = dir.filePath("queue.json"), out = dir.filePath("out");
+    CliResult r = run_two_tests(test, out);
     QVERIFY2(r.exit_code == 0, describe(r));
     const auto before = snapshot(out);
     QCOMPARE(before.size(), 8);  // 2 tests × config.json, summary.csv, drones.csv, targets.csv
@@ -188,11 +193,8 @@ class TestBadInput : public QObject {
   void resume_skips_finished_tests() {
     QTemporaryDir dir;
     QVERIFY(dir.isValid());
-    const QString test = dir.filePath("queue.json");
-    QVERIFY(write_file(test, R"([{"name": "first", "behavior": "flocking", "drones": 5, "time": 2},
-                                 {"name": "second", "behavior": "random_walk", "drones": 5, "time": 2}])"));
-    const QString out = dir.filePath("out");
-    CliResult r = run_salsa({"run", test, "--out", out});
+    const QString test = dir.filePath("queue.json"), out = dir.filePath("out");
+    CliResult r = run_two_tests(test, out);
     QVERIFY2(r.exit_code == 0, describe(r));
     const auto all = snapshot(out);
     QVERIFY(QDir(out + "/second").removeRecursively());  // as if interrupted before the second test

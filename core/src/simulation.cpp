@@ -206,41 +206,33 @@ void Simulation::set_targets(std::shared_ptr<TargetKind> kind, std::size_t count
 
 // ---------------------------------------------------------------- one step
 
-double Simulation::timed(Phase phase, const auto& fn) {
-  if (!setup_.profile) {
-    fn();
-    return 0;
-  }
+void Simulation::timed(Phase phase, const auto& fn) {
+  if (!setup_.profile) return fn();
   const auto start = std::chrono::steady_clock::now();
   fn();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  profile_[static_cast<std::size_t>(phase)] += seconds;
-  return seconds;
+  profile_[static_cast<std::size_t>(phase)] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void Simulation::step() {
-  if (setup_.decision_lag == 0) {
+  // The drones' side of a step: sense, decide and report what they saw, all on the snapshot of
+  // positions the step started from.
+  auto drones = [this] {
     timed(Phase::sense, [this] { sense(); });
     timed(Phase::decide, [this] { decide(); });
+    timed(Phase::detect, [this] { dispatch_sightings(); });
+  };
+  if (setup_.decision_lag == 0) {
+    drones();
     timed(Phase::act, [this] { act(); });
     timed(Phase::physics, [this] { physics(); });
-    ++steps_;
-    read_back();
-    timed(Phase::detect, [this] { dispatch_sightings(); });
   } else {
-    // Last step's decisions go to Box2D; while it steps, the drones sense, decide and report what they
-    // saw, all on the snapshot of positions the step started from. Nothing one side writes is read by
-    // the other.
+    // Last step's decisions go to Box2D, and while it steps the drones do their side. Nothing one side
+    // writes is read by the other.
     timed(Phase::act, [this] { act(); });
-    parallel_->overlap(positions_.size(), [this] { timed(Phase::physics, [this] { physics(); }); },
-                       [this] {
-                         timed(Phase::sense, [this] { sense(); });
-                         timed(Phase::decide, [this] { decide(); });
-                         timed(Phase::detect, [this] { dispatch_sightings(); });
-                       });
-    ++steps_;
-    read_back();
+    parallel_->overlap(positions_.size(), [this] { timed(Phase::physics, [this] { physics(); }); }, drones);
   }
+  ++steps_;
+  read_back();
   timed(Phase::detect, [this] { dispatch_contacts(); });
   timed(Phase::observe, [this] { observe(); });
 }

@@ -134,7 +134,7 @@ class Simulation final : public WorldView {
   Vec2 spawn_position(std::size_t total);
   Perception perceive(std::uint32_t id, Scratch& scratch) const;
   void read_back();
-  double timed(Phase phase, const auto& fn);
+  void timed(Phase phase, const auto& fn);
 
   SimulationSetup setup_;
   Vec2 spawn_;
