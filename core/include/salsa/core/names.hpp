@@ -1,0 +1,17 @@
+#pragma once
+// User text that becomes a file or folder name (test names, file stems, queue and plot names) goes
+// through this one check, so no name can reach outside the folder it is meant for ("..", "a/b").
+#include <string>
+#include <string_view>
+
+namespace salsa {
+
+/// Longest name allowed: well under the file system's 255 bytes, leaving room for ".<name>.partial".
+inline constexpr std::size_t max_name_length = 128;
+
+/// Empty when `name` may name a file or folder, else why not, ending in what is allowed, e.g.
+/// "\"..\" must start with a letter or digit and use only letters, digits, '_', '-' and '.' (1 to 128
+/// characters; it names a folder)".
+std::string name_problem(std::string_view name);
+
+}  // namespace salsa
