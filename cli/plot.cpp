@@ -11,6 +11,7 @@
 #include "commands.hpp"
 #include "salsa/core/test_spec.hpp"
 #include "salsa/plots/chart.hpp"
+#include "strict_json.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -19,35 +20,52 @@ using salsa::InputError;
 namespace {
 
 salsa::plots::Chart bench_chart(const fs::path& file) {
-  std::ifstream in(file);
-  nlohmann::json j;
+  using nlohmann::json;
+  json j;
   try {
-    j = nlohmann::json::parse(in);
-  } catch (const std::exception& e) {
-    throw InputError(file.string() + ": not a bench JSON file (" + e.what() + ")");
+    j = salsa::strict_json::read_file<json>(file, "a bench JSON file (written by 'salsa bench --json')");
+  } catch (const salsa::strict_json::Error& e) {
+    throw InputError(e.what());
   }
-  if (!j.contains("cells") || !j.contains("workload")) throw InputError(file.string() + ": cells: missing (write it with 'salsa bench --json')");
+  const std::string name = salsa::strict_json::printable(file.string(), 200);
+  // A member of an object, of the kind asked for; refused in one line otherwise.
+  auto get = [&](const json& object, const std::string& at, const char* key, const char* kind, bool ok(const json&)) -> const json& {
+    const std::string field = at.empty() ? key : at + "." + key;
+    if (!object.contains(key)) throw InputError(name + ": " + field + ": missing (a bench JSON file, written by 'salsa bench --json')");
+    const json& v = object[key];
+    if (!ok(v)) throw InputError(name + ": " + field + ": " + salsa::strict_json::shown(v) + " is not " + kind);
+    return v;
+  };
+  auto is_positive = [](const json& v) { return v.is_number() && v.get<double>() > 0; };
+  if (!j.is_object()) throw InputError(name + ": " + salsa::strict_json::shown(j) + " is not a bench JSON object (write it with 'salsa bench --json')");
+  const std::string workload = get(j, "", "workload", "a string (table1 or scale)", [](const json& v) { return v.is_string(); }).get<std::string>();
+  const json& threads = get(j, "", "threads", "a whole number", [](const json& v) { return v.is_number_integer(); });
+  const json& cells = get(j, "", "cells", "a list of cells", [](const json& v) { return v.is_array(); });
   salsa::plots::Chart c;
   c.log_x = c.log_y = true;
   c.x_label = "drones";
   c.y_label = "RTF = wall time / simulated time (lower is faster)";
-  c.title = "salsa bench " + j["workload"].get<std::string>() + " (" + std::to_string(j["threads"].get<int>()) + " threads)";
+  c.title = "salsa bench " + salsa::strict_json::printable(workload) + " (" + threads.dump() + " threads)";
   // One line per target count for table1; scale has one target count per drone count.
-  const bool scale = j["workload"] == "scale";
+  const bool scale = workload == "scale";
   std::map<std::string, salsa::plots::Series> lines;
-  for (const auto& cell : j["cells"]) {
-    const std::string key = scale ? "" : " (" + std::to_string(cell["targets"].get<std::size_t>()) + " targets)";
-    const double n = cell["drones"].get<double>();
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const json& cell = cells[i];
+    const std::string at = "cells[" + std::to_string(i) + "]";
+    if (!cell.is_object()) throw InputError(name + ": " + at + ": " + salsa::strict_json::shown(cell) + " is not an object");
+    const std::string key =
+        scale ? "" : " (" + get(cell, at, "targets", "a whole number", [](const json& v) { return v.is_number_unsigned(); }).dump() + " targets)";
+    const double n = get(cell, at, "drones", "a number above 0", is_positive).get<double>();
     auto& salsa_line = lines["salsa" + key];
     salsa_line.name = "salsa" + key;
-    salsa_line.points.emplace_back(n, cell["rtf"].get<double>());
+    salsa_line.points.emplace_back(n, get(cell, at, "rtf", "a number above 0", is_positive).get<double>());
     if (cell.contains("floor_rtf")) {
       auto& floor_line = lines["Box2D floor" + key];
       floor_line.name = "Box2D floor" + key;
-      floor_line.points.emplace_back(n, cell["floor_rtf"].get<double>());
+      floor_line.points.emplace_back(n, get(cell, at, "floor_rtf", "a number above 0", is_positive).get<double>());
     }
   }
-  for (auto& [name, series] : lines) c.series.push_back(series);
+  for (auto& [line, series] : lines) c.series.push_back(series);
   return c;
 }
 
