@@ -1,5 +1,6 @@
 #pragma once
-// Shared by the libFuzzer targets: the built-in plugins, loaded once from $SALSA_FUZZ_PLUGIN_DIR, and
+// Shared by the libFuzzer targets: the built-in plugins, loaded once from $SALSA_FUZZ_PLUGIN_DIR (by
+// default the build's plugin folder, fuzz/CMakeLists.txt), and
 // the rule every answer to bad input keeps (InputError: one line of sane length). Anything else
 // thrown, a crash, a hang or a broken rule is a finding.
 #include <cstdio>
@@ -17,6 +18,9 @@ namespace salsa_fuzz {
 inline const salsa::PluginHost& host() {
   static const salsa::PluginHost* const loaded = [] {
     const char* dir = std::getenv("SALSA_FUZZ_PLUGIN_DIR");
+#ifdef SALSA_FUZZ_PLUGIN_DIR
+    if (!dir || !*dir) dir = SALSA_FUZZ_PLUGIN_DIR;
+#endif
     if (!dir || !*dir) {
       std::fprintf(stderr, "set SALSA_FUZZ_PLUGIN_DIR to the build's plugin folder (build/.../lib/salsa/plugins)\n");
       std::abort();
