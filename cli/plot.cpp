@@ -3,6 +3,8 @@
 #include <boost/program_options.hpp>
 #include <nlohmann/json.hpp>
 
+#include <charconv>
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -86,11 +88,22 @@ salsa::plots::Chart csv_chart(const fs::path& file, const std::string& column) {
   c.x_label = "time (s)";
   c.y_label = column;
   salsa::plots::Series s{column, {}};
+  std::size_t row = 1;
+  // A cell as a finite number, or one line naming the row and column.
+  auto number = [&](const std::string& cell, const std::string& name) {
+    double v = 0;
+    const auto [end, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), v);
+    if (ec != std::errc() || end != cell.data() + cell.size() || !std::isfinite(v))
+      throw InputError(salsa::strict_json::printable(file.string(), 200) + ": line " + std::to_string(row) + ", column " + name +
+                       ": '" + salsa::strict_json::printable(cell) + "' is not a number (allowed: finite numbers)");
+    return v;
+  };
   for (std::string line; std::getline(in, line);) {
+    ++row;
     std::stringstream ls(line);
     std::vector<std::string> cells;
     for (std::string v; std::getline(ls, v, ',');) cells.push_back(v);
-    if (cells.size() > k && !cells[k].empty()) s.points.emplace_back(std::stod(cells[0]), std::stod(cells[k]));
+    if (cells.size() > k && !cells[k].empty()) s.points.emplace_back(number(cells[0], "time"), number(cells[k], column));
   }
   c.series.push_back(std::move(s));
   return c;

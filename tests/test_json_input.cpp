@@ -166,7 +166,7 @@ class TestJsonInput : public QObject {
     check(parse("{\"behavior\": \"flocking\", \"a\\nb\": 1}"), {"t.json: a\\nb: unknown key"});
   }
 
-  void bench_json_for_plot() {
+  void files_for_plot() {
     auto plot = [&](const QByteArray& content) {
       return run_salsa({"plot", file("bench.json", content), "--out", dir_.filePath("out.png")});
     };
@@ -180,6 +180,10 @@ class TestJsonInput : public QObject {
       QVERIFY2(!r.crashed && r.exit_code == 2, describe(r));
       QVERIFY2(non_empty_lines(r.err).size() == 1 && r.err.contains(expected), describe(r));
     }
+    // summary.csv (not JSON): a cell that is not a number once escaped as "stod" with exit 1.
+    const CliResult r = run_salsa({"plot", file("summary.csv", "time,targets_found\n0,1\n1,abc\n"), "--out", dir_.filePath("out.png")});
+    QVERIFY2(!r.crashed && r.exit_code == 2, describe(r));
+    QVERIFY2(r.err.contains("summary.csv: line 3, column targets_found: 'abc' is not a number (allowed: finite numbers)"), describe(r));
   }
 };
 
