@@ -26,9 +26,9 @@ std::string num(double v) {
   else std::snprintf(buf, sizeof buf, "%.6g", v);
   return buf;
 }
-std::string short_num(double v) {  // 3 significant digits: a derived figure ("16.7 m per step")
+std::string short_num(double v) {  // 3 significant digits for a derived figure ("16.7 m per step"), no exponent from 1000 up
   char buf[40];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
+  std::snprintf(buf, sizeof buf, std::abs(v) >= 1000 && std::abs(v) < 1e15 ? "%.0f" : "%.3g", v);
   return buf;
 }
 std::string point(Vec2 p) {  // appended, not "(" + ...: GCC 12 -O3 warns (-Wrestrict) on that
