@@ -74,6 +74,8 @@ void check_drone_count(std::size_t n) {
 
 // ---------------------------------------------------------------- limits
 
+static_assert(box2d_max_step == b2_maxTranslation, "the step limit quoted to users is Box2D's own");
+
 Problem check_drone(const DroneConfig& d, double dt) {
   auto at_least = [](const char* field, double v, double lo, bool strict, const char* unit) -> Problem {
     if (std::isfinite(v) && (strict ? v > lo : v >= lo)) return {};
