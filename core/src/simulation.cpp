@@ -274,7 +274,7 @@ std::vector<Vec2> ray_directions(int rays) {
 
 }  // namespace
 
-Simulation::World Simulation::build_world(const SimulationSetup& s) const {
+Simulation::World Simulation::build_world(const SimulationSetup& s) {
   if (auto p = check_drone(s.drone, s.dt)) throw std::invalid_argument(p.text());
   if (auto p = check_map(s.map)) throw std::invalid_argument("map: " + p.text());
   if (auto p = check_resolution(s.map.bounds, s.drone, s.dt)) throw std::invalid_argument("map: " + p.text());

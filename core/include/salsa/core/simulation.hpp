@@ -180,7 +180,7 @@ class Simulation final : public WorldView {
   struct World;  // everything a map change rebuilds
 
   // Set-up and live changes: each builds its new state aside (may throw), then installs it (cannot).
-  World build_world(const SimulationSetup& setup) const;
+  static World build_world(const SimulationSetup& setup);
   static Drones resized(const Drones& from, std::size_t n, const SimulationSetup& setup, const StaticGeometry& geometry,
                         Vec2 spawn, Rng& spawn_rng);
   static Targets make_targets(std::vector<Vec2> positions, const DroneConfig& drone, const TargetKind* kind);
