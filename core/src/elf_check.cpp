@@ -1,0 +1,156 @@
+#include "elf_check.hpp"
+
+#include <elf.h>
+
+#include <cstdint>
+#include <cstring>
+
+namespace salsa {
+
+namespace {
+
+static_assert(sizeof(void*) == 8, "plugin files are checked as 64-bit ELF");
+
+// What this host loads, fixed at compile time.
+#if defined(__x86_64__)
+constexpr std::uint16_t host_machine = EM_X86_64;
+#elif defined(__aarch64__)
+constexpr std::uint16_t host_machine = EM_AARCH64;
+#elif defined(__riscv)
+constexpr std::uint16_t host_machine = EM_RISCV;
+#elif defined(__powerpc64__)
+constexpr std::uint16_t host_machine = EM_PPC64;
+#elif defined(__s390x__)
+constexpr std::uint16_t host_machine = EM_S390;
+#elif defined(__loongarch64)
+constexpr std::uint16_t host_machine = EM_LOONGARCH;
+#else
+#error "add this host's ELF machine number"
+#endif
+#if __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+constexpr unsigned char host_data = ELFDATA2LSB;
+#else
+constexpr unsigned char host_data = ELFDATA2MSB;
+#endif
+
+std::string machine_name(std::uint16_t m) {
+  switch (m) {
+    case EM_386: return "32-bit x86";
+    case EM_X86_64: return "x86-64";
+    case EM_ARM: return "32-bit ARM";
+    case EM_AARCH64: return "AArch64 (64-bit ARM)";
+    case EM_RISCV: return "RISC-V";
+    case EM_PPC64: return "PowerPC 64";
+    case EM_S390: return "s390x";
+    case EM_MIPS: return "MIPS";
+    case EM_SPARCV9: return "SPARC v9";
+    case EM_LOONGARCH: return "LoongArch";
+  }
+  return "ELF machine " + std::to_string(m);
+}
+
+std::string bytes(std::uint64_t n) { return std::to_string(n) + (n == 1 ? " byte" : " bytes"); }
+
+std::string truncated(const std::string& what, std::uint64_t end, std::size_t size) {
+  return "truncated: " + what + " ends at byte " + std::to_string(end) + ", the file has " + bytes(size) +
+         " (a half-copied file?)";
+}
+
+/// Where [offset, offset + count × entry) ends, or 0 on overflow (no valid range ends at 0 here).
+std::uint64_t end_of(std::uint64_t offset, std::uint64_t count, std::uint64_t entry) {
+  std::uint64_t length = 0, end = 0;
+  if (__builtin_mul_overflow(count, entry, &length) || __builtin_add_overflow(offset, length, &end)) return 0;
+  return end;
+}
+
+/// A problem with a range of the file, or empty when it lies inside.
+std::string outside(const std::string& what, std::uint64_t offset, std::uint64_t length, std::size_t size) {
+  const std::uint64_t end = end_of(offset, 1, length);
+  if (end == 0 && length != 0)
+    return "damaged: " + what + " claims " + bytes(length) + " at byte " + std::to_string(offset) +
+           ", past any file's end";
+  return end > size ? truncated(what, end, size) : std::string();
+}
+
+template <class T>
+T read(const unsigned char* at) {
+  T out;
+  std::memcpy(&out, at, sizeof out);  // no alignment assumed: the bytes may come from anywhere
+  return out;
+}
+
+}  // namespace
+
+std::string elf_problem(const unsigned char* data, std::size_t size) {
+  // Identification: magic, class, byte order, version.
+  if (size == 0) return "an empty file, not a shared library";
+  const bool magic_so_far = std::memcmp(data, ELFMAG, size < SELFMAG ? size : SELFMAG) == 0;
+  if (!magic_so_far) return "not a shared library (no ELF header)";
+  if (size < sizeof(Elf64_Ehdr)) return truncated("the ELF header", sizeof(Elf64_Ehdr), size);
+  const auto eh = read<Elf64_Ehdr>(data);
+  if (eh.e_ident[EI_CLASS] == ELFCLASS32) return "a 32-bit library, this salsa is 64-bit";
+  if (eh.e_ident[EI_CLASS] != ELFCLASS64)
+    return "damaged: unknown ELF class " + std::to_string(eh.e_ident[EI_CLASS]) + " (not a 64-bit library)";
+  if (eh.e_ident[EI_DATA] != host_data) {
+    const char* here = host_data == ELFDATA2LSB ? "little-endian" : "big-endian";
+    return eh.e_ident[EI_DATA] == ELFDATA2LSB || eh.e_ident[EI_DATA] == ELFDATA2MSB
+               ? std::string("built for another byte order, this host is ") + here
+               : "damaged: unknown ELF byte order " + std::to_string(eh.e_ident[EI_DATA]);
+  }
+  if (eh.e_ident[EI_VERSION] != EV_CURRENT || eh.e_version != EV_CURRENT)
+    return "damaged: unknown ELF version " +
+           std::to_string(eh.e_ident[EI_VERSION] != EV_CURRENT ? eh.e_ident[EI_VERSION] : eh.e_version);
+
+  // What it is and what it runs on.
+  switch (eh.e_type) {
+    case ET_DYN: break;
+    case ET_EXEC: return "an executable, not a shared library";
+    case ET_REL: return "an object file (.o), not a shared library (build it with salsa_add_plugin)";
+    case ET_CORE: return "a core dump, not a shared library";
+    default: return "not a shared library (ELF type " + std::to_string(eh.e_type) + ")";
+  }
+  if (eh.e_machine != host_machine)
+    return "built for " + machine_name(eh.e_machine) + ", this host is " + machine_name(host_machine);
+
+  // The program headers, then everything dlopen maps or reads through them.
+  if (eh.e_phentsize != sizeof(Elf64_Phdr))
+    return "damaged: program header entries of " + bytes(eh.e_phentsize) + ", expected " + bytes(sizeof(Elf64_Phdr));
+  if (eh.e_phnum == 0) return "no program headers (not a loadable library)";
+  if (eh.e_phnum == PN_XNUM) return "damaged: 65535 or more program headers";
+  const std::uint64_t ph_end = end_of(eh.e_phoff, eh.e_phnum, sizeof(Elf64_Phdr));
+  if (ph_end == 0 || ph_end > size)
+    return ph_end == 0 ? "damaged: the program headers lie past any file's end"
+                       : truncated("the program header table", ph_end, size);
+
+  bool loads = false, dynamic = false;
+  for (std::size_t i = 0; i < eh.e_phnum; ++i) {
+    const auto ph = read<Elf64_Phdr>(data + eh.e_phoff + i * sizeof(Elf64_Phdr));
+    const std::string index = std::to_string(i);
+    if (ph.p_type == PT_LOAD) {
+      loads = true;
+      if (ph.p_filesz > ph.p_memsz)
+        return "damaged: loaded segment " + index + " has " + bytes(ph.p_filesz) + " in the file but only " +
+               bytes(ph.p_memsz) + " in memory";
+      if (auto why = outside("loaded segment " + index, ph.p_offset, ph.p_filesz, size); !why.empty()) return why;
+    } else if (ph.p_type == PT_DYNAMIC) {
+      dynamic = true;
+      if (auto why = outside("the dynamic section (segment " + index + ")", ph.p_offset, ph.p_filesz, size); !why.empty())
+        return why;
+    }
+  }
+  if (!loads) return "no loadable segments (not a loadable library)";
+  if (!dynamic) return "no dynamic section (not a shared library)";
+
+  // The section headers are not mapped, but linkers write them last: a file cut before their end
+  // was not copied whole, even when every loaded segment made it.
+  if (eh.e_shoff != 0) {
+    if (eh.e_shentsize != sizeof(Elf64_Shdr))
+      return "damaged: section header entries of " + bytes(eh.e_shentsize) + ", expected " + bytes(sizeof(Elf64_Shdr));
+    const std::uint64_t sh_end = end_of(eh.e_shoff, eh.e_shnum == 0 ? 1 : eh.e_shnum, sizeof(Elf64_Shdr));
+    if (sh_end == 0) return "damaged: the section headers lie past any file's end";
+    if (sh_end > size) return truncated("the section header table", sh_end, size);
+  }
+  return {};
+}
+
+}  // namespace salsa
