@@ -462,6 +462,11 @@ class TestLoader : public QObject {
     loop_dir.load({{d / "libloopdir", "test"}, {plugin_folder("good"), "test"}});
     QCOMPARE(failures_of(loop_dir, d / "libloopdir"), QString("plugin folder cannot be read: symbolic link loop\n"));
     QVERIFY(has_behavior(loop_dir, "test_good"));
+    // A folder the user named that is missing or a file is reported; a missing default folder is not.
+    salsa::PluginHost odd_dirs;
+    odd_dirs.load({{d / "nowhere", "--plugin-dir"}, {d / "libtext.so", "--plugin-dir"}, {d / "nowhere", "user"}});
+    QCOMPARE(all_failures(odd_dirs), q(d / "nowhere") + ": no such plugin folder\n" + q(d / "libtext.so") +
+                                         ": a file, not a plugin folder\n");
     const CliResult r = run_salsa({"plugins", "--plugin-dir", dir.path()});
     QVERIFY2(!r.crashed && r.exit_code == 0 && r.out.contains("libloop.so: symbolic link loop") &&
                  r.out.contains("libdangling.so: broken symbolic link to nothere.so") && r.out.contains(" flocking "),

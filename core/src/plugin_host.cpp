@@ -348,10 +348,14 @@ void PluginHost::load(const std::vector<SearchDir>& dirs) {
     // Non-throwing calls only: one bad folder or entry is reported, the rest still load.
     std::error_code ec;
     const fs::file_status st = fs::status(dir.path, ec);
-    if (st.type() == fs::file_type::not_found) continue;  // an absent folder is normal (`salsa plugins` shows it)
+    if (st.type() == fs::file_type::not_found) {
+      // An absent default folder is normal (`salsa plugins` shows it); one the user named is a typo.
+      if (dir.origin == "--plugin-dir") failures_.push_back({dir.path, "no such plugin folder", {}});
+      continue;
+    }
     if (ec || !fs::is_directory(st)) {
-      failures_.push_back({dir.path, std::string("plugin folder ") +
-                                         (ec ? "cannot be read: " + errno_text(ec.value()) : "is not a folder"), {}});
+      failures_.push_back(
+          {dir.path, ec ? "plugin folder cannot be read: " + errno_text(ec.value()) : "a file, not a plugin folder", {}});
       continue;
     }
     std::vector<fs::path> files;
