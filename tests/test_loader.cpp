@@ -166,6 +166,9 @@ class TestLoader : public QObject {
     QTest::newRow("other ABI") << "abi99" << "libtest_abi99.so" << "built for salsa ABI 99, this is 1" << "test_abi99";
     QTest::newRow("text file") << "notalib" << "notalib.so" << "not a shared library" << "";
     QTest::newRow("no entry point") << "noentry" << "libtest_noentry.so" << "no entry point 'salsa_plugin_descriptor'" << "";
+    // dlopen's own words, about the original file (not the private copy that was loaded).
+    QTest::newRow("undefined symbol") << "undefined-symbol" << "libtest_undefined_symbol.so"
+                                      << "cannot be loaded: undefined symbol: salsa_test_missing_function" << "";
     QTest::newRow("registration throws") << "registration-throws" << "libtest_registration_throws.so"
                                          << "registration threw: declare() failed on purpose"
                                          << "test_registered_before_throw";
@@ -194,6 +197,7 @@ class TestLoader : public QObject {
     QCOMPARE(host.failures().size(), std::size_t(1));
     QCOMPARE(host.failures()[0].file, path);
     QVERIFY2(q(host.failures()[0].reason).contains(reason), host.failures()[0].reason.c_str());
+    QVERIFY2(!q(host.failures()[0].reason).contains("salsa-plugin-"), host.failures()[0].reason.c_str());
     QVERIFY(host.plugins().empty());
     QVERIFY(host.behaviors().empty());
     if (!never_registered.isEmpty()) QVERIFY(!has_behavior(host, never_registered.toStdString()));
@@ -404,6 +408,15 @@ class TestLoader : public QObject {
     QCOMPARE(behavior->decide(me, rng), salsa::Vec2(4, 2));
     QVERIFY(is_mapped("libtest_good.so"));
     QCOMPARE(entries(tmp.path()), QStringList());
+  }
+
+  void unusable_temporary_folder_is_a_reason() {
+    ScopedEnv tmpdir("TMPDIR", "/nonexistent/salsa-tmp");
+    salsa::PluginHost host;
+    QVERIFY(!host.load_file(plugin_file("good", "libtest_good.so")));
+    QCOMPARE(all_failures(host), q(plugin_file("good", "libtest_good.so")) +
+                                     ": no temporary folder for its private copy ($TMPDIR /nonexistent/salsa-tmp: "
+                                     "no such file or directory)\n");
   }
 
   // A copy left by a process that died while loading (its folder unlocked, older than a minute) is

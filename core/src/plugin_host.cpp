@@ -238,7 +238,11 @@ class Snapshot {
   std::string make(const fs::path& original, const std::vector<unsigned char>& bytes) {
     std::error_code ec;
     const fs::path tmp = fs::temp_directory_path(ec);
-    if (ec) return "no temporary folder for its private copy: " + errno_text(ec.value());
+    if (ec) {
+      const char* env = std::getenv("TMPDIR");
+      return std::string("no temporary folder for its private copy (") + (env ? "$TMPDIR " + std::string(env) : "/tmp") +
+             ": " + errno_text(ec.value()) + ")";
+    }
     static std::once_flag swept;
     std::call_once(swept, [&] { sweep_stale_snapshots(tmp); });
     std::string folder = (tmp / (std::string(snapshot_prefix) + "XXXXXX")).string();
