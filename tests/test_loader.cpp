@@ -269,6 +269,15 @@ class TestLoader : public QObject {
     QVERIFY(QFile::exists(dir.path() + "/out/test/summary.csv"));
   }
 
+  // A folder on the search path twice ($SALSA_PLUGIN_PATH naming the install folder, say) is no clash.
+  void same_folder_twice_loads_once() {
+    salsa::PluginHost host;
+    host.load({{plugin_folder("good"), "--plugin-dir"}, {plugin_folder("good"), "SALSA_PLUGIN_PATH"}});
+    QVERIFY2(host.failures().empty(), qPrintable(all_failures(host)));
+    QCOMPARE(host.plugins().size(), std::size_t(1));
+    QCOMPARE(host.searched().size(), std::size_t(2));
+  }
+
   void same_name_twice_in_one_file() {
     const fs::path file = plugin_file("twice", "libtest_twice.so");
     salsa::PluginHost host;

@@ -347,6 +347,15 @@ std::vector<SearchDir> PluginHost::default_search_path(const std::vector<fs::pat
 }
 
 void PluginHost::load(const std::vector<SearchDir>& dirs) {
+  // The same file twice in one search (a folder listed twice, a link beside its target) loads once.
+  // Only within one search: a later load() of a rebuilt file at the same path is a new library.
+  std::vector<fs::path> seen;
+  auto seen_before = [&](const fs::path& file) {
+    std::error_code ec;
+    const bool before = std::any_of(seen.begin(), seen.end(), [&](const fs::path& s) { return fs::equivalent(s, file, ec); });
+    seen.push_back(file);
+    return before;
+  };
   for (const auto& dir : dirs) {
     searched_.push_back(dir);
     // Non-throwing calls only: one bad folder or entry is reported, the rest still load.
@@ -368,7 +377,8 @@ void PluginHost::load(const std::vector<SearchDir>& dirs) {
       if (it->path().extension() == ".so") files.push_back(it->path());
     if (ec) failures_.push_back({dir.path, "plugin folder cannot be listed: " + errno_text(ec.value()), {}});
     std::sort(files.begin(), files.end());
-    for (const auto& f : files) load_file(f);
+    for (const auto& f : files)
+      if (!seen_before(f)) load_file(f);
   }
 }
 
@@ -377,12 +387,6 @@ bool PluginHost::load_file(const fs::path& file) {
     failures_.push_back({file, std::move(reason), {}});
     return false;
   };
-  // The same file twice (a folder on the search path twice, a link to a loaded file): once is enough.
-  for (const auto& l : libraries_) {
-    std::error_code ec;
-    if (fs::equivalent(l->info.file, file, ec)) return true;
-  }
-
   // Phase 1: read the file once, check the bytes, write them to a private copy and map that copy.
   if (std::string why = entry_problem(file); !why.empty()) return fail(why);
   auto lib = std::make_shared<Library>();
