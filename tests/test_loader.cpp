@@ -353,6 +353,28 @@ class TestLoader : public QObject {
     ph.p_offset = ph.p_filesz = ph.p_memsz = std::uint64_t(1) << 63;
     std::memcpy(huge_segment.data() + eh.e_phoff, &ph, sizeof ph);
     QTest::newRow("a segment past any file's end") << huge_segment << "damaged: ";
+    // Found by fuzzing the check, then loading what it accepted: headers that point the dynamic loader
+    // at memory no segment maps (dlopen segfaulted on both).
+    for (int i = 0; i < eh.e_phnum; ++i) {
+      std::memcpy(&ph, whole.constData() + eh.e_phoff + i * sizeof ph, sizeof ph);
+      if (ph.p_type == PT_LOAD) {
+        QByteArray load_as_dynamic = whole;  // the first loaded segment turned into a second dynamic section
+        ph.p_type = PT_DYNAMIC;
+        std::memcpy(load_as_dynamic.data() + eh.e_phoff + i * sizeof ph, &ph, sizeof ph);
+        QTest::newRow("a loaded segment turned dynamic") << load_as_dynamic << "damaged: two dynamic sections";
+        break;
+      }
+    }
+    for (int i = 0; i < eh.e_phnum; ++i) {
+      std::memcpy(&ph, whole.constData() + eh.e_phoff + i * sizeof ph, sizeof ph);
+      if (ph.p_type == PT_DYNAMIC) {
+        QByteArray dynamic_elsewhere = whole;  // the dynamic section's address outside every loaded segment
+        ph.p_vaddr += 0x40000000;
+        std::memcpy(dynamic_elsewhere.data() + eh.e_phoff + i * sizeof ph, &ph, sizeof ph);
+        QTest::newRow("dynamic section outside the loaded segments")
+            << dynamic_elsewhere << QString("damaged: the dynamic section (segment %1) lies outside every loaded segment").arg(i);
+      }
+    }
   }
   void truncated_files_are_refused() {
     QFETCH(QByteArray, bytes);

@@ -122,24 +122,52 @@ std::string elf_problem(const unsigned char* data, std::size_t size) {
     return ph_end == 0 ? "damaged: the program headers lie past any file's end"
                        : truncated("the program header table", ph_end, size);
 
+  auto header = [&](std::size_t i) { return read<Elf64_Phdr>(data + eh.e_phoff + i * sizeof(Elf64_Phdr)); };
   bool loads = false, dynamic = false;
   for (std::size_t i = 0; i < eh.e_phnum; ++i) {
-    const auto ph = read<Elf64_Phdr>(data + eh.e_phoff + i * sizeof(Elf64_Phdr));
+    const auto ph = header(i);
     const std::string index = std::to_string(i);
     if (ph.p_type == PT_LOAD) {
       loads = true;
       if (ph.p_filesz > ph.p_memsz)
         return "damaged: loaded segment " + index + " has " + bytes(ph.p_filesz) + " in the file but only " +
                bytes(ph.p_memsz) + " in memory";
+      if (end_of(ph.p_vaddr, 1, ph.p_memsz) == 0 && ph.p_memsz != 0)
+        return "damaged: loaded segment " + index + " lies past the end of the address space";
       if (auto why = outside("loaded segment " + index, ph.p_offset, ph.p_filesz, size); !why.empty()) return why;
     } else if (ph.p_type == PT_DYNAMIC) {
+      if (dynamic) return "damaged: two dynamic sections";
       dynamic = true;
       if (auto why = outside("the dynamic section (segment " + index + ")", ph.p_offset, ph.p_filesz, size); !why.empty())
         return why;
+      // The loader walks the entries up to DT_NULL: it must come before the section ends.
+      bool terminated = false;
+      for (std::uint64_t at = 0; !terminated && at + sizeof(Elf64_Dyn) <= ph.p_filesz; at += sizeof(Elf64_Dyn))
+        terminated = read<Elf64_Dyn>(data + ph.p_offset + at).d_tag == DT_NULL;
+      if (!terminated) return "damaged: the dynamic section (segment " + index + ") has no end marker";
     }
   }
   if (!loads) return "no loadable segments (not a loadable library)";
   if (!dynamic) return "no dynamic section (not a shared library)";
+
+  // What the dynamic loader reads through the mapped image (the dynamic section, notes, the program
+  // headers, the TLS image) must lie inside a loaded segment, or it reads unmapped memory.
+  for (std::size_t i = 0; i < eh.e_phnum; ++i) {
+    const auto ph = header(i);
+    const char* what = ph.p_type == PT_DYNAMIC ? "the dynamic section"
+                       : ph.p_type == PT_NOTE || ph.p_type == PT_GNU_PROPERTY ? "a note"
+                       : ph.p_type == PT_PHDR ? "the program header table"
+                       : ph.p_type == PT_TLS ? "the thread-local data"
+                                             : nullptr;
+    if (!what || ph.p_filesz == 0) continue;
+    const std::uint64_t end = end_of(ph.p_vaddr, 1, ph.p_filesz);
+    bool inside = false;
+    for (std::size_t j = 0; j < eh.e_phnum && !inside; ++j) {
+      const auto load = header(j);
+      inside = load.p_type == PT_LOAD && end != 0 && ph.p_vaddr >= load.p_vaddr && end <= load.p_vaddr + load.p_memsz;
+    }
+    if (!inside) return "damaged: " + std::string(what) + " (segment " + std::to_string(i) + ") lies outside every loaded segment";
+  }
 
   // The section headers are not mapped, but linkers write them last: a file cut before their end
   // was not copied whole, even when every loaded segment made it.
