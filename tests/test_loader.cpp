@@ -10,6 +10,7 @@
 
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <random>
 
 #include "common.hpp"
@@ -364,6 +365,31 @@ class TestLoader : public QObject {
         QTest::newRow("a loaded segment turned dynamic") << load_as_dynamic << "damaged: two dynamic sections";
         break;
       }
+    }
+    // Single header fields changed (from loading header mutations the check accepted): each crashed dlopen.
+    auto mutated = [&](int i, const std::function<void(Elf64_Phdr&)>& change) {
+      QByteArray out = whole;
+      Elf64_Phdr h;
+      std::memcpy(&h, whole.constData() + eh.e_phoff + i * sizeof h, sizeof h);
+      change(h);
+      std::memcpy(out.data() + eh.e_phoff + i * sizeof h, &h, sizeof h);
+      return out;
+    };
+    for (int i = 0; i < eh.e_phnum; ++i) {
+      std::memcpy(&ph, whole.constData() + eh.e_phoff + i * sizeof ph, sizeof ph);
+      if (ph.p_type != PT_LOAD) continue;
+      if (ph.p_flags & PF_X)
+        QTest::addRow("code segment %d not executable", i) << mutated(i, [](Elf64_Phdr& h) { h.p_flags &= ~PF_X; })
+                                                           << "damaged: section";
+      if ((ph.p_flags & PF_W) && ph.p_memsz > ph.p_filesz) {
+        QTest::addRow("data segment %d reads its zero fill from the file", i)
+            << mutated(i, [](Elf64_Phdr& h) { h.p_filesz = h.p_memsz; }) << "damaged: section";
+        QTest::addRow("data segment %d too short for its zero fill", i)
+            << mutated(i, [](Elf64_Phdr& h) { h.p_memsz = h.p_filesz; }) << "damaged: section";
+      }
+      if (i > 0)
+        QTest::addRow("segment %d overlaps the one before", i)
+            << mutated(i, [](Elf64_Phdr& h) { h.p_vaddr -= 0x2000, h.p_paddr -= 0x2000; }) << "damaged: ";
     }
     for (int i = 0; i < eh.e_phnum; ++i) {
       std::memcpy(&ph, whole.constData() + eh.e_phoff + i * sizeof ph, sizeof ph);

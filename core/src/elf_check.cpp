@@ -150,24 +150,81 @@ std::string elf_problem(const unsigned char* data, std::size_t size) {
   if (!loads) return "no loadable segments (not a loadable library)";
   if (!dynamic) return "no dynamic section (not a shared library)";
 
-  // What the dynamic loader reads through the mapped image (the dynamic section, notes, the program
-  // headers, the TLS image) must lie inside a loaded segment, or it reads unmapped memory.
+  // Loaded segments ascend and do not overlap (at their alignment, as they are mapped): the ELF rule
+  // glibc relies on without checking; an overlap maps one segment's zero fill over another's code.
+  std::uint64_t previous_end = 0;
   for (std::size_t i = 0; i < eh.e_phnum; ++i) {
     const auto ph = header(i);
-    const char* what = ph.p_type == PT_DYNAMIC ? "the dynamic section"
-                       : ph.p_type == PT_NOTE || ph.p_type == PT_GNU_PROPERTY ? "a note"
-                       : ph.p_type == PT_PHDR ? "the program header table"
-                       : ph.p_type == PT_TLS ? "the thread-local data"
-                                             : nullptr;
-    if (!what || ph.p_filesz == 0) continue;
-    const std::uint64_t end = end_of(ph.p_vaddr, 1, ph.p_filesz);
-    bool inside = false;
-    for (std::size_t j = 0; j < eh.e_phnum && !inside; ++j) {
-      const auto load = header(j);
-      inside = load.p_type == PT_LOAD && end != 0 && ph.p_vaddr >= load.p_vaddr && end <= load.p_vaddr + load.p_memsz;
-    }
-    if (!inside) return "damaged: " + std::string(what) + " (segment " + std::to_string(i) + ") lies outside every loaded segment";
+    if (ph.p_type != PT_LOAD) continue;
+    const std::uint64_t align = ph.p_align > 1 ? ph.p_align : 1;
+    if ((align & (align - 1)) != 0)
+      return "damaged: loaded segment " + std::to_string(i) + " is aligned to " + std::to_string(align) +
+             ", not a power of two";
+    const std::uint64_t end = end_of(ph.p_vaddr, 1, ph.p_memsz), rounded = end_of(end, 1, align - 1);
+    if ((ph.p_vaddr & ~(align - 1)) < previous_end)
+      return "damaged: loaded segment " + std::to_string(i) + " overlaps the one before it";
+    if (rounded == 0) return "damaged: loaded segment " + std::to_string(i) + " lies past the end of the address space";
+    previous_end = rounded & ~(align - 1);
   }
+
+  // What the dynamic loader reads or protects through the mapped image must lie inside a loaded
+  // segment, or it touches unmapped memory: segments (the dynamic section, notes, the program headers,
+  // the TLS image, the read-only-after-relocation range) and the tables the dynamic section points to.
+  // Inside a loaded segment: its file-backed part when `offset` is given (and there at that offset),
+  // else anywhere in its memory.
+  constexpr std::uint64_t in_memory = ~std::uint64_t(0);
+  auto mapped = [&](std::uint64_t vaddr, std::uint64_t length, std::uint64_t offset, std::uint32_t flags = 0) {
+    const std::uint64_t end = end_of(vaddr, 1, length);
+    if (end == 0 && length != 0) return false;
+    for (std::size_t j = 0; j < eh.e_phnum; ++j) {
+      const auto load = header(j);
+      if (load.p_type != PT_LOAD || vaddr < load.p_vaddr) continue;
+      const bool file_backed = offset != in_memory;
+      if (end > load.p_vaddr + (file_backed ? load.p_filesz : load.p_memsz)) continue;
+      return (!file_backed || offset - load.p_offset == vaddr - load.p_vaddr) && (load.p_flags & flags) == flags;
+    }
+    return false;
+  };
+  Elf64_Phdr dyn{};
+  for (std::size_t i = 0; i < eh.e_phnum; ++i) {
+    const auto ph = header(i);
+    const char* what = ph.p_type == PT_DYNAMIC                                     ? "the dynamic section"
+                       : ph.p_type == PT_NOTE || ph.p_type == PT_GNU_PROPERTY       ? "a note"
+                       : ph.p_type == PT_PHDR                                       ? "the program header table"
+                       : ph.p_type == PT_TLS                                        ? "the thread-local data"
+                       : ph.p_type == PT_GNU_RELRO                                  ? "the read-only-after-relocation range"
+                                                                                    : nullptr;
+    if (ph.p_type == PT_DYNAMIC) dyn = ph;
+    const bool relro = ph.p_type == PT_GNU_RELRO;
+    const std::uint64_t length = relro ? ph.p_memsz : ph.p_filesz;
+    if (what && length != 0 && !mapped(ph.p_vaddr, length, relro ? in_memory : ph.p_offset))
+      return "damaged: " + std::string(what) + " (segment " + std::to_string(i) + ") lies outside every loaded segment";
+  }
+  struct Table {
+    std::int64_t address_tag, size_tag;
+    const char* name;
+    std::uint64_t address = 0, size = 0;
+    bool present = false;
+  };
+  Table tables[] = {{DT_STRTAB, DT_STRSZ, "string table"},     {DT_SYMTAB, -1, "symbol table"},
+                    {DT_HASH, -1, "hash table"},              {DT_GNU_HASH, -1, "GNU hash table"},
+                    {DT_RELA, DT_RELASZ, "relocations"},      {DT_REL, DT_RELSZ, "relocations"},
+                    {DT_JMPREL, DT_PLTRELSZ, "PLT relocations"}, {DT_INIT, -1, "init function"},
+                    {DT_FINI, -1, "fini function"},           {DT_INIT_ARRAY, DT_INIT_ARRAYSZ, "init array"},
+                    {DT_FINI_ARRAY, DT_FINI_ARRAYSZ, "fini array"}, {DT_PREINIT_ARRAY, DT_PREINIT_ARRAYSZ, "preinit array"},
+                    {DT_PLTGOT, -1, "global offset table"},   {DT_VERSYM, -1, "symbol versions"},
+                    {DT_VERDEF, -1, "version definitions"},   {DT_VERNEED, -1, "version needs"}};
+  for (std::uint64_t at = 0; at + sizeof(Elf64_Dyn) <= dyn.p_filesz; at += sizeof(Elf64_Dyn)) {
+    const auto d = read<Elf64_Dyn>(data + dyn.p_offset + at);
+    if (d.d_tag == DT_NULL) break;
+    for (Table& t : tables) {
+      if (d.d_tag == t.address_tag) t.address = d.d_un.d_ptr, t.present = true;
+      if (d.d_tag == t.size_tag) t.size = d.d_un.d_val;
+    }
+  }
+  for (const Table& t : tables)
+    if (t.present && !mapped(t.address, t.size == 0 ? 1 : t.size, in_memory))
+      return std::string("damaged: the dynamic section's ") + t.name + " lies outside every loaded segment";
 
   // The section headers are not mapped, but linkers write them last: a file cut before their end
   // was not copied whole, even when every loaded segment made it.
@@ -177,6 +234,23 @@ std::string elf_problem(const unsigned char* data, std::size_t size) {
     const std::uint64_t sh_end = end_of(eh.e_shoff, eh.e_shnum == 0 ? 1 : eh.e_shnum, sizeof(Elf64_Shdr));
     if (sh_end == 0) return "damaged: the section headers lie past any file's end";
     if (sh_end > size) return truncated("the section header table", sh_end, size);
+    // When present, the sections the segments carry must agree with them: in the file-backed part
+    // of a loaded segment, at the same offset, code in an executable one, data in a writable one.
+    for (std::size_t i = 0; i < eh.e_shnum; ++i) {
+      const auto sh = read<Elf64_Shdr>(data + eh.e_shoff + i * sizeof(Elf64_Shdr));
+      if (!(sh.sh_flags & SHF_ALLOC) || sh.sh_size == 0 || (sh.sh_flags & SHF_TLS)) continue;
+      const std::uint32_t needs = ((sh.sh_flags & SHF_EXECINSTR) ? PF_X : 0) | ((sh.sh_flags & SHF_WRITE) ? PF_W : 0);
+      bool fits = false;
+      if (sh.sh_type != SHT_NOBITS) fits = mapped(sh.sh_addr, sh.sh_size, sh.sh_offset, needs);
+      else  // zero-filled data (.bss): in the memory-only part, past what the file supplies
+        for (std::size_t j = 0; j < eh.e_phnum && !fits; ++j) {
+          const auto load = header(j);
+          const std::uint64_t end = end_of(sh.sh_addr, 1, sh.sh_size);
+          fits = load.p_type == PT_LOAD && end != 0 && sh.sh_addr >= load.p_vaddr + load.p_filesz &&
+                 end <= load.p_vaddr + load.p_memsz && (load.p_flags & needs) == needs;
+        }
+      if (!fits) return "damaged: section " + std::to_string(i) + " does not match the loaded segments";
+    }
   }
   return {};
 }
