@@ -160,18 +160,19 @@ std::string elf_problem(const unsigned char* data, std::size_t size) {
     if ((align & (align - 1)) != 0)
       return "damaged: loaded segment " + std::to_string(i) + " is aligned to " + std::to_string(align) +
              ", not a power of two";
-    const std::uint64_t end = end_of(ph.p_vaddr, 1, ph.p_memsz), rounded = end_of(end, 1, align - 1);
     if ((ph.p_vaddr & ~(align - 1)) < previous_end)
       return "damaged: loaded segment " + std::to_string(i) + " overlaps the one before it";
-    if (rounded == 0) return "damaged: loaded segment " + std::to_string(i) + " lies past the end of the address space";
+    std::uint64_t rounded = 0;  // its end, rounded up to its alignment (vaddr + memsz cannot overflow: checked)
+    if (__builtin_add_overflow(ph.p_vaddr + ph.p_memsz, align - 1, &rounded))
+      return "damaged: loaded segment " + std::to_string(i) + " lies past the end of the address space";
     previous_end = rounded & ~(align - 1);
   }
 
   // What the dynamic loader reads or protects through the mapped image must lie inside a loaded
   // segment, or it touches unmapped memory: segments (the dynamic section, notes, the program headers,
   // the TLS image, the read-only-after-relocation range) and the tables the dynamic section points to.
-  // Inside a loaded segment: its file-backed part when `offset` is given (and there at that offset),
-  // else anywhere in its memory.
+  // mapped(): inside one loaded segment with `flags`, in its file-backed part and at that file offset
+  // when `offset` is given, else anywhere in its memory.
   constexpr std::uint64_t in_memory = ~std::uint64_t(0);
   auto mapped = [&](std::uint64_t vaddr, std::uint64_t length, std::uint64_t offset, std::uint32_t flags = 0) {
     const std::uint64_t end = end_of(vaddr, 1, length);
