@@ -315,9 +315,13 @@ int cmd_run(int argc, char** argv) {
   load_plugins(host, vm, !child);
   const auto tests = load_all(vm, host);
   for (const auto& t : tests) make_setup(t, host);  // every test valid before the first one runs
-  if (child && std::none_of(tests.begin(), tests.end(), [&](const TestSpec& t) { return t.name == vm["only"].as<std::string>(); }))
-    throw InputError("--only: no test named \"" + vm["only"].as<std::string>() + "\"");
-  check_outputs(tests, host, options);
+  // An --isolate child checks the output of its own test only: the others may be done by now.
+  std::vector<TestSpec> mine = tests;
+  if (child) {
+    std::erase_if(mine, [&](const TestSpec& t) { return t.name != vm["only"].as<std::string>(); });
+    if (mine.empty()) throw InputError("--only: no test named \"" + vm["only"].as<std::string>() + "\"");
+  }
+  check_outputs(mine, host, options);
   bool failed = false;
   for (std::size_t i = 0; i < tests.size(); ++i) {
     const TestSpec& test = tests[i];

@@ -348,6 +348,15 @@ struct NoteGuard {
   ~NoteGuard() { note.active.store(false, std::memory_order_release); }
 };
 
+/// What config.json holds. A map file's path is made absolute: a relative one would resolve against
+/// config.json's own folder when it is rerun, not against the folder it was given in.
+std::string config_of(const TestSpec& test, const PluginHost& host) {
+  if (test.map_file.empty() || fs::path(test.map_file).is_absolute()) return resolved_json(test, host);
+  TestSpec copy = test;
+  copy.map_file = fs::absolute(test.map_file).lexically_normal().string();
+  return resolved_json(copy, host);
+}
+
 std::string format_time(double t) {
   std::ostringstream s;
   s.precision(6);
@@ -393,7 +402,7 @@ void check_outputs(const std::vector<TestSpec>& tests, const PluginHost& host, c
   if (const auto st = fs::status(out, ec); fs::exists(st) && !fs::is_directory(st))
     throw InputError("--out: " + out.string() + " is a file (allowed: a folder, created if missing)");
   for (const auto& t : tests)
-    if (const std::string why = refusal(t, resolved_json(t, host), options); !why.empty()) throw InputError(why);
+    if (const std::string why = refusal(t, config_of(t, host), options); !why.empty()) throw InputError(why);
   fs::create_directories(out, ec);
   if (ec) throw InputError("--out: " + out.string() + ": cannot create folder (" + ec.message() + ")");
 }
@@ -401,7 +410,7 @@ void check_outputs(const std::vector<TestSpec>& tests, const PluginHost& host, c
 bool already_done(const TestSpec& test, const PluginHost& host, const RunOptions& options) {
   const fs::path folder = options.out / test.name;
   return options.resume && name_problem(test.name).empty() && fs::exists(folder / "config.json") &&
-         resume_difference(folder, resolved_json(test, host)).empty();
+         resume_difference(folder, config_of(test, host)).empty();
 }
 
 RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOptions& options) {
@@ -413,7 +422,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     result.skipped = true;
     return result;
   }
-  const std::string config = resolved_json(test, host);
+  const std::string config = config_of(test, host);
   if (const std::string why = refusal(test, config, options); !why.empty()) throw InputError(why);
 
   // The .partial folder: a leftover one (an interrupted run) is cleaned up; the marker goes in first.
