@@ -73,7 +73,9 @@ class Reader {
     ParameterValues values(schema);
     if (given.is_null()) return values;
     if (!given.is_object()) fail(field, show(given) + " must be an object of parameter values");
-    for (const auto& [key, v] : given.items()) {
+    for (const auto& item : given.items()) {
+      const std::string& key = item.key();  // not a structured binding: clang 14 (fuzz preset) cannot capture those
+      const json& v = item.value();
       auto it = std::find_if(schema.begin(), schema.end(), [&](const Parameter& p) { return p.name == key; });
       if (it == schema.end()) {
         std::string declared;
