@@ -264,9 +264,16 @@ int run_isolated(const TestSpec& test, const PluginHost& host, int argc, char** 
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDERR_FILENO);
+  // Its own process group: Ctrl-C reaches this process only, which passes it on once (a second
+  // SIGINT would end the child at once instead of stopping it cleanly).
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attributes, 0);
   pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, cargs.data(), environ);
+  const int spawned = posix_spawn(&pid, "/proc/self/exe", &actions, &attributes, cargs.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attributes);
   ::close(pipe_fds[1]);
   if (spawned != 0) {
     ::close(pipe_fds[0]);

@@ -317,22 +317,28 @@ class TestReliability : public QObject {
     // third each, and drones.csv is written all the time (mid-write).
     QTest::addColumn<int>("sig");
     QTest::addColumn<double>("at");
-    QTest::newRow("SIGINT in the first test") << int(SIGINT) << 0.1;
-    QTest::newRow("SIGTERM in the second test") << int(SIGTERM) << 0.5;
-    QTest::newRow("SIGINT in the last test") << int(SIGINT) << 0.8;
-    QTest::newRow("SIGKILL at once") << int(SIGKILL) << 0.0;
-    QTest::newRow("SIGKILL in the first test") << int(SIGKILL) << 0.2;
-    QTest::newRow("SIGKILL in the second test") << int(SIGKILL) << 0.45;
-    QTest::newRow("SIGKILL in the last test") << int(SIGKILL) << 0.75;
-    QTest::newRow("SIGKILL near the end") << int(SIGKILL) << 0.9;
+    QTest::addColumn<bool>("isolate");
+    QTest::newRow("SIGINT in the first test") << int(SIGINT) << 0.1 << false;
+    QTest::newRow("SIGTERM in the second test") << int(SIGTERM) << 0.5 << false;
+    QTest::newRow("SIGINT in the last test") << int(SIGINT) << 0.8 << false;
+    QTest::newRow("SIGKILL at once") << int(SIGKILL) << 0.0 << false;
+    QTest::newRow("SIGKILL in the first test") << int(SIGKILL) << 0.2 << false;
+    QTest::newRow("SIGKILL in the second test") << int(SIGKILL) << 0.45 << false;
+    QTest::newRow("SIGKILL in the last test") << int(SIGKILL) << 0.75 << false;
+    QTest::newRow("SIGKILL near the end") << int(SIGKILL) << 0.9 << false;
+    QTest::newRow("--isolate, SIGINT") << int(SIGINT) << 0.4 << true;
+    QTest::newRow("--isolate, SIGTERM") << int(SIGTERM) << 0.6 << true;
   }
   void interrupted_run_resumes_identically() {
     QFETCH(int, sig);
     QFETCH(double, at);
+    QFETCH(bool, isolate);
     QTemporaryDir dir;
     write(dir.filePath("queue.json"), queue);
     {
-      Background run({"run", "queue.json", "--out", "out", "--threads", "1", "-q"}, dir.path());
+      QStringList args{"run", "queue.json", "--out", "out", "--threads", "1", "-q"};
+      if (isolate) args << "--isolate";
+      Background run(args, dir.path());
       QVERIFY(wait_for(dir.filePath("out/.a.partial/summary.csv")));
       QThread::msleep(static_cast<unsigned long>(at * static_cast<double>(reference_ms_)));
       run.signal(sig);
