@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -311,6 +312,7 @@ int cmd_run(int argc, char** argv) {
   const bool quiet = vm.count("quiet");
   const bool child = vm.count("only");  // one test of an --isolate run
   install_signal_handlers();
+  if (child) ::prctl(PR_SET_PDEATHSIG, SIGTERM);  // its run was killed: stop cleanly, not run on alone
   RunOptions options;
   options.out = vm["out"].as<std::string>();
   options.force = vm.count("force");

@@ -220,7 +220,7 @@ std::string refusal(const TestSpec& test, const std::string& config, const RunOp
   const std::string replace = salsa_wrote(folder) ? "use --force to replace it"
                                                   : std::string("salsa did not write it (no ") + folder_marker + " file), so it is left alone";
   if (options.resume) {
-    if (!fs::exists(folder / "config.json")) {
+    if (!exists_at_all(folder / "config.json")) {
       if (options.force && salsa_wrote(folder)) return {};
       return folder.string() + ": holds no finished test (no config.json), so --resume cannot skip it (" + replace + ")";
     }
@@ -409,7 +409,7 @@ void check_outputs(const std::vector<TestSpec>& tests, const PluginHost& host, c
 
 bool already_done(const TestSpec& test, const PluginHost& host, const RunOptions& options) {
   const fs::path folder = options.out / test.name;
-  return options.resume && name_problem(test.name).empty() && fs::exists(folder / "config.json") &&
+  return options.resume && name_problem(test.name).empty() && exists_at_all(folder / "config.json") &&
          resume_difference(folder, config_of(test, host)).empty();
 }
 
