@@ -13,6 +13,7 @@
 #include "commands.hpp"
 #include "salsa/core/test_spec.hpp"
 #include "salsa/plots/chart.hpp"
+#include "strict_json.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -20,63 +21,54 @@ using salsa::InputError;
 
 namespace {
 
-salsa::plots::Chart bench_chart(const fs::path& file, const nlohmann::json& j) {
-  if (!j.is_object() || !j.contains("cells") || !j.contains("workload")) throw InputError(file.string() + ": cells: missing (write it with 'salsa bench --json')");
+salsa::plots::Chart bench_chart(const fs::path& file) {
+  using nlohmann::json;
+  json j;
+  try {
+    j = salsa::strict_json::read_file<json>(file, "a bench JSON file (written by 'salsa bench --json')");
+  } catch (const salsa::strict_json::Error& e) {
+    throw InputError(e.what());
+  }
+  const std::string name = salsa::strict_json::printable(file.string(), 200);
+  // A member of an object, of the kind asked for; refused in one line otherwise.
+  auto get = [&](const json& object, const std::string& at, const char* key, const char* kind, bool ok(const json&)) -> const json& {
+    const std::string field = at.empty() ? key : at + "." + key;
+    if (!object.contains(key)) throw InputError(name + ": " + field + ": missing (a bench JSON file, written by 'salsa bench --json')");
+    const json& v = object[key];
+    if (!ok(v)) throw InputError(name + ": " + field + ": " + salsa::strict_json::shown(v) + " is not " + kind);
+    return v;
+  };
+  auto is_positive = [](const json& v) { return v.is_number() && v.get<double>() > 0; };
+  if (!j.is_object()) throw InputError(name + ": " + salsa::strict_json::shown(j) + " is not a bench JSON object (write it with 'salsa bench --json')");
+  const std::string workload = get(j, "", "workload", "a string (table1 or scale)", [](const json& v) { return v.is_string(); }).get<std::string>();
+  const json& threads = get(j, "", "threads", "a whole number", [](const json& v) { return v.is_number_integer(); });
+  const json& cells = get(j, "", "cells", "a list of cells", [](const json& v) { return v.is_array(); });
   salsa::plots::Chart c;
   c.log_x = c.log_y = true;
   c.x_label = "drones";
   c.y_label = "RTF = wall time / simulated time (lower is faster)";
-  c.title = "salsa bench " + j.at("workload").get<std::string>() + " (" + std::to_string(j.at("threads").get<int>()) + " threads)";
+  c.title = "salsa bench " + salsa::strict_json::printable(workload) + " (" + threads.dump() + " threads)";
   // One line per target count for table1; scale has one target count per drone count.
-  const bool scale = j.at("workload") == "scale";
+  const bool scale = workload == "scale";
   std::map<std::string, salsa::plots::Series> lines;
-  if (!j.at("cells").is_array()) throw InputError(file.string() + ": cells: must be a list (write it with 'salsa bench --json')");
-  for (const auto& cell : j.at("cells")) {
-    const std::string key = scale ? "" : " (" + std::to_string(cell.at("targets").get<std::size_t>()) + " targets)";
-    const double n = cell.at("drones").get<double>();
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const json& cell = cells[i];
+    const std::string at = "cells[" + std::to_string(i) + "]";
+    if (!cell.is_object()) throw InputError(name + ": " + at + ": " + salsa::strict_json::shown(cell) + " is not an object");
+    const std::string key =
+        scale ? "" : " (" + get(cell, at, "targets", "a whole number", [](const json& v) { return v.is_number_unsigned(); }).dump() + " targets)";
+    const double n = get(cell, at, "drones", "a number above 0", is_positive).get<double>();
     auto& salsa_line = lines["salsa" + key];
     salsa_line.name = "salsa" + key;
-    salsa_line.points.emplace_back(n, cell.at("rtf").get<double>());
+    salsa_line.points.emplace_back(n, get(cell, at, "rtf", "a number above 0", is_positive).get<double>());
     if (cell.contains("floor_rtf")) {
       auto& floor_line = lines["Box2D floor" + key];
       floor_line.name = "Box2D floor" + key;
-      floor_line.points.emplace_back(n, cell.at("floor_rtf").get<double>());
+      floor_line.points.emplace_back(n, get(cell, at, "floor_rtf", "a number above 0", is_positive).get<double>());
     }
   }
-  for (auto& [name, series] : lines) c.series.push_back(series);
+  for (auto& [line, series] : lines) c.series.push_back(series);
   return c;
-}
-
-/// nlohmann's message without its "[json.exception.type_error.302] " tag.
-std::string reason(const nlohmann::json::exception& e) {
-  const std::string what = e.what();
-  const auto tag_end = what.find("] ");
-  return tag_end == std::string::npos ? what : what.substr(tag_end + 2);
-}
-
-salsa::plots::Chart bench_chart(const fs::path& file) {
-  std::ifstream in(file);
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(file.string() + ": not a bench JSON file (" + reason(e) + ")");
-  }
-  try {
-    return bench_chart(file, j);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(file.string() + ": not a bench JSON file as 'salsa bench --json' writes it (" + reason(e) + ")");
-  }
-}
-
-/// A CSV cell as a number, or InputError naming the file, line and column.
-double cell_number(const fs::path& file, std::size_t line, const std::string& column, const std::string& cell) {
-  double v = 0;
-  const auto [end, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), v);
-  if (ec != std::errc{} || end != cell.data() + cell.size() || !std::isfinite(v))
-    throw InputError(file.string() + ": line " + std::to_string(line) + ": " + column + ": \"" + cell.substr(0, 40) +
-                     "\" is not a finite number (allowed: a summary.csv as salsa run writes it)");
-  return v;
 }
 
 salsa::plots::Chart csv_chart(const fs::path& file, const std::string& column) {
@@ -96,14 +88,22 @@ salsa::plots::Chart csv_chart(const fs::path& file, const std::string& column) {
   c.x_label = "time (s)";
   c.y_label = column;
   salsa::plots::Series s{column, {}};
-  std::size_t number = 1;
+  std::size_t row = 1;
+  // A cell as a finite number, or one line naming the row and column.
+  auto number = [&](const std::string& cell, const std::string& name) {
+    double v = 0;
+    const auto [end, ec] = std::from_chars(cell.data(), cell.data() + cell.size(), v);
+    if (ec != std::errc() || end != cell.data() + cell.size() || !std::isfinite(v))
+      throw InputError(salsa::strict_json::printable(file.string(), 200) + ": line " + std::to_string(row) + ", column " + name +
+                       ": '" + salsa::strict_json::printable(cell) + "' is not a number (allowed: finite numbers)");
+    return v;
+  };
   for (std::string line; std::getline(in, line);) {
-    ++number;
+    ++row;
     std::stringstream ls(line);
     std::vector<std::string> cells;
     for (std::string v; std::getline(ls, v, ',');) cells.push_back(v);
-    if (cells.size() > k && !cells[k].empty())
-      s.points.emplace_back(cell_number(file, number, "time", cells[0]), cell_number(file, number, column, cells[k]));
+    if (cells.size() > k && !cells[k].empty()) s.points.emplace_back(number(cells[0], "time"), number(cells[k], column));
   }
   c.series.push_back(std::move(s));
   return c;

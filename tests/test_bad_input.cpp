@@ -86,6 +86,13 @@ class TestBadInput : public QObject {
     both("duplicate test names", R"([{"name": "a", "behavior": "flocking"}, {"name": "a", "behavior": "random_walk"}])",
          {"test.json", "[1]", "name", "\"a\" is already used by"});
     both("empty list", "[]", {"test.json", "no tests"});
+    both("100,000 levels of nesting", "{\"behavior\": " + QByteArray(100000, '[') + QByteArray(100000, ']') + "}",
+         {"test.json: line 1, column 77: nested deeper than 64 levels (allowed: at most 64)"});
+    both("duplicate key", R"({"behavior": "flocking", "drones": 3, "drones": 4})", {"test.json: drones: duplicate key"});
+    both("number overflowing a double", R"({"behavior": "flocking", "time": 1e400})",
+         {"test.json: line 1, column 34: 1e400 does not fit a double", "allowed: finite numbers"});
+    both("NaN", R"({"behavior": "flocking", "time": NaN})", {"test.json: line 1, column 34: JSON has no NaN or Infinity"});
+    both("tiny value shown exactly", R"({"behavior": "flocking", "time": 1e-9})", {"time: 1e-09 is out of range"});
 
     // Map files: checked by `salsa validate map.json`, and through a test that uses them.
     auto map_case = [](const char* name, const QByteArray& map, const QStringList& expected_validate,
@@ -152,6 +159,7 @@ class TestBadInput : public QObject {
     QStringList args{command, dir.filePath(file)};
     if (command == "run") args << "--out" << dir.filePath("out");
     args << options;
+    const auto before = snapshot(dir.path());
     const CliResult r = run_salsa(args);
     QVERIFY2(!r.crashed, describe(r));
     QVERIFY2(r.exit_code != 0, describe(r));
@@ -161,6 +169,7 @@ class TestBadInput : public QObject {
       QVERIFY2(lines[0].contains(part), qPrintable("'" + part + "' missing from the message\n" + describe(r)));
     QVERIFY2(r.out.trimmed().isEmpty(), describe(r));  // no progress lines: nothing ran
     QVERIFY2(!QFileInfo::exists(dir.filePath("out")), "nothing may be written on bad input");
+    QVERIFY2(snapshot(dir.path()) == before, "the folder around the input changed");
   }
 
   // ---------------------------------------------------------------- existing output folders

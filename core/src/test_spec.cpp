@@ -3,8 +3,9 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
+
+#include "salsa/core/names.hpp"
+#include "strict_json.hpp"
 
 namespace salsa {
 
@@ -19,10 +20,7 @@ std::size_t TestSpec::log_every() const {
 
 namespace {
 
-std::string show(const json& v) {
-  std::string s = v.dump();
-  return s.size() > 60 ? s.substr(0, 57) + "..." : s;
-}
+std::string show(const json& v) { return strict_json::shown(v); }
 std::string num(double v) { return Parameter::format(v); }
 
 /// Reads JSON values with one-line errors: "<where>: <field>: <value> <what is allowed>".
@@ -31,7 +29,8 @@ class Reader {
   Reader(std::string where, std::filesystem::path base) : where_(std::move(where)), base_(std::move(base)) {}
 
   [[noreturn]] void fail(const std::string& field, const std::string& message) const {
-    throw InputError(where_ + ": " + field + ": " + message);
+    // Names and keys quoted in `message` are user text: one line whatever they hold.
+    throw InputError(where_ + ": " + field + ": " + strict_json::printable(message, 1000));
   }
   void only_keys(const json& obj, const std::string& field, std::initializer_list<const char*> allowed) const {
     if (!obj.is_object()) fail(field.empty() ? "(top level)" : field, show(obj) + " must be an object");
@@ -89,49 +88,47 @@ class Reader {
     }
     return values;
   }
-  static std::string join(const std::string& field, const std::string& key) { return field.empty() ? key : field + "." + key; }
+  static std::string join(const std::string& field, const std::string& key) {
+    return (field.empty() ? "" : field + ".") + strict_json::printable(key);
+  }
 
  private:
   std::string where_;
   std::filesystem::path base_;
 };
 
-json read_json_file(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(file.string() + ": cannot open file");
-  std::stringstream text;
-  text << in.rdbuf();
+/// Every JSON file salsa reads comes through here: strict (see strict_json.hpp), one line per problem.
+json read_json_file(const std::filesystem::path& file, std::string_view expected) {
   try {
-    return json::parse(text.str());
-  } catch (const json::parse_error& e) {
-    // Byte offset to line and column, so an editor can jump there.
-    const std::string s = text.str();
-    const std::size_t at = std::min<std::size_t>(e.byte ? e.byte - 1 : 0, s.size());
-    const auto line = std::count(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(at), '\n') + 1;
-    const auto last_nl = s.rfind('\n', at ? at - 1 : 0);
-    const auto column = at - (last_nl == std::string::npos ? 0 : last_nl + 1) + 1;
-    std::string what = e.what();
-    what = what.substr(what.find(": ") == std::string::npos ? 0 : what.rfind(": ") + 2);
-    throw InputError(file.string() + ": invalid JSON at line " + std::to_string(line) + ", column " +
-                     std::to_string(column) + ": " + what);
+    return strict_json::read_file<json>(file, expected);
+  } catch (const strict_json::Error& e) {
+    throw InputError(e.what());
+  }
+}
+json parse_json(const std::string& text, const std::string& where) {
+  try {
+    return strict_json::parse<json>(text, where);
+  } catch (const strict_json::Error& e) {
+    throw InputError(e.what());
   }
 }
 
-DroneConfig parse_drone(const json& v, const Reader& r, const std::vector<DroneConfig>& named) {
+/// A drone configuration at `at` ("drone" in a test, its name in a drone configuration file).
+DroneConfig parse_drone(const json& v, const Reader& r, const std::vector<DroneConfig>& named, const std::string& at) {
   auto by_name = [&](const std::string& name, const std::string& field) {
     for (const auto& c : named)
       if (c.name == name) return c;
     std::string list;
     for (const auto& c : named) list += (list.empty() ? "" : ", ") + c.name;
-    r.fail(field, "unknown drone configuration '" + name + "' (known: " + list + ")");
+    r.fail(field, "unknown drone configuration '" + strict_json::printable(name) + "' (known: " + list + ")");
   };
-  if (v.is_string()) return by_name(v.get<std::string>(), "drone");
-  r.only_keys(v, "drone", {"name", "base", "camera_range", "obstacle_range", "detection_range", "max_speed",
-                           "max_force", "radius", "mass", "obstacle_rays"});
-  DroneConfig d = v.contains("base") ? by_name(r.string(v["base"], "drone.base"), "drone.base") : DroneConfig{};
-  d.name = v.contains("name") ? r.string(v["name"], "drone.name") : (v.contains("base") ? d.name + "-custom" : "custom");
+  if (v.is_string()) return by_name(v.get<std::string>(), at);
+  r.only_keys(v, at, {"name", "base", "camera_range", "obstacle_range", "detection_range", "max_speed", "max_force",
+                      "radius", "mass", "obstacle_rays"});
+  DroneConfig d = v.contains("base") ? by_name(r.string(v["base"], at + ".base"), at + ".base") : DroneConfig{};
+  d.name = v.contains("name") ? r.string(v["name"], at + ".name") : (v.contains("base") ? d.name + "-custom" : "custom");
   auto field = [&](const char* key, double& target, double lo, double hi, const char* unit) {
-    if (v.contains(key)) target = r.number(v[key], std::string("drone.") + key, lo, hi, unit);
+    if (v.contains(key)) target = r.number(v[key], at + "." + key, lo, hi, unit);
   };
   field("camera_range", d.camera_range, 0, 1e4, "m");
   field("obstacle_range", d.obstacle_range, 0, 1e4, "m");
@@ -140,20 +137,20 @@ DroneConfig parse_drone(const json& v, const Reader& r, const std::vector<DroneC
   field("max_force", d.max_force, 1e-6, 1e3, "m/s per step");
   field("radius", d.radius, 1e-2, 100, "m");
   field("mass", d.mass, 1e-3, 1e6, "kg");
-  if (v.contains("obstacle_rays")) d.obstacle_rays = static_cast<int>(r.integer(v["obstacle_rays"], "drone.obstacle_rays", 0, 64));
+  if (v.contains("obstacle_rays")) d.obstacle_rays = static_cast<int>(r.integer(v["obstacle_rays"], at + ".obstacle_rays", 0, 64));
   return d;
 }
 
 std::vector<DroneConfig> drone_configs_file(const std::filesystem::path& file) {
-  const json j = read_json_file(file);
-  if (!j.is_object()) throw InputError(file.string() + ": must be an object of named drone configurations");
+  const json j = read_json_file(file, "an object of named drone configurations, {\"heavy\": {\"max_speed\": 6}}");
+  const Reader fr(strict_json::printable(file.string(), 200), file.parent_path());
+  if (!j.is_object()) fr.fail("(top level)", show(j) + " must be an object of named drone configurations");
   std::vector<DroneConfig> out = builtin_drone_configs();
-  const Reader fr(file.string(), file.parent_path());
   for (const auto& [name, v] : j.items()) {
     json copy = v;
-    if (!copy.is_object()) fr.fail(name, show(v) + " must be an object");
+    if (!copy.is_object()) fr.fail(Reader::join("", name), show(v) + " must be an object");
     copy["name"] = name;
-    out.push_back(parse_drone(copy, fr, out));
+    out.push_back(parse_drone(copy, fr, out, Reader::join("", name)));
   }
   return out;
 }
@@ -172,9 +169,7 @@ TestSpec parse(const json& j, const Reader& r, const PluginHost& host, std::size
   t.seed = 1 + index;
   if (j.contains("name")) {
     t.name = r.string(j["name"], "name");
-    if (t.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-") != std::string::npos ||
-        t.name.front() == '.')
-      r.fail("name", show(j["name"]) + " must use only letters, digits, '_', '-' and '.' (it names the output folder)");
+    if (const std::string why = name_problem(t.name); !why.empty()) r.fail("name", why);
   }
 
   // behavior: "name" or {"name": ..., "params": {...}}
@@ -200,7 +195,7 @@ TestSpec parse(const json& j, const Reader& r, const PluginHost& host, std::size
 
   std::vector<DroneConfig> named = builtin_drone_configs();
   if (j.contains("drone_configs")) named = drone_configs_file(r.path(j["drone_configs"], "drone_configs"));
-  if (j.contains("drone")) t.drone = parse_drone(j["drone"], r, named);
+  if (j.contains("drone")) t.drone = parse_drone(j["drone"], r, named, "drone");
   if (j.contains("drones")) t.drones = r.integer(j["drones"], "drones", 1, 1'000'000);
 
   // map: "name" | "file.json" | {"name", "params", "file"}
@@ -282,30 +277,43 @@ TestSpec parse(const json& j, const Reader& r, const PluginHost& host, std::size
 
 }  // namespace
 
+namespace {
+
+/// A test without "name" is named after its file; that name must be fit for a folder too.
+void name_after_file(TestSpec& t, const std::string& name) {
+  if (!t.name.empty()) return;
+  if (const std::string why = name_problem(name); !why.empty())
+    throw InputError(t.source + ": name: missing, and the file name cannot stand in for it: " + why + "; give the test a \"name\"");
+  t.name = name;
+}
+
+}  // namespace
+
 std::vector<TestSpec> load_tests(const std::filesystem::path& file, const PluginHost& host) {
-  const json j = read_json_file(file);
+  const json j = read_json_file(file, "a test, a list of tests or {\"tests\": [...]}");
+  const std::string shown_file = strict_json::printable(file.string(), 200);
   const json* list = &j;
   std::string prefix;
   if (j.is_object() && j.contains("tests")) {
     list = &j["tests"];
     prefix = "tests";
-    if (j.size() != 1) throw InputError(file.string() + ": a queue object may only hold \"tests\"");
+    if (j.size() != 1) throw InputError(shown_file + ": a queue object may only hold \"tests\"");
   }
   std::vector<TestSpec> tests;
   const std::string stem = file.stem().string();
   if (list->is_array()) {
-    if (list->empty()) throw InputError(file.string() + ": " + (prefix.empty() ? "the list" : prefix) + " holds no tests");
+    if (list->empty()) throw InputError(shown_file + ": " + (prefix.empty() ? "the list" : prefix) + " holds no tests");
     for (std::size_t i = 0; i < list->size(); ++i) {
-      const std::string where = file.string() + ": " + prefix + "[" + std::to_string(i) + "]";
+      const std::string where = shown_file + ": " + prefix + "[" + std::to_string(i) + "]";
       TestSpec t = parse((*list)[i], Reader(where, file.parent_path()), host, i);
       t.source = where;
-      if (t.name.empty()) t.name = stem + "-" + std::to_string(i + 1);
+      name_after_file(t, stem + "-" + std::to_string(i + 1));
       tests.push_back(std::move(t));
     }
   } else {
-    TestSpec t = parse(j, Reader(file.string(), file.parent_path()), host, 0);
-    t.source = file.string();
-    if (t.name.empty()) t.name = stem;
+    TestSpec t = parse(j, Reader(shown_file, file.parent_path()), host, 0);
+    t.source = shown_file;
+    name_after_file(t, stem);
     tests.push_back(std::move(t));
   }
   for (std::size_t i = 0; i < tests.size(); ++i)
@@ -318,13 +326,7 @@ std::vector<TestSpec> load_tests(const std::filesystem::path& file, const Plugin
 
 TestSpec parse_test(const std::string& json_text, const std::string& where, const PluginHost& host,
                     const std::filesystem::path& base_dir) {
-  json j;
-  try {
-    j = json::parse(json_text);
-  } catch (const json::parse_error& e) {
-    throw InputError(where + ": invalid JSON: " + e.what());
-  }
-  TestSpec t = parse(j, Reader(where, base_dir), host, 0);
+  TestSpec t = parse(parse_json(json_text, where), Reader(where, base_dir), host, 0);
   t.source = where;
   if (t.name.empty()) t.name = "test";
   return t;
@@ -413,14 +415,13 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
 }
 
 bool is_map_file(const std::filesystem::path& file) {
-  std::ifstream in(file);
   try {
-    const json j = json::parse(in);
+    const json j = strict_json::read_file<json>(file, "");
     // A map file missing its bounds is still a map file (so the error says "bounds: missing").
     return j.is_object() && (j.contains("bounds") || (!j.contains("behavior") && !j.contains("tests") &&
                                                       (j.contains("obstacles") || j.contains("hollow") || j.contains("lines"))));
-  } catch (const std::exception&) {
-    return false;
+  } catch (const strict_json::Error&) {
+    return false;  // read as a test file then, which reports the problem
   }
 }
 

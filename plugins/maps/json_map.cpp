@@ -1,38 +1,25 @@
 // Maps read from JSON files; the format is documented in docs/maps.md. Every error is a MapError of
 // one line naming the file, the field, the offending value and what is allowed.
-#include <algorithm>
-#include <charconv>
-#include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
-#include <system_error>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 #include <salsa/sdk.hpp>
 
+#include "strict_json.hpp"  // the core's strict reading: depth, duplicate keys, numbers, UTF-8, file checks
+
 namespace {
 
 using nlohmann::json;
 
-std::string number(double v) {
-  char buf[32];
-  const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;
-  return {buf, end};
-}
 std::string text(salsa::Vec2 p) {  // appended, not "[" + ...: GCC 12 -O3 warns (-Wrestrict) on that
   std::string s = "[";
-  s += number(p.x);
+  s += salsa::Parameter::format(p.x);
   s += ", ";
-  s += number(p.y);
+  s += salsa::Parameter::format(p.y);
   return s += ']';
 }
-std::string shown(const json& j) {  // a value quoted in a message, cut so the message stays one line
-  std::string s = j.dump();
-  return s.size() > 60 ? s.substr(0, 57) + "..." : s;
-}
+std::string shown(const json& j) { return salsa::strict_json::shown(j); }
 
 bool inside_polygon(salsa::Vec2 p, const salsa::Polyline& poly) {  // even-odd rule
   bool inside = false;
@@ -52,7 +39,7 @@ class Reader {
     if (!root.is_object()) fail("", "the top level must be an object, got " + shown(root));
     for (const auto& [key, value] : root.items())
       if (key != "bounds" && key != "spawn" && key != "obstacles" && key != "hollow" && key != "lines")
-        fail("", "unknown key '" + key + "' (allowed: bounds, spawn, obstacles, hollow, lines)");
+        fail("", "unknown key '" + salsa::strict_json::printable(key) + "' (allowed: bounds, spawn, obstacles, hollow, lines)");
 
     salsa::MapData map;
     if (!root.contains("bounds")) fail("bounds", "missing; expected {\"min\": [x, y], \"max\": [x, y]}");
@@ -60,7 +47,7 @@ class Reader {
     if (!bounds.is_object())
       fail("bounds", "expected {\"min\": [x, y], \"max\": [x, y]}, got " + shown(bounds));
     for (const auto& [key, value] : bounds.items())
-      if (key != "min" && key != "max") fail("bounds", "unknown key '" + key + "' (allowed: min, max)");
+      if (key != "min" && key != "max") fail("bounds", "unknown key '" + salsa::strict_json::printable(key) + "' (allowed: min, max)");
     if (!bounds.contains("min") || !bounds.contains("max")) fail("bounds", "needs both \"min\" and \"max\"");
     map.bounds = {point(bounds["min"], "bounds.min"), point(bounds["max"], "bounds.max")};
     if (!(map.bounds.max.x > map.bounds.min.x && map.bounds.max.y > map.bounds.min.y))
@@ -83,48 +70,22 @@ class Reader {
 
  private:
   [[noreturn]] void fail(const std::string& field, const std::string& what) const {
-    throw salsa::MapError(file_ + ": " + (field.empty() ? "" : field + ": ") + what);
+    throw salsa::MapError(salsa::strict_json::printable(file_, 200) + ": " + (field.empty() ? "" : field + ": ") +
+                          salsa::strict_json::printable(what, 1000));
   }
 
   json parse() const {
-    if (std::error_code ec; std::filesystem::is_directory(file_, ec))
-      fail("", "is a directory, not a map file");
-    std::ifstream in(file_, std::ios::binary);
-    if (!in) fail("", "cannot open file");
-    std::ostringstream buffer;
-    buffer << in.rdbuf();
-    const std::string content = buffer.str();
     try {
-      return json::parse(content);
-    } catch (const json::parse_error& e) {
-      // e.byte is the 1-based offset of the offending byte (size + 1 at the end of input).
-      const std::size_t offset = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, content.size());
-      const auto end = content.begin() + static_cast<std::ptrdiff_t>(offset);
-      const auto line = 1 + std::count(content.begin(), end, '\n');
-      const auto column = 1 + (end - std::find(std::make_reverse_iterator(end), content.rend(), '\n').base());
-      fail("", "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) + ": " +
-                   parser_text(e));
-    } catch (const json::exception& e) {  // e.g. a number too large for a double; no position given
-      fail("", "invalid JSON: " + parser_text(e));
+      return salsa::strict_json::read_file<json>(file_, "a map object, {\"bounds\": {\"min\": [x, y], \"max\": [x, y]}, ...}");
+    } catch (const salsa::strict_json::Error& e) {
+      throw salsa::MapError(e.what());
     }
-  }
-
-  // The parser's message without its "[json.exception.parse_error.101] parse error at line 3, column 7: ".
-  static std::string parser_text(const json::exception& e) {
-    std::string s = e.what();
-    if (const auto at = s.find("] "); at != std::string::npos) s.erase(0, at + 2);
-    if (const auto at = s.find(": "); s.starts_with("parse error") && at != std::string::npos)
-      s.erase(0, at + 2);
-    return s;
   }
 
   salsa::Vec2 point(const json& j, const std::string& field) const {
     if (!j.is_array() || j.size() != 2 || !j[0].is_number() || !j[1].is_number())
       fail(field, "expected a point [x, y] of two numbers, got " + shown(j));
-    const salsa::Vec2 p{j[0].get<double>(), j[1].get<double>()};
-    if (!std::isfinite(p.x) || !std::isfinite(p.y))
-      fail(field, "coordinates must be finite numbers, got " + shown(j));
-    return p;
+    return {j[0].get<double>(), j[1].get<double>()};  // finite: the reader refuses anything else
   }
 
   static std::string bounds_text(const salsa::Rect& b) {

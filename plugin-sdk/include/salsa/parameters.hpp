@@ -1,6 +1,7 @@
 #pragma once
 // Declared parameters: they drive GUI sliders, JSON validation and permutations.
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -31,11 +32,13 @@ struct Parameter {
       return "is out of range (allowed: " + range() + ")";
     return {};
   }
+  /// The shortest text that reads back as exactly `v`, as messages show values: "10", "0.5",
+  /// "0.016666666666666666", "1e-09"; plain digits from 1e-5 up to 1e17, an exponent beyond.
   static std::string format(double v) {
-    std::string s = std::to_string(v);
-    s.erase(s.find_last_not_of('0') + 1);
-    if (!s.empty() && s.back() == '.') s.pop_back();
-    return s;
+    const double size = std::fabs(v);
+    const auto style = size == 0 || (size >= 1e-5 && size < 1e17) ? std::chars_format::fixed : std::chars_format::scientific;
+    char text[64];
+    return {text, std::to_chars(text, text + sizeof text, v, style).ptr};
   }
 };
 
