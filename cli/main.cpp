@@ -86,6 +86,12 @@ void load_plugins(PluginHost& host, const po::variables_map& vm, bool report_fai
       std::cerr << "salsa: warning: plugin " << f.file.string() << " skipped: " << f.reason << "\n";
 }
 
+/// Says so on stderr when a test will likely take hours (estimated neighbours per drone and steps).
+void warn_workload(const TestSpec& test, const SimulationSetup& setup, bool quiet) {
+  if (quiet) return;
+  if (const std::string line = workload_warning(test, setup); !line.empty()) std::cerr << "salsa: warning: " << line << "\n";
+}
+
 int cmd_plugins(int argc, char** argv) {
   po::variables_map vm;
   if (!parse(argc, argv, "plugins", "[options]", po::options_description("plugins options"), vm)) return 0;
@@ -323,7 +329,8 @@ int cmd_run(int argc, char** argv) {
   PluginHost host;
   load_plugins(host, vm, !child);
   const auto tests = load_all(vm, host);
-  for (const auto& t : tests) make_setup(t, host);  // every test valid before the first one runs
+  // Every test valid before the first one runs; tests that will take hours are said so up front.
+  for (const auto& t : tests) warn_workload(t, make_setup(t, host), quiet || child);
   // An --isolate child checks the output of its own test only: the others may be done by now.
   std::vector<TestSpec> mine = tests;
   if (child) {
@@ -380,7 +387,7 @@ int cmd_validate(int argc, char** argv) {
       continue;
     }
     const auto tests = load_tests(f, host);
-    for (const auto& t : tests) make_setup(t, host);
+    for (const auto& t : tests) warn_workload(t, make_setup(t, host), vm.count("quiet"));
     if (!vm.count("quiet")) std::cout << f << ": ok (" << tests.size() << (tests.size() == 1 ? " test)\n" : " tests)\n");
   }
   return 0;

@@ -57,11 +57,15 @@ class Jitter final : public salsa::Behavior {
   }
 };
 
-salsa::Polyline random_polygon(salsa::Rng& rng, Vec2 centre, double radius) {
+/// A polygon around `centre`, its points kept inside `bounds` (the core refuses points outside).
+salsa::Polyline random_polygon(salsa::Rng& rng, Vec2 centre, double radius, const salsa::Rect& bounds) {
   const int n = 3 + static_cast<int>(rng.index(6));
   salsa::Polyline p;
   const double phase = rng.angle();
-  for (int k = 0; k < n; ++k) p.push_back(centre + Vec2::polar(radius * rng.uniform(0.5, 1), phase + 2 * salsa::pi * k / n));
+  for (int k = 0; k < n; ++k) {
+    const Vec2 v = centre + Vec2::polar(radius * rng.uniform(0.5, 1), phase + 2 * salsa::pi * k / n);
+    p.push_back({std::clamp(v.x, bounds.min.x, bounds.max.x), std::clamp(v.y, bounds.min.y, bounds.max.y)});
+  }
   return p;
 }
 
@@ -76,8 +80,8 @@ salsa::MapData random_map(std::uint64_t seed, double size, int shapes) {
   for (int i = 0; i < shapes; ++i) {
     const Vec2 c = rng.in_rect(inner);
     switch (i % 4) {
-      case 0: map.obstacles.push_back(random_polygon(rng, c, rng.uniform(1, size / 20))); break;
-      case 1: map.hollow.push_back(random_polygon(rng, c, rng.uniform(1, size / 10))); break;
+      case 0: map.obstacles.push_back(random_polygon(rng, c, rng.uniform(1, size / 20), map.bounds)); break;
+      case 1: map.hollow.push_back(random_polygon(rng, c, rng.uniform(1, size / 10), map.bounds)); break;
       case 2: {
         salsa::Polyline line{c};
         for (int k = 0; k < 3; ++k) line.push_back(line.back() + Vec2::polar(rng.uniform(0.1, size / 8), rng.angle()));

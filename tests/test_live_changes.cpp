@@ -2,7 +2,9 @@
 // parameters, targets and map, each followed by more steps that must stay sound.
 #include "common.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "salsa/core/simulation.hpp"
 #include "salsa/core/test_spec.hpp"
@@ -10,10 +12,36 @@
 using namespace salsa;
 using namespace salsa_test;
 
+namespace {
+
+/// Steers at random; its reset throws for more than `most` drones (a plugin failing a live change).
+class Picky final : public BehaviorWithMemory<double> {
+ public:
+  explicit Picky(std::size_t most) : most_(most) {}
+  void reset(std::size_t drones) override {
+    if (drones > most_) throw std::runtime_error("too many drones");
+    BehaviorWithMemory::reset(drones);
+  }
+  Vec2 decide(const Perception& me, double& turns, Rng& rng) override {
+    turns += 1;
+    return Vec2::polar(me.max_force, rng.angle()) + avoid_obstacles(me);
+  }
+
+ private:
+  std::size_t most_;
+};
+
+}  // namespace
+
 class TestLiveChanges : public QObject {
   Q_OBJECT
 
   std::unique_ptr<PluginHost> host_ = builtin_host();
+  std::unique_ptr<PluginHost> bad_host_ = [] {  // a target kind that hands the core bad data on request
+    auto host = std::make_unique<PluginHost>();
+    host->load({{test_plugins_dir() / "bad-target", "test"}});
+    return host;
+  }();
 
   std::unique_ptr<Simulation> make(std::size_t drones) {
     const std::string json = R"({"behavior": "random_walk", "drones": )" + std::to_string(drones) +
@@ -102,6 +130,117 @@ class TestLiveChanges : public QObject {
     for (const auto& t : sim->targets()) QVERIFY(sim->is_free(t.position, 0));
     sim->run_steps(120);
     check_sound(*sim);
+  }
+
+  /// Two simulations of the same test, one of which will see a refused change.
+  std::pair<std::unique_ptr<Simulation>, std::unique_ptr<Simulation>> twins() {
+    const std::string json = R"({"behavior": "random_walk", "drones": 12, "map": {"name": "forest", "params": {"size": 300}},
+                                 "targets": {"kind": "tree", "count": 300}, "seed": 5})";
+    auto setup = [&] {
+      SimulationSetup s = make_setup(parse_test(json, "twin", *host_), *host_, 1);
+      s.behavior = std::make_shared<Picky>(20);
+      return s;
+    };
+    return {std::make_unique<Simulation>(setup()), std::make_unique<Simulation>(setup())};
+  }
+
+  /// Everything a step depends on or produces is the same in both.
+  static void check_identical(const Simulation& a, const Simulation& b) {
+    QCOMPARE(a.step_count(), b.step_count());
+    QCOMPARE(a.drone_count(), b.drone_count());
+    QVERIFY(std::ranges::equal(a.drone_positions(), b.drone_positions()));
+    QVERIFY(std::ranges::equal(a.drone_velocities(), b.drone_velocities()));
+    QVERIFY(std::ranges::equal(a.commanded_velocities(), b.commanded_velocities()));
+    QCOMPARE(a.targets().size(), b.targets().size());
+    for (std::size_t t = 0; t < a.targets().size(); ++t) {
+      QCOMPARE(a.targets()[t].position, b.targets()[t].position);
+      QCOMPARE(a.targets()[t].found_by, b.targets()[t].found_by);
+      QCOMPARE(a.targets()[t].observations, b.targets()[t].observations);
+    }
+    QCOMPARE(a.targets_found(), b.targets_found());
+    QCOMPARE(a.collisions(), b.collisions());
+    QCOMPARE(a.bounds(), b.bounds());
+    QCOMPARE(a.drone_config(), b.drone_config());
+    QCOMPARE(a.spawn_point(), b.spawn_point());
+  }
+
+  // A refused live change throws and leaves the simulation exactly as it was: it then steps
+  // byte-identically to a twin that never saw the call.
+  void refused_change_leaves_no_trace_data() {
+    QTest::addColumn<int>("change");
+    QTest::newRow("map: spawn inside an obstacle") << 0;
+    QTest::newRow("map: NaN point") << 1;
+    QTest::newRow("map: too large for float positions") << 2;
+    QTest::newRow("drone config: max_speed × dt too long") << 3;
+    QTest::newRow("drone config: negative range") << 4;
+    QTest::newRow("drone count: behavior reset throws") << 5;
+    QTest::newRow("targets: NaN position") << 6;
+    QTest::newRow("targets: place throws") << 7;
+    QTest::newRow("targets: cannot fit") << 8;
+    QTest::newRow("behavior: none") << 9;
+    QTest::newRow("behavior: reset throws") << 10;
+  }
+  void refused_change_leaves_no_trace() {
+    QFETCH(int, change);
+    auto [sim, twin] = twins();
+    sim->run_steps(40);
+    twin->run_steps(40);
+    check_identical(*sim, *twin);
+    MapData map;
+    map.bounds = {{0, 0}, {100, 100}};
+    map.spawn = {50, 50};
+    DroneConfig drone = sim->drone_config();
+    auto bad_target = [&](int kind) {
+      const auto& entry = bad_host_->target_kind("test_bad_target");
+      ParameterValues values(entry.factory.parameters);
+      values.set("kind", kind);
+      return PluginHost::create(entry, values);
+    };
+    auto attempt = [&]() {
+      switch (change) {
+        case 0: map.obstacles = {{{40, 40}, {60, 40}, {60, 60}, {40, 60}}}; return sim->set_map(map);
+        case 1: map.lines = {{{10, 10}, {std::nan(""), 20}}}; return sim->set_map(map);
+        case 2: map.bounds.max = {1e9, 1e9}; return sim->set_map(map);
+        case 3: drone.max_speed = 1000; return sim->set_drone_config(drone);
+        case 4: drone.camera_range = -1; return sim->set_drone_config(drone);
+        case 5: return sim->set_drone_count(30);
+        case 6: return sim->set_targets(bad_target(1), 50);
+        case 7: return sim->set_targets(bad_target(5), 50);
+        case 8: {
+          const auto& tree = host_->target_kind("tree");
+          ParameterValues huge(tree.factory.parameters);
+          huge.set("radius", 100);
+          return sim->set_targets(PluginHost::create(tree, huge), 50);
+        }
+        case 9: return sim->set_behavior(nullptr);
+        default: return sim->set_behavior(std::make_shared<Picky>(5));
+      }
+    };
+    bool threw = false;
+    try {
+      attempt();
+    } catch (const std::exception& e) {
+      threw = true;
+      qInfo("refused: %s", e.what());
+    }
+    QVERIFY(threw);
+    check_identical(*sim, *twin);
+    sim->run_steps(120);
+    twin->run_steps(120);
+    check_identical(*sim, *twin);
+  }
+
+  // Changing the drone configuration keeps the targets already found (it used to re-place them).
+  void drone_config_change_keeps_found_targets() {
+    auto sim = make(30);
+    sim->run_steps(300);
+    QVERIFY(sim->targets_found() > 0);
+    const auto before = sim->targets();
+    DroneConfig wider = sim->drone_config();
+    wider.camera_range = 40;
+    sim->set_drone_config(wider);
+    QCOMPARE(sim->targets_found(), std::size_t(std::ranges::count_if(before, [](const TargetState& t) { return t.found(); })));
+    for (std::size_t t = 0; t < before.size(); ++t) QCOMPARE(sim->targets()[t].found_by, before[t].found_by);
   }
 
   void map_with_blocked_spawn_is_refused() {

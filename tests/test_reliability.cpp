@@ -256,6 +256,19 @@ class TestReliability : public QObject {
     QCOMPARE(snapshot(dir.path()), before);
   }
 
+  // ---- Huge swarms: said so up front, not under --quiet.
+
+  void huge_swarm_is_announced() {
+    QTemporaryDir dir;
+    write(dir.filePath("huge.json"), R"({"name": "huge", "behavior": "flocking", "drones": 1000000, "time": 60})");
+    CliResult r = run_salsa({"validate", "huge.json"}, dir.path());
+    QVERIFY2(r.exit_code == 0 && non_empty_lines(r.err).size() == 1 && r.err.startsWith("salsa: warning: huge.json: 1,000,000 drones") &&
+                 r.err.contains("neighbours per drone"),
+             describe(r));
+    r = run_salsa({"validate", "huge.json", "--quiet"}, dir.path());
+    QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
+  }
+
   // ---- Item 7: crashing plugins are named; --isolate fails only their test.
 
   void crash_is_named_data() {

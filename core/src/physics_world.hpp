@@ -25,7 +25,9 @@ struct PhysicsWorld final : b2ContactListener {
 
   explicit PhysicsWorld(const StaticGeometry& geometry) {
     world.SetContactListener(this);
-    world.SetContinuousPhysics(false);  // drones move < 0.2 m per step, far below their radius
+    // Contacts once per step: check_drone keeps a step within the drone radius (and Box2D's 2 m), so no
+    // drone can cross a wall between two contact checks.
+    world.SetContinuousPhysics(false);
     b2BodyDef def;
     b2Body* walls = world.CreateBody(&def);
     for (const Segment& s : geometry.segments()) {

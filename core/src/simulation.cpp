@@ -9,7 +9,7 @@
 
 #include <chrono>
 #include <cmath>
-#include <sstream>
+#include <cstdio>
 #include <stdexcept>
 
 namespace salsa {
@@ -19,13 +19,158 @@ namespace {
 // Rng streams: a few fixed ones for set-up, then one per drone.
 constexpr std::uint64_t targets_stream = 1, spawn_stream = 2, first_drone_stream = 16;
 
-std::string format_point(Vec2 p) {
-  std::ostringstream s;
-  s << "(" << p.x << ", " << p.y << ")";
-  return s.str();
+/// A number in a message: whole numbers in full, others with 6 significant digits ("nan", "inf" too).
+std::string num(double v) {
+  char buf[40];
+  if (std::isfinite(v) && v == std::floor(v) && std::abs(v) < 1e15) std::snprintf(buf, sizeof buf, "%.0f", v);
+  else std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+std::string short_num(double v) {  // 3 significant digits for a derived figure ("16.7 m per step"), no exponent from 1000 up
+  char buf[40];
+  std::snprintf(buf, sizeof buf, std::abs(v) >= 1000 && std::abs(v) < 1e15 ? "%.0f" : "%.3g", v);
+  return buf;
+}
+std::string point(Vec2 p) {  // appended, not "(" + ...: GCC 12 -O3 warns (-Wrestrict) on that
+  std::string s = "(";
+  s += num(p.x);
+  s += ", ";
+  s += num(p.y);
+  return s += ')';
+}
+std::string rect(const Rect& r) { return point(r.min) + " to " + point(r.max); }
+bool finite(Vec2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+/// x rounded down to 4 significant digits: a limit quoted to the user is one they may type in.
+double quoted_limit(double x) {
+  const double scale = std::pow(10.0, std::floor(std::log10(x)) - 3);
+  return std::floor(x * (1 + 1e-9) / scale) * scale;
+}
+
+/// The world as target placement sees it at the start: the map alone, no drones yet.
+class MapView final : public WorldView {
+ public:
+  MapView(const Rect& bounds, const StaticGeometry& geometry, double dt) : bounds_(bounds), geometry_(geometry), dt_(dt) {}
+  Rect bounds() const override { return bounds_; }
+  double time() const override { return 0; }
+  double dt() const override { return dt_; }
+  std::span<const Vec2> drone_positions() const override { return {}; }
+  std::span<const Vec2> drone_velocities() const override { return {}; }
+  bool is_free(Vec2 p, double clearance) const override { return geometry_.is_free(p, clearance); }
+  std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return geometry_.ray_cast(from, to); }
+
+ private:
+  Rect bounds_;
+  const StaticGeometry& geometry_;
+  double dt_;
+};
+
+/// Ids are 32-bit (and Box2D's user data holds id + 1).
+void check_drone_count(std::size_t n) {
+  if (n >= std::numeric_limits<std::uint32_t>::max())
+    throw std::invalid_argument("drones: " + std::to_string(n) + " is too many (allowed: fewer than 4294967295)");
 }
 
 }  // namespace
+
+// ---------------------------------------------------------------- limits
+
+static_assert(box2d_max_step == b2_maxTranslation, "the step limit quoted to users is Box2D's own");
+
+Problem check_drone(const DroneConfig& d, double dt) {
+  auto at_least = [](const char* field, double v, double lo, bool strict, const char* unit) -> Problem {
+    if (std::isfinite(v) && (strict ? v > lo : v >= lo)) return {};
+    return {std::string("drone.") + field, num(v) + " " + unit + " is out of range (allowed: a finite value " +
+                                               (strict ? "> " : "≥ ") + num(lo) + " " + unit + ")"};
+  };
+  for (const Problem& p : {at_least("camera_range", d.camera_range, 0, false, "m"),
+                           at_least("obstacle_range", d.obstacle_range, 0, false, "m"),
+                           at_least("detection_range", d.detection_range, 0, false, "m"),
+                           at_least("max_speed", d.max_speed, 0, true, "m/s"),
+                           at_least("max_force", d.max_force, 0, true, "m/s per step"),
+                           at_least("radius", d.radius, 0, true, "m"), at_least("mass", d.mass, 0, true, "kg")})
+    if (p) return p;
+  if (d.obstacle_rays < 0 || d.obstacle_rays > 64)
+    return {"drone.obstacle_rays", std::to_string(d.obstacle_rays) + " is out of range (allowed: whole number in [0, 64])"};
+  if (!(std::isfinite(dt) && dt > 0)) return {"dt", num(dt) + " s is out of range (allowed: a finite time step > 0 s)"};
+
+  // Contacts are found once per step (continuous collision is off): a drone that starts a step clear of
+  // a wall (farther than radius + Box2D's 0.01 m skin) and moves at most its radius ends it on the same
+  // side, touching, and the contact then stops it. Box2D itself caps a step at b2_maxTranslation.
+  const double step = d.max_speed * dt;
+  const double limit = std::min(d.radius, box2d_max_step);
+  if (step <= limit * (1 + 1e-9)) return {};
+  const std::string why = d.radius <= box2d_max_step
+                              ? "more than the drone's radius " + num(d.radius) + " m, so it could pass through a wall between two contact checks"
+                              : "more than the " + num(box2d_max_step) + " m Box2D moves a body per step";
+  return {"drone.max_speed", num(d.max_speed) + " m/s × dt " + num(dt) + " s = " + short_num(step) + " m per step, " + why +
+                                 " (allowed: max_speed ≤ " + num(quoted_limit(limit / dt)) + " m/s at this dt, or dt ≤ " +
+                                 num(quoted_limit(limit / d.max_speed)) + " s at this max_speed)"};
+}
+
+Problem check_map(const MapData& map) {
+  const Rect& b = map.bounds;
+  if (!finite(b.min) || !finite(b.max) || !(b.max.x > b.min.x && b.max.y > b.min.y))
+    return {"bounds", rect(b) + " (allowed: finite corners, max greater than min on both axes)"};
+  if (!finite(map.spawn)) return {"spawn", point(map.spawn) + " is not a finite point"};
+  auto lines = [&](const std::vector<Polyline>& list, const char* key, const char* what, std::size_t min_points) -> Problem {
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string field = std::string(key) + "[" + std::to_string(i) + "]";
+      if (list[i].size() < min_points)
+        return {field, "has " + std::to_string(list[i].size()) + (list[i].size() == 1 ? " point" : " points") +
+                           " (allowed: a " + what + " of at least " + std::to_string(min_points) + " points)"};
+      for (std::size_t j = 0; j < list[i].size(); ++j)
+        if (const Vec2 p = list[i][j]; !finite(p) || !b.contains(p))
+          return {field + "[" + std::to_string(j) + "]",
+                  point(p) + (finite(p) ? " is outside the bounds " : " is not finite (allowed: a point inside the bounds ") +
+                      rect(b) + (finite(p) ? "" : ")")};
+    }
+    return {};
+  };
+  if (auto p = lines(map.obstacles, "obstacles", "polygon", 3)) return p;
+  if (auto p = lines(map.hollow, "hollow", "outline", 3)) return p;
+  return lines(map.lines, "lines", "line", 2);
+}
+
+Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt) {
+  const double largest = std::max({std::abs(bounds.min.x), std::abs(bounds.min.y), std::abs(bounds.max.x), std::abs(bounds.max.y)});
+  const auto f = static_cast<float>(largest);
+  const double spacing = static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity())) - f;
+  const double step = drone.max_speed * dt;
+  if (spacing <= 0.02 * step) return {};
+  // Floats in [2^e, 2^(e+1)) are 2^(e-23) apart: the last binade where that is ≤ 2 % of a step.
+  const double allowed = std::ldexp(1.0, 24 + std::ilogb(0.02 * step));
+  return {"bounds", rect(bounds) + ": Box2D keeps positions as 32-bit floats, " + short_num(spacing) + " m apart at " +
+                        num(largest) + " m, more than 2 % of a drone's step (max_speed " + num(drone.max_speed) +
+                        " m/s × dt " + num(dt) + " s = " + short_num(step) +
+                        " m), so drones would move in jumps or not at all (allowed: coordinates within ±" + num(allowed) +
+                        " m at this max_speed and dt)"};
+}
+
+Problem check_targets(std::span<const Vec2> positions, std::size_t count, double radius, const Rect& bounds) {
+  if (!(std::isfinite(radius) && radius >= 0)) return {"radius", num(radius) + " m (allowed: a finite radius ≥ 0 m)"};
+  if (positions.size() != count)
+    return {"positions", std::to_string(positions.size()) + " placed for " + std::to_string(count) + " targets asked for"};
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    if (!finite(positions[i]) || !bounds.contains(positions[i]))
+      return {"positions[" + std::to_string(i) + "]",
+              point(positions[i]) + (finite(positions[i]) ? " is outside" : " is not finite (allowed: a point inside") +
+                  " the bounds " + rect(bounds) + (finite(positions[i]) ? "" : ")")};
+  return {};
+}
+
+std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, const MapData& map,
+                                  const StaticGeometry& geometry, double dt, std::uint64_t seed) {
+  if (count == 0) return {};
+  // The radius first: placement keeps targets `radius` clear of obstacles.
+  if (auto p = check_targets({}, 0, kind.radius(), map.bounds)) throw std::invalid_argument(p.text());
+  const MapView view(map.bounds, geometry, dt);
+  Rng rng(seed, targets_stream);
+  std::vector<Vec2> positions = kind.place(count, view, rng);
+  if (auto p = check_targets(positions, count, kind.radius(), map.bounds)) throw std::invalid_argument(p.text());
+  return positions;
+}
+
+// ---------------------------------------------------------------- set-up and live changes
 
 struct Simulation::Scratch {
   std::vector<PointGrid::Hit> hits;
@@ -75,133 +220,192 @@ struct Simulation::Parallel {
   }
 };
 
+struct Simulation::World {
+  Vec2 spawn;
+  StaticGeometry geometry;
+  std::unique_ptr<PhysicsWorld> physics;
+  Rng spawn_rng;
+  Drones drones;
+  Targets targets;
+};
+
 Simulation::Simulation(SimulationSetup setup)
     : setup_(std::move(setup)), parallel_(std::make_unique<Parallel>(setup_.threads)) {
-  if (!setup_.behavior) throw std::invalid_argument("no behavior given");
-  if (!(setup_.dt > 0)) throw std::invalid_argument("time step must be > 0 s");
+  if (!setup_.behavior) throw std::invalid_argument("behavior: none given");
   if (setup_.log_every == 0) setup_.log_every = 1;
-  build_world();
+  World world = build_world(setup_);
+  setup_.behavior->reset(setup_.drones);
+  install(std::move(world));
 }
 
 Simulation::~Simulation() = default;
 
-// ---------------------------------------------------------------- set-up and live changes
+namespace {
 
-void Simulation::build_world() {
-  const Rect& b = setup_.map.bounds;
-  if (!(b.width() > 0 && b.height() > 0))
-    throw std::invalid_argument("map bounds must have a positive width and height");
-  geometry_ = StaticGeometry(setup_.map, std::max(setup_.drone.obstacle_range, 1.0));
-  spawn_ = setup_.spawn.value_or(setup_.map.spawn);
-  if (!geometry_.is_free(spawn_, setup_.drone.radius))
-    throw std::invalid_argument("spawn point " + format_point(spawn_) +
-                                " is inside an obstacle or outside the map bounds (it needs a free disc of the drone radius)");
-  physics_ = std::make_unique<PhysicsWorld>(geometry_);
-  const std::size_t n = setup_.drones;
-  positions_.clear();
-  velocities_.clear();
-  spawn_rng_ = Rng(setup_.seed, spawn_stream);
-  spawn_drones(0, n);
-  place_targets();
-}
-
-Vec2 Simulation::spawn_position(std::size_t total) {
-  const double r = setup_.drone.radius;
-  if (setup_.spawn_mode == SpawnMode::disc) {
-    const double disc = setup_.spawn_radius > 0 ? setup_.spawn_radius : static_cast<double>(total) * r;
+/// Where a new drone starts: in spawn mode disc a random point of the spawn disc (or, outside the walls,
+/// the nearest point inside them, as the paper does), else a random free point of the map; every try
+/// bounded, the spawn point itself (checked free) as the last resort.
+Vec2 spawn_position(const SimulationSetup& s, const StaticGeometry& geometry, Vec2 spawn, std::size_t total, Rng& rng,
+                    bool& scarce) {
+  const double r = s.drone.radius;
+  if (s.spawn_mode == SpawnMode::disc) {
+    const double disc = s.spawn_radius > 0 ? s.spawn_radius : static_cast<double>(total) * r;
     Vec2 p;
     for (int tries = 0; tries < 100; ++tries) {
-      p = spawn_rng_.in_disc(spawn_, disc);
-      if (geometry_.is_free(p, r)) return p;
+      p = rng.in_disc(spawn, disc);
+      if (geometry.is_free(p, r)) return p;
     }
-    // Outside the walls: the paper places such drones inside instead.
-    const Rect& b = setup_.map.bounds;
+    const Rect& b = s.map.bounds;
     p = {std::clamp(p.x, b.min.x + r, b.max.x - r), std::clamp(p.y, b.min.y + r, b.max.y - r)};
-    if (geometry_.is_free(p, r)) return p;
+    if (geometry.is_free(p, r)) return p;
   }
-  for (int tries = 0; tries < 1'000'000; ++tries)
-    if (Vec2 p = spawn_rng_.in_rect(setup_.map.bounds); geometry_.is_free(p, r)) return p;
-  return spawn_;
+  // Free space under 1/10,000 of the map: once a drone found none, the others try briefly.
+  for (int tries = 0, most = scarce ? 100 : 10'000; tries < most; ++tries)
+    if (Vec2 p = rng.in_rect(s.map.bounds); geometry.is_free(p, r)) return p;
+  scarce = true;
+  return spawn;
 }
 
-void Simulation::spawn_drones(std::size_t from, std::size_t to) {
-  const DroneConfig& cfg = setup_.drone;
-  for (std::size_t i = from; i < to; ++i) {
-    const Vec2 p = spawn_position(to);
-    const Vec2 v = Vec2::polar(spawn_rng_.uniform(0.1 * cfg.max_speed, cfg.max_speed), spawn_rng_.angle());
-    positions_.push_back(p);
-    velocities_.push_back(v);
-    physics_->add_drone(static_cast<std::uint32_t>(i), p, v, cfg);
-  }
-  positions_.resize(to);
-  velocities_.resize(to);
-  physics_->remove_drones_from(to);
-  steering_.assign(to, {});
-  commanded_.resize(to);
-  rngs_.clear();
-  for (std::size_t i = 0; i < to; ++i) rngs_.emplace_back(setup_.seed, first_drone_stream + i);
-  size_rays();
-  hits_.assign(to * ray_directions_.size(), {});
-  hit_counts_.assign(to, 0);
-  setup_.drones = to;
-  setup_.behavior->reset(to);
+std::vector<Vec2> ray_directions(int rays) {
+  std::vector<Vec2> out;
+  for (int k = 0; k < rays; ++k) out.push_back(Vec2::polar(1, 2 * pi * k / rays));
+  return out;
 }
 
-void Simulation::size_rays() {
-  const int rays = std::max(setup_.drone.obstacle_rays, 0);
-  ray_directions_.clear();
-  for (int k = 0; k < rays; ++k) ray_directions_.push_back(Vec2::polar(1, 2 * pi * k / rays));
+}  // namespace
+
+Simulation::World Simulation::build_world(const SimulationSetup& s) {
+  if (auto p = check_drone(s.drone, s.dt)) throw std::invalid_argument(p.text());
+  if (auto p = check_map(s.map)) throw std::invalid_argument("map: " + p.text());
+  if (auto p = check_resolution(s.map.bounds, s.drone, s.dt)) throw std::invalid_argument("map: " + p.text());
+  check_drone_count(s.drones);
+  World w;
+  w.geometry = StaticGeometry(s.map, std::max(s.drone.obstacle_range, 1.0));
+  w.spawn = s.spawn.value_or(s.map.spawn);
+  if (!finite(w.spawn) || !w.geometry.is_free(w.spawn, s.drone.radius))
+    throw std::invalid_argument("spawn point " + point(w.spawn) +
+                                " is inside an obstacle or outside the map bounds (it needs a free disc of the drone radius)");
+  // Targets go on the map before any drone exists, so make_setup can check them without spawning.
+  std::vector<Vec2> targets;
+  if (s.target_kind) targets = initial_targets(*s.target_kind, s.targets, s.map, w.geometry, s.dt, s.seed);
+  w.targets = make_targets(std::move(targets), s.drone, s.target_kind.get());
+  w.physics = std::make_unique<PhysicsWorld>(w.geometry);
+  w.spawn_rng = Rng(s.seed, spawn_stream);
+  w.drones = resized({}, s.drones, s, w.geometry, w.spawn, w.spawn_rng);
+  w.physics->bodies.reserve(s.drones);
+  for (std::size_t i = 0; i < s.drones; ++i)
+    w.physics->add_drone(static_cast<std::uint32_t>(i), w.drones.positions[i], w.drones.velocities[i], s.drone);
+  return w;
 }
 
-void Simulation::place_targets() {
-  targets_.clear();
-  found_count_ = 0;
-  if (setup_.target_kind && setup_.targets > 0) {
-    Rng rng(setup_.seed, targets_stream);
-    for (Vec2 p : setup_.target_kind->place(setup_.targets, *this, rng)) targets_.push_back({p});
+// The first n drones of `from` (their places and velocities), new ones spawned for the rest; every
+// drone with fresh steering and a fresh Rng stream.
+Simulation::Drones Simulation::resized(const Drones& from, std::size_t n, const SimulationSetup& s,
+                                       const StaticGeometry& geometry, Vec2 spawn, Rng& spawn_rng) {
+  const DroneConfig& cfg = s.drone;
+  Drones d;
+  const std::size_t kept = std::min(n, from.positions.size());
+  d.positions.assign(from.positions.begin(), from.positions.begin() + static_cast<std::ptrdiff_t>(kept));
+  d.velocities.assign(from.velocities.begin(), from.velocities.begin() + static_cast<std::ptrdiff_t>(kept));
+  d.commanded.assign(from.commanded.begin(), from.commanded.begin() + static_cast<std::ptrdiff_t>(std::min(kept, from.commanded.size())));
+  d.positions.reserve(n);
+  d.velocities.reserve(n);
+  bool scarce = false;
+  for (std::size_t i = kept; i < n; ++i) {
+    d.positions.push_back(spawn_position(s, geometry, spawn, n, spawn_rng, scarce));
+    d.velocities.push_back(Vec2::polar(spawn_rng.uniform(0.1 * cfg.max_speed, cfg.max_speed), spawn_rng.angle()));
   }
-  std::vector<Vec2> points;
-  points.reserve(targets_.size());
-  for (const auto& t : targets_) points.push_back(t.position);
-  const double reach = setup_.drone.camera_range + (setup_.target_kind ? setup_.target_kind->radius() : 0);
-  target_grid_.build(points, std::max(reach, 1.0));
+  d.steering.assign(n, {});
+  d.commanded.resize(n);
+  d.rngs.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) d.rngs.emplace_back(s.seed, first_drone_stream + i);
+  d.ray_directions = ray_directions(cfg.obstacle_rays);
+  d.hits.assign(n * d.ray_directions.size(), {});
+  d.hit_counts.assign(n, 0);
+  return d;
+}
+
+Simulation::Targets Simulation::make_targets(std::vector<Vec2> positions, const DroneConfig& drone, const TargetKind* kind) {
+  Targets t;
+  t.states.reserve(positions.size());
+  for (Vec2 p : positions) t.states.push_back({p});
+  const double reach = drone.camera_range + (kind ? kind->radius() : 0);
+  t.grid.build(positions, std::max(reach, 1.0));
+  return t;
+}
+
+void Simulation::install(World&& w) noexcept {
+  spawn_ = w.spawn;
+  geometry_ = std::move(w.geometry);
+  physics_ = std::move(w.physics);
+  spawn_rng_ = w.spawn_rng;
+  drones_ = std::move(w.drones);
+  targets_ = std::move(w.targets);
 }
 
 void Simulation::set_drone_count(std::size_t n) {
-  if (n < positions_.size()) {
-    physics_->remove_drones_from(n);
-    spawn_drones(n, n);
-  } else {
-    spawn_drones(positions_.size(), n);
-  }
+  check_drone_count(n);
+  Rng rng = spawn_rng_;
+  Drones next = resized(drones_, n, setup_, geometry_, spawn_, rng);
+  physics_->bodies.reserve(n);
+  setup_.behavior->reset(n);
+  // Nothing below throws.
+  const std::size_t before = drones_.positions.size();
+  physics_->remove_drones_from(n);
+  for (std::size_t i = before; i < n; ++i)
+    physics_->add_drone(static_cast<std::uint32_t>(i), next.positions[i], next.velocities[i], setup_.drone);
+  drones_ = std::move(next);
+  spawn_rng_ = rng;
+  setup_.drones = n;
 }
 
 void Simulation::set_drone_config(const DroneConfig& config) {
-  setup_.drone = config;
+  if (auto p = check_drone(config, setup_.dt)) throw std::invalid_argument(p.text());
+  if (auto p = check_resolution(setup_.map.bounds, config, setup_.dt)) throw std::invalid_argument("map: " + p.text());
+  DroneConfig next = config;
+  std::vector<Vec2> rays = ray_directions(config.obstacle_rays);
+  std::vector<ObstacleHit> hits(drones_.positions.size() * rays.size());
+  std::vector<Vec2> points;  // the camera range sizes the target grid
+  points.reserve(targets_.states.size());
+  for (const auto& t : targets_.states) points.push_back(t.position);
+  PointGrid grid;
+  grid.build(points, std::max(config.camera_range + (setup_.target_kind ? setup_.target_kind->radius() : 0), 1.0));
+  // Nothing below throws.
   physics_->remove_drones_from(0);
-  for (std::size_t i = 0; i < positions_.size(); ++i)
-    physics_->add_drone(static_cast<std::uint32_t>(i), positions_[i], velocities_[i].clamped(config.max_speed), config);
-  size_rays();
-  hits_.assign(positions_.size() * ray_directions_.size(), {});
-  place_targets();  // the camera range sizes the target grid
+  for (std::size_t i = 0; i < drones_.positions.size(); ++i)
+    physics_->add_drone(static_cast<std::uint32_t>(i), drones_.positions[i], drones_.velocities[i].clamped(config.max_speed), config);
+  drones_.ray_directions = std::move(rays);
+  drones_.hits = std::move(hits);
+  targets_.grid = std::move(grid);
+  setup_.drone = std::move(next);
 }
 
 void Simulation::set_behavior(std::shared_ptr<Behavior> behavior) {
-  if (!behavior) throw std::invalid_argument("no behavior given");
+  if (!behavior) throw std::invalid_argument("behavior: none given");
+  behavior->reset(drones_.positions.size());
   setup_.behavior = std::move(behavior);
-  setup_.behavior->reset(positions_.size());
 }
 
 void Simulation::set_map(const MapData& map, std::optional<Vec2> spawn) {
-  setup_.map = map;
-  setup_.spawn = spawn;
-  build_world();
+  SimulationSetup next = setup_;
+  next.map = map;
+  next.spawn = spawn;
+  next.drones = drones_.positions.size();
+  World world = build_world(next);
+  setup_.behavior->reset(next.drones);
+  // Nothing below throws.
+  install(std::move(world));
+  setup_ = std::move(next);
 }
 
 void Simulation::set_targets(std::shared_ptr<TargetKind> kind, std::size_t count) {
+  std::vector<Vec2> positions;
+  if (kind) positions = initial_targets(*kind, count, setup_.map, geometry_, setup_.dt, setup_.seed);
+  Targets next = make_targets(std::move(positions), setup_.drone, kind.get());
+  // Nothing below throws.
+  targets_ = std::move(next);
   setup_.target_kind = std::move(kind);
   setup_.targets = count;
-  place_targets();
 }
 
 // ---------------------------------------------------------------- one step
@@ -229,7 +433,7 @@ void Simulation::step() {
     // Last step's decisions go to Box2D, and while it steps the drones do their side. Nothing one side
     // writes is read by the other.
     timed(Phase::act, [this] { act(); });
-    parallel_->overlap(positions_.size(), [this] { timed(Phase::physics, [this] { physics(); }); }, drones);
+    parallel_->overlap(drones_.positions.size(), [this] { timed(Phase::physics, [this] { physics(); }); }, drones);
   }
   ++steps_;
   read_back();
@@ -242,24 +446,24 @@ void Simulation::step() {
 // where they stay in cache.
 void Simulation::sense() {
   const DroneConfig& cfg = setup_.drone;
-  drone_grid_.build(positions_, cfg.detection_range / 2);  // 5×5 cells of R/2 cover less than 3×3 of R
-  const std::size_t rays = ray_directions_.size();
-  seen_.resize(positions_.size());
+  drone_grid_.build(drones_.positions, cfg.detection_range / 2);  // 5×5 cells of R/2 cover less than 3×3 of R
+  const std::size_t rays = drones_.ray_directions.size();
+  seen_.resize(drones_.positions.size());
   sensed_time_ = time();
-  const TargetKind* kind = targets_.empty() ? nullptr : setup_.target_kind.get();
+  const TargetKind* kind = targets_.states.empty() ? nullptr : setup_.target_kind.get();
   const double reach = kind ? cfg.camera_range + kind->radius() : 0;
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
-    const Vec2 p = positions_[i];
+    const Vec2 p = drones_.positions[i];
     std::uint8_t count = 0;
     geometry_.candidates(p, cfg.obstacle_range, s.segment_ids);
     if (!s.segment_ids.empty())
-      for (Vec2 direction : ray_directions_)
+      for (Vec2 direction : drones_.ray_directions)
         if (auto hit = geometry_.ray_cast(p, direction, cfg.obstacle_range, s.segment_ids))
-          hits_[i * rays + count++] = *hit;
-    hit_counts_[i] = count;
+          drones_.hits[i * rays + count++] = *hit;
+    drones_.hit_counts[i] = count;
     seen_[i].clear();
     if (kind)
-      target_grid_.query(p, reach, [&](std::uint32_t t, Vec2, double d2) {
+      targets_.grid.query(p, reach, [&](std::uint32_t t, Vec2, double d2) {
         if (const double d = std::sqrt(d2); kind->in_view(d, cfg.camera_range)) seen_[i].emplace_back(t, d);
       });
   });
@@ -267,19 +471,19 @@ void Simulation::sense() {
 
 Perception Simulation::perceive(std::uint32_t id, Scratch& s) const {
   const DroneConfig& cfg = setup_.drone;
-  const Vec2 p = positions_[id];
+  const Vec2 p = drones_.positions[id];
   s.hits.clear();
   drone_grid_.gather(p, cfg.detection_range, s.hits);
   s.neighbours.clear();
   for (const auto& [j, d2] : s.hits)
-    if (j != id) s.neighbours.push_back({positions_[j], velocities_[j], std::sqrt(d2), j});
+    if (j != id) s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j});
   s.targets.clear();
-  for (const auto& [t, d] : seen_[id]) s.targets.push_back({targets_[t].position, d, t, targets_[t].found()});
-  const std::size_t rays = ray_directions_.size();
+  for (const auto& [t, d] : seen_[id]) s.targets.push_back({targets_.states[t].position, d, t, targets_.states[t].found()});
+  const std::size_t rays = drones_.ray_directions.size();
   Perception me;
   me.id = id;
   me.position = p;
-  me.velocity = velocities_[id];
+  me.velocity = drones_.velocities[id];
   me.max_speed = cfg.max_speed;
   me.max_force = cfg.max_force;
   me.radius = cfg.radius;
@@ -290,7 +494,7 @@ Perception Simulation::perceive(std::uint32_t id, Scratch& s) const {
   me.dt = setup_.dt;
   me.time = time();
   me.neighbours = s.neighbours;
-  me.obstacles = {hits_.data() + id * rays, hit_counts_[id]};
+  me.obstacles = {drones_.hits.data() + id * rays, drones_.hit_counts[id]};
   me.targets = s.targets;
   me.world = this;
   return me;
@@ -302,20 +506,19 @@ void Simulation::decide() {
   Behavior& behavior = *setup_.behavior;
   behavior.prepare(*this);
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
-    steering_[i] = behavior.decide(perceive(i, s), rngs_[i]);
+    drones_.steering[i] = behavior.decide(perceive(i, s), drones_.rngs[i]);
   });
 }
 
 // Act: clamp to max force and max speed, hand the velocity to Box2D.
 void Simulation::act() {
   const DroneConfig& cfg = setup_.drone;
-  for (std::size_t i = 0; i < positions_.size(); ++i) {
-    const Vec2 a = steering_[i];
+  for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
+    const Vec2 a = drones_.steering[i];
     if (!std::isfinite(a.x) || !std::isfinite(a.y))
-      throw std::runtime_error("behavior returned a non-finite steering for drone " + std::to_string(i) +
-                               " at t = " + std::to_string(time()) + " s");
-    const Vec2 v = (velocities_[i] + a.clamped(cfg.max_force)).clamped(cfg.max_speed);
-    commanded_[i] = v;
+      throw std::runtime_error("decide returned a non-finite steering " + point(a) + " for drone " + std::to_string(i));
+    const Vec2 v = (drones_.velocities[i] + a.clamped(cfg.max_force)).clamped(cfg.max_speed);
+    drones_.commanded[i] = v;
     physics_->bodies[i]->SetLinearVelocity(to_b2(v));
   }
 }
@@ -325,9 +528,9 @@ void Simulation::physics() {
 }
 
 void Simulation::read_back() {
-  for (std::size_t i = 0; i < positions_.size(); ++i) {
-    positions_[i] = from_b2(physics_->bodies[i]->GetPosition());
-    velocities_[i] = from_b2(physics_->bodies[i]->GetLinearVelocity());
+  for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
+    drones_.positions[i] = from_b2(physics_->bodies[i]->GetPosition());
+    drones_.velocities[i] = from_b2(physics_->bodies[i]->GetLinearVelocity());
   }
 }
 
@@ -354,17 +557,17 @@ class Actions final : public ContactActions {
 // had in view when it sensed (by drone), then the contacts Box2D began in its step (in its order).
 void Simulation::dispatch_sightings() {
   const double sensed_at = sensed_time_;
-  Actions actions(targets_, found_count_, sensed_at);
+  Actions actions(targets_.states, targets_.found, sensed_at);
   for (std::uint32_t i = 0; i < seen_.size(); ++i)
     for (const auto& [t, d] : seen_[i]) {
-      ++targets_[t].observations;
-      const ContactEvent e{ContactKind::target_in_view, i, t, targets_[t].position, sensed_at};
+      ++targets_.states[t].observations;
+      const ContactEvent e{ContactKind::target_in_view, i, t, targets_.states[t].position, sensed_at};
       for (const auto& handler : setup_.contact_handlers) handler->on_contact(e, actions);
     }
 }
 
 void Simulation::dispatch_contacts() {
-  Actions actions(targets_, found_count_, time());
+  Actions actions(targets_.states, targets_.found, time());
   for (ContactEvent e : physics_->begun) {
     e.time = time();
     ++collisions_;
@@ -378,19 +581,22 @@ void Simulation::observe() {
 }
 
 std::vector<double> Simulation::nearest_neighbour_distances() const {
-  const std::size_t n = positions_.size();
+  const std::size_t n = drones_.positions.size();
   std::vector<double> out(n, std::numeric_limits<double>::infinity());
   if (n < 2) return out;
+  // Cells sized by the grid to the drones' spread (not the detection range, which may be 0 or span the
+  // map); the search widens from one cell until it finds someone, and ends once it covers the map.
   PointGrid grid;
-  grid.build(positions_, setup_.drone.detection_range);
+  grid.build(drones_.positions, 0);
   const Rect& b = setup_.map.bounds;
-  const double far = std::hypot(b.width(), b.height()) * 2;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    for (double r = setup_.drone.detection_range; r <= far && std::isinf(out[i]); r *= 4)
-      grid.query(positions_[i], r, [&](std::uint32_t j, Vec2, double d2) {
+  const double far = std::hypot(b.width(), b.height());
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (double r = grid.cell_size();; r *= 4) {  // r > 0, so r >= far within a few dozen rounds
+      grid.query(drones_.positions[i], r, [&](std::uint32_t j, Vec2, double d2) {
         if (j != i) out[i] = std::min(out[i], std::sqrt(d2));
       });
-  }
+      if (!std::isinf(out[i]) || r >= far) break;
+    }
   return out;
 }
 

@@ -63,14 +63,30 @@ StaticGeometry::StaticGeometry(const MapData& map, double cell_size) : bounds_(m
 }
 
 void StaticGeometry::insert(std::uint32_t id) {
+  // The cells of the segment's bounding box that it really passes (within the cell's circumcircle).
+  // Row by row, only the columns near the part of the segment inside the row's band are looked at, so a
+  // long diagonal costs its length in cells, not its bounding box's area.
   const Segment& s = segments_[id];
-  const Vec2 centre_offset{cell_ / 2, cell_ / 2};
-  for (int y = row(std::min(s.a.y, s.b.y)); y <= row(std::max(s.a.y, s.b.y)); ++y)
-    for (int x = col(std::min(s.a.x, s.b.x)); x <= col(std::max(s.a.x, s.b.x)); ++x) {
-      // Only cells the segment really passes (within the cell's circumcircle) for long diagonals.
-      const Vec2 centre = origin_ + Vec2{x * cell_, y * cell_} + centre_offset;
-      if (segment_distance(centre, s) <= cell_ * 0.7072) cells_[static_cast<std::size_t>(y) * cols_ + x].push_back(id);
+  const double reach = cell_ * 0.7072, margin = reach * 1.01;
+  const Vec2 d = s.b - s.a;
+  const int x_lo = col(std::min(s.a.x, s.b.x)), x_hi = col(std::max(s.a.x, s.b.x));
+  for (int y = row(std::min(s.a.y, s.b.y)); y <= row(std::max(s.a.y, s.b.y)); ++y) {
+    const double cy = origin_.y + (y + 0.5) * cell_;
+    double t0 = 0, t1 = 1;  // the part of the segment within `margin` of the row's centre line
+    if (d.y != 0) {
+      const double ta = (cy - margin - s.a.y) / d.y, tb = (cy + margin - s.a.y) / d.y;
+      t0 = std::max(0.0, std::min(ta, tb));
+      t1 = std::min(1.0, std::max(ta, tb));
+      if (t0 > t1) continue;
+    } else if (std::abs(s.a.y - cy) > margin) {
+      continue;
     }
+    const double xa = s.a.x + d.x * t0, xb = s.a.x + d.x * t1;
+    for (int x = std::max(x_lo, col(std::min(xa, xb) - margin)), last = std::min(x_hi, col(std::max(xa, xb) + margin)); x <= last; ++x) {
+      const Vec2 centre = origin_ + Vec2{x * cell_, y * cell_} + Vec2{cell_ / 2, cell_ / 2};
+      if (segment_distance(centre, s) <= reach) cells_[static_cast<std::size_t>(y) * cols_ + x].push_back(id);
+    }
+  }
 }
 
 void StaticGeometry::candidates(Vec2 p, double range, std::vector<std::uint32_t>& out) const {
@@ -105,6 +121,7 @@ std::optional<ObstacleHit> StaticGeometry::ray_cast(Vec2 from, Vec2 to) const {
 }
 
 bool StaticGeometry::is_free(Vec2 p, double clearance) const {
+  if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(clearance)) return false;
   if (p.x < bounds_.min.x + clearance || p.x > bounds_.max.x - clearance || p.y < bounds_.min.y + clearance ||
       p.y > bounds_.max.y - clearance)
     return false;

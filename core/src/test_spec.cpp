@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 
 #include "salsa/core/names.hpp"
 #include "strict_json.hpp"
@@ -376,18 +377,25 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   return j.dump(2) + "\n";
 }
 
+namespace {
+/// "map 'forest' (plugin basic_maps, /usr/lib/salsa/plugins/libbasic_maps.so)": whose data it is.
+template <class Base>
+std::string provider(const char* kind, const Entry<Base>& e) {
+  return std::string(kind) + " '" + e.factory.name + "' (plugin " + e.plugin().name + ", " + e.plugin().file.string() + ")";
+}
+}  // namespace
+
 SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int threads) {
   SimulationSetup s;
+  const Entry<MapGenerator>* map_entry = nullptr;
+  std::shared_ptr<MapGenerator> map;
   try {
-    auto map = PluginHost::create(host.map(t.map.name), t.map.params);
-    Rng map_rng(t.seed, 0);
-    s.map = map->generate(t.map_file, map_rng);
+    map_entry = &host.map(t.map.name);
+    map = PluginHost::create(*map_entry, t.map.params);
     s.behavior = PluginHost::create(host.behavior(t.behavior.name), t.behavior.params);
     if (t.targets > 0) s.target_kind = PluginHost::create(host.target_kind(t.target.name), t.target.params);
     for (const auto& h : t.contact_handlers)
       s.contact_handlers.push_back(PluginHost::create(host.contact_handler(h), ParameterValues(host.contact_handler(h).factory.parameters)));
-  } catch (const MapError& e) {
-    throw InputError(e.what());
   } catch (const std::exception& e) {
     throw InputError(t.source + ": " + e.what());
   }
@@ -404,14 +412,79 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   s.seed = t.seed;
   s.threads = threads;
   s.log_every = t.log_every();
+  if (const Problem p = check_drone(t.drone, t.dt)) throw InputError(t.source + ": " + p.text());
+
+  // The map: what the plugin made is input too, checked like a map file (DESIGN §4).
+  try {
+    Rng map_rng(t.seed, 0);
+    s.map = map->generate(t.map_file, map_rng);
+  } catch (const MapError& e) {
+    throw InputError(e.what());
+  } catch (const std::exception& e) {
+    throw InputError(t.source + ": " + provider("map", *map_entry) + " failed: " + e.what());
+  }
+  if (const Problem p = check_map(s.map)) throw InputError(t.source + ": " + provider("map", *map_entry) + " returned " + p.text());
+  const std::string map_name = t.map_file.empty() ? "map '" + t.map.name + "'" : "map " + t.map_file;
+  if (const Problem p = check_resolution(s.map.bounds, t.drone, t.dt)) throw InputError(t.source + ": " + map_name + ": " + p.text());
+
   // The spawn point must be free before anything is built on it.
+  const StaticGeometry geometry(s.map, std::max(t.drone.obstacle_range, 1.0));
   const Vec2 spawn = t.spawn.value_or(s.map.spawn);
-  if (!StaticGeometry(s.map, std::max(t.drone.obstacle_range, 1.0)).is_free(spawn, t.drone.radius))
-    throw InputError(t.source + ": " + (t.spawn ? "spawn.point" : "map " + (t.map_file.empty() ? "'" + t.map.name + "'" : t.map_file)) +
-                     ": spawn point [" + num(spawn.x) + ", " + num(spawn.y) +
+  if (!geometry.is_free(spawn, t.drone.radius))
+    throw InputError(t.source + ": " + (t.spawn ? "spawn.point" : map_name) + ": spawn point [" + num(spawn.x) + ", " + num(spawn.y) +
                      "] is inside an obstacle or outside the bounds (allowed: free space, at least the drone radius " +
                      num(t.drone.radius) + " m from any wall)");
+
+  // The targets, placed as the simulation will place them: the kind's radius and positions are input too.
+  if (s.target_kind) {
+    try {
+      initial_targets(*s.target_kind, t.targets, s.map, geometry, t.dt, t.seed);
+    } catch (const std::exception& e) {
+      throw InputError(t.source + ": " + provider("target kind", host.target_kind(t.target.name)) + ": " + e.what());
+    }
+  }
   return s;
+}
+
+namespace {
+std::string grouped(double v) {  // 1234567 -> "1,234,567"
+  std::string digits = std::to_string(std::llround(v)), out;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
+std::string sig(double v, int digits) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+}  // namespace
+
+std::string workload_warning(const TestSpec& t, const SimulationSetup& s) {
+  // Wall time per drone-step on one core, measured with flocking (docs/architecture.md): about 1 µs,
+  // plus 0.01 µs per neighbour (each is gathered, and the behavior looks at it).
+  constexpr double per_drone_step = 1e-6, per_neighbour = 1e-8;
+  const Rect& b = s.map.bounds;
+  double free_area = b.area();
+  for (const Polyline& poly : s.map.obstacles) {
+    double twice = 0;  // shoelace
+    for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) twice += poly[j].cross(poly[i]);
+    free_area -= std::abs(twice) / 2;
+  }
+  free_area = std::max(free_area, b.area() / 100);
+  const double drones = static_cast<double>(t.drones), range = t.drone.detection_range;
+  const double neighbours = std::min(drones - 1, drones * pi * range * range / free_area);
+  const double steps_per_second = 1 / t.dt;
+  const double seconds = static_cast<double>(t.steps()) * drones * (per_drone_step + per_neighbour * neighbours);
+  if (seconds < 3600) return {};
+  const double hours = seconds / 3600;
+  return t.source + ": " + grouped(drones) + " drones with detection range " + sig(range, 6) + " m on a " + sig(b.width(), 6) +
+         " m × " + sig(b.height(), 6) + " m map: ~" + grouped(neighbours) + " neighbours per drone, about " +
+         sig(drones * neighbours * steps_per_second, 2) + " drone-neighbour checks per simulated second; " + sig(t.time, 6) +
+         " s simulated: expect " + (hours < 48 ? "hours (about " + sig(hours, 2) + " h" : "days (about " + sig(hours / 24, 2) + " days") +
+         " on one core)";
 }
 
 bool is_map_file(const std::filesystem::path& file) {

@@ -14,19 +14,24 @@ namespace salsa {
 
 class PointGrid {
  public:
-  /// Rebuilds over `points` with cells of about `cell_size` m (grown if the points spread so far that
-  /// the cells would outnumber the points many times). Keeps its buffers between builds.
+  /// Rebuilds over `points` with cells of about `cell_size` m, grown if the points spread so far that
+  /// the cells would outnumber the points many times (so any cell size, 0 included, gives at most
+  /// 4 × points + 64 cells). Points with a non-finite coordinate are kept but never found. Keeps its
+  /// buffers between builds.
   void build(std::span<const Vec2> points, double cell_size) {
     const std::size_t n = points.size();
     Rect box{{0, 0}, {0, 0}};
-    if (n) {
-      box = {points[0], points[0]};
-      for (Vec2 p : points) {
-        box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y)};
-        box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y)};
+    bool first = true;
+    for (Vec2 p : points) {
+      if (!std::isfinite(p.x) || !std::isfinite(p.y)) continue;
+      if (first) {
+        box = {p, p};
+        first = false;
       }
+      box.min = {std::min(box.min.x, p.x), std::min(box.min.y, p.y)};
+      box.max = {std::max(box.max.x, p.x), std::max(box.max.y, p.y)};
     }
-    cell_ = std::max(cell_size, 1e-9);
+    cell_ = cell_size > 1e-9 ? cell_size : 1e-9;  // NaN too
     const double max_cells = 4.0 * static_cast<double>(n) + 64;
     if ((box.width() / cell_ + 1) * (box.height() / cell_ + 1) > max_cells)
       cell_ = std::max(cell_, std::sqrt(box.area() / max_cells) * 1.5);
@@ -110,8 +115,9 @@ class PointGrid {
             std::max(0, cell_coord(p.y - radius - origin_.y)), std::min(rows_ - 1, cell_coord(p.y + radius - origin_.y))};
   }
   int cell_coord(double offset) const {
-    // Clamped in double first so far-away query points cannot overflow the int.
-    return static_cast<int>(std::clamp(std::floor(offset / cell_), -1.0, 2.0e9));
+    // Clamped in double first so far-away query points cannot overflow the int; NaN goes to -1.
+    const double c = std::floor(offset / cell_);
+    return c >= 2.0e9 ? 2'000'000'000 : c >= -1.0 ? static_cast<int>(c) : -1;
   }
   std::uint32_t cell_index(Vec2 p) const {
     const int cx = std::clamp(cell_coord(p.x - origin_.x), 0, cols_ - 1);

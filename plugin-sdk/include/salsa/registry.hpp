@@ -20,7 +20,8 @@ namespace salsa {
 inline constexpr std::uint32_t abi_version = 1;
 
 /// Types cross the library boundary (std::string, std::function, vectors), so plugin and host must
-/// agree on the C++ library ABI as well; this tag folds the relevant facts into one number.
+/// agree on the C++ library ABI as well; this tag folds the relevant facts into one number. The loader
+/// decodes a mismatch back into words, so keep this layout (or teach the loader a new one).
 constexpr std::uint32_t toolchain_tag() {
   return static_cast<std::uint32_t>(sizeof(std::string) << 16 | sizeof(std::function<void()>) << 8 |
                                     sizeof(std::vector<int>) << 1 |

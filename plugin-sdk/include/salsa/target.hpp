@@ -2,6 +2,8 @@
 // Target kinds: what drones search for (trees, people, hot spots). Targets are static points with a
 // radius; they are not physics bodies.
 #include <cstddef>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "salsa/parameters.hpp"
@@ -17,14 +19,21 @@ class TargetKind : public Configurable {
   /// Whether a drone whose centre is `distance` m from the target's centre sees it with a camera of
   /// `camera_range` m. Default: the target's disc overlaps the camera's disc.
   virtual bool in_view(double distance, double camera_range) const { return distance < camera_range + radius(); }
-  /// Where `count` targets go. Default: uniform over free space (never inside obstacles).
+  /// Where `count` targets go (exactly `count` points inside the bounds; throw when they cannot be
+  /// placed). Default: uniform over free space (never inside obstacles); it gives up, with an error,
+  /// when fewer than 1 in 1,000 random points so far had room for a target.
   virtual std::vector<Vec2> place(std::size_t count, const WorldView& world, Rng& rng) const {
     std::vector<Vec2> out;
     out.reserve(count);
     const Rect b = world.bounds();
     for (std::size_t tries = 0; out.size() < count; ++tries) {
+      if (tries > 1000 * (out.size() + 10))
+        throw std::runtime_error("room for only " + std::to_string(out.size()) + " of " + std::to_string(count) +
+                                 " targets of radius " + Parameter::format(radius()) + " m in " + std::to_string(tries) +
+                                 " random points: the map has too little free space (allowed: fewer targets, a smaller"
+                                 " radius or a larger map)");
       const Vec2 p = rng.in_rect(b);
-      if (world.is_free(p, radius()) || tries > 1000 * (count + 10)) out.push_back(p);
+      if (world.is_free(p, radius())) out.push_back(p);
     }
     return out;
   }

@@ -1,6 +1,8 @@
 #pragma once
 // Finds, loads and checks plugin libraries (Boost.DLL) and keeps the registries of what they provide.
-// One host per process; a library stays loaded while the host or any object it made is alive.
+// A library stays loaded while the host or any object it made is alive. Each file is checked, then
+// loaded from a private copy (removed once mapped), so the original may be replaced or deleted at
+// any time; hosts are independent (two hosts loading one file get two copies).
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -26,9 +28,11 @@ struct Entry {
   const PluginInfo& plugin() const;
 };
 
+/// A refusal: a whole file (or folder), or one registration of a file whose others loaded.
 struct LoadFailure {
-  fs::path file;
-  std::string reason;
+  fs::path file;             ///< as found in the plugin folder, never the private copy
+  std::string reason;        ///< one line; starts with the registration when only that one was refused
+  std::string registration;  ///< e.g. "map 'forest'" when only that registration was refused, else empty
 };
 
 /// A folder searched for plugins, and why it is on the list.
@@ -53,9 +57,11 @@ class PluginHost {
   /// install folder and, when run from a build tree, its plugins folder.
   static std::vector<SearchDir> default_search_path(const std::vector<fs::path>& extra = {});
 
-  /// Loads every shared library in each folder (sorted by file name); failures are recorded, not thrown.
+  /// Loads every `*.so` entry of each folder (sorted by file name); failures are recorded, never
+  /// thrown. A name already registered stays with the file loaded first (folder order, then file
+  /// name); a later registration of it is refused alone, the rest of its file loads.
   void load(const std::vector<SearchDir>& dirs);
-  /// Loads one file; false (and a recorded failure) when it is refused.
+  /// Loads one file; false (and a recorded failure) when the whole file is refused.
   bool load_file(const fs::path& file);
 
   const std::vector<SearchDir>& searched() const { return searched_; }
@@ -73,13 +79,17 @@ class PluginHost {
   const Entry<MapGenerator>& map(const std::string& name) const;
   const Entry<ContactHandler>& contact_handler(const std::string& name) const;
 
-  /// A new object from a factory, configured with `values`; it keeps its library loaded. Exceptions
-  /// from plugin code come back as std::runtime_error naming the plugin.
+  /// A new object from a factory, configured with `values`; it keeps its library loaded. Whatever
+  /// plugin code throws (std::bad_alloc, non-std types) comes back as std::runtime_error naming the
+  /// registration and its file.
   template <class Base>
   static std::shared_ptr<Base> create(const Entry<Base>& entry, const ParameterValues& values);
 
  private:
   class Collector;
+  template <class Base>
+  void admit(std::vector<Entry<Base>>& registry, std::vector<Factory<Base>>& found, PluginKind kind,
+             const std::shared_ptr<const Library>& library, std::size_t& admitted);
   std::vector<SearchDir> searched_;
   std::vector<LoadFailure> failures_;
   std::vector<std::shared_ptr<const Library>> libraries_;

@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,39 @@ struct SimulationSetup {
   bool profile = false;               ///< time each phase (Simulation::profile); off saves ~12 clock reads a step
 };
 
+// ---- Limits: what the core can simulate faithfully, whatever made the map or the drones (a JSON file,
+// a plugin, the GUI). Each check returns the field at fault and why (value and what is allowed).
+
+struct Problem {
+  std::string field;  ///< e.g. "drone.max_speed", "obstacles[2][0]"; empty: no problem
+  std::string what;   ///< the value and what is allowed
+  explicit operator bool() const { return !field.empty(); }
+  std::string text() const { return field + ": " + what; }
+};
+
+/// Box2D 2.4 moves a body at most this far per step (b2_maxTranslation), m.
+inline constexpr double box2d_max_step = 2.0;
+/// Finite, positive where it must be, and a step (max_speed × dt) short enough that a drone can never
+/// pass through a wall: at most its radius (contacts are discrete, continuous collision is off) and at
+/// most box2d_max_step.
+Problem check_drone(const DroneConfig& drone, double dt);
+/// Finite, ordered bounds; polygons of ≥ 3 points and lines of ≥ 2, every point finite and inside the
+/// bounds; a finite spawn point.
+Problem check_map(const MapData& map);
+/// Box2D keeps positions in single-precision floats: at the map's largest coordinate they must still
+/// resolve 2 % of a drone's step (rounding then changes a step by at most 1 %), else drones move in
+/// jumps or freeze. Field "bounds".
+Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt);
+/// A target kind's radius (finite, ≥ 0) and the positions it placed (as many as asked, finite, inside
+/// the bounds).
+Problem check_targets(std::span<const Vec2> positions, std::size_t count, double radius, const Rect& bounds);
+
+/// Where a Simulation puts `count` targets of `kind` on `map` at the start: on the map alone, before
+/// any drone is spawned, with the targets' own Rng stream of `seed`. Throws what the plugin throws, or
+/// std::invalid_argument with check_targets' problem.
+std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, const MapData& map,
+                                  const StaticGeometry& geometry, double dt, std::uint64_t seed);
+
 /// Step phases, timed separately (DESIGN §3).
 enum class Phase { sense, decide, act, physics, detect, observe };
 inline constexpr std::array<const char*, 6> phase_names{"sense", "decide", "act", "physics", "detect", "observe"};
@@ -69,7 +103,7 @@ struct TargetState {
 
 class Simulation final : public WorldView {
  public:
-  /// Throws std::invalid_argument with a one-line reason for an unusable set-up.
+  /// Throws std::invalid_argument with a one-line reason for an unusable set-up (see the checks above).
   explicit Simulation(SimulationSetup setup);
   ~Simulation() override;
   Simulation(const Simulation&) = delete;
@@ -78,9 +112,11 @@ class Simulation final : public WorldView {
   void step();
   void run_steps(std::size_t n) { for (std::size_t i = 0; i < n; ++i) step(); }
 
-  // ---- Live changes (take effect at the next step) ----
-  void set_drone_count(std::size_t n);      ///< adds drones at the spawn, or removes the highest ids
-  void set_drone_config(const DroneConfig& config);  ///< rebuilds the drones where they are
+  // ---- Live changes (take effect at the next step). Each either succeeds or throws and leaves the
+  // simulation exactly as it was (the new state is built aside, then swapped in); std::invalid_argument
+  // for a refused value, or what the plugin threw.
+  void set_drone_count(std::size_t n);      ///< adds drones at the spawn, or removes the highest ids; fresh memory
+  void set_drone_config(const DroneConfig& config);  ///< rebuilds the drones where they are; targets stay
   void set_behavior(std::shared_ptr<Behavior> behavior);  ///< fresh per-drone memory
   void set_map(const MapData& map, std::optional<Vec2> spawn = std::nullopt);  ///< re-spawns drones and targets
   void set_targets(std::shared_ptr<TargetKind> kind, std::size_t count);        ///< re-places targets
@@ -88,17 +124,18 @@ class Simulation final : public WorldView {
 
   // ---- State ----
   std::uint64_t step_count() const { return steps_; }
-  std::size_t drone_count() const { return positions_.size(); }
+  std::size_t drone_count() const { return drones_.positions.size(); }
   const DroneConfig& drone_config() const { return setup_.drone; }
   const SimulationSetup& setup() const { return setup_; }
   Behavior& behavior() const { return *setup_.behavior; }
   const MapData& map() const { return setup_.map; }
   Vec2 spawn_point() const { return spawn_; }
-  const std::vector<TargetState>& targets() const { return targets_; }
-  std::size_t targets_found() const { return found_count_; }
+  const std::vector<TargetState>& targets() const { return targets_.states; }
+  std::size_t targets_found() const { return targets_.found; }
   std::uint64_t collisions() const { return collisions_; }  ///< contacts begun, drone–drone and drone–obstacle
   const StaticGeometry& geometry() const { return geometry_; }
-  /// Nearest other drone's distance for each drone (m); +inf when alone. O(N) through the grid.
+  /// Nearest other drone's distance for each drone (m); +inf when alone. About O(N) through a grid sized
+  /// to the drones' spread, whatever the detection range.
   std::vector<double> nearest_neighbour_distances() const;
   /// Seconds spent in each phase so far (zeros unless SimulationSetup::profile).
   const std::array<double, 6>& profile() const { return profile_; }
@@ -107,10 +144,10 @@ class Simulation final : public WorldView {
   Rect bounds() const override { return setup_.map.bounds; }
   double time() const override { return static_cast<double>(steps_) * setup_.dt; }
   double dt() const override { return setup_.dt; }
-  std::span<const Vec2> drone_positions() const override { return positions_; }
-  std::span<const Vec2> drone_velocities() const override { return velocities_; }
+  std::span<const Vec2> drone_positions() const override { return drones_.positions; }
+  std::span<const Vec2> drone_velocities() const override { return drones_.velocities; }
   /// The velocities the last act phase handed to Box2D (m/s), before collisions changed them.
-  std::span<const Vec2> commanded_velocities() const { return commanded_; }
+  std::span<const Vec2> commanded_velocities() const { return drones_.commanded; }
   bool is_free(Vec2 p, double clearance) const override { return geometry_.is_free(p, clearance); }
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return geometry_.ray_cast(from, to); }
 
@@ -127,11 +164,27 @@ class Simulation final : public WorldView {
   void dispatch_contacts();   // detect, part 2
   void observe();
 
-  void build_world();
-  void spawn_drones(std::size_t from, std::size_t to);
-  void place_targets();
-  void size_rays();
-  Vec2 spawn_position(std::size_t total);
+  // Drones, structure of arrays indexed by id.
+  struct Drones {
+    std::vector<Vec2> positions, velocities, steering, commanded;
+    std::vector<Rng> rngs;
+    std::vector<Vec2> ray_directions;   ///< unit vectors of the obstacle rays
+    std::vector<ObstacleHit> hits;      ///< obstacle_rays slots per drone
+    std::vector<std::uint8_t> hit_counts;
+  };
+  struct Targets {
+    std::vector<TargetState> states;
+    PointGrid grid;
+    std::size_t found = 0;
+  };
+  struct World;  // everything a map change rebuilds
+
+  // Set-up and live changes: each builds its new state aside (may throw), then installs it (cannot).
+  static World build_world(const SimulationSetup& setup);
+  static Drones resized(const Drones& from, std::size_t n, const SimulationSetup& setup, const StaticGeometry& geometry,
+                        Vec2 spawn, Rng& spawn_rng);
+  static Targets make_targets(std::vector<Vec2> positions, const DroneConfig& drone, const TargetKind* kind);
+  void install(World&& world) noexcept;
   Perception perceive(std::uint32_t id, Scratch& scratch) const;
   void read_back();
   void timed(Phase phase, const auto& fn);
@@ -142,19 +195,10 @@ class Simulation final : public WorldView {
   std::unique_ptr<PhysicsWorld> physics_;
   std::unique_ptr<Parallel> parallel_;
 
-  // Drones, structure of arrays indexed by id.
-  std::vector<Vec2> positions_, velocities_, steering_, commanded_;
-  std::vector<Rng> rngs_;
-  std::vector<Vec2> ray_directions_;      ///< unit vectors of the obstacle rays
-  std::vector<ObstacleHit> hits_;         ///< obstacle_rays slots per drone
-  std::vector<std::uint8_t> hit_counts_;
+  Drones drones_;
   PointGrid drone_grid_;
-
-  // Targets.
-  std::vector<TargetState> targets_;
-  PointGrid target_grid_;
+  Targets targets_;
   std::vector<std::vector<std::pair<std::uint32_t, double>>> seen_;  ///< per drone: (target, distance) in view
-  std::size_t found_count_ = 0;
   double sensed_time_ = 0;  ///< s: when `seen_` was sensed
 
   std::vector<Observer*> observers_;

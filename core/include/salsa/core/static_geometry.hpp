@@ -27,7 +27,7 @@ class StaticGeometry {
   std::span<const Segment> segments() const { return segments_; }
 
   /// Inside bounds by `clearance` m, outside every solid obstacle, and farther than `clearance`
-  /// from every wall segment.
+  /// from every wall segment. Never for a non-finite point or clearance.
   bool is_free(Vec2 p, double clearance) const;
   /// Nearest hit on the segment from `from` to `to`.
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const;
@@ -40,8 +40,12 @@ class StaticGeometry {
 
  private:
   void insert(std::uint32_t id);
-  int col(double x) const { return std::clamp(static_cast<int>(std::floor((x - origin_.x) / cell_)), 0, cols_ - 1); }
-  int row(double y) const { return std::clamp(static_cast<int>(std::floor((y - origin_.y) / cell_)), 0, rows_ - 1); }
+  int col(double x) const { return cell_coord(x - origin_.x, cols_); }
+  int row(double y) const { return cell_coord(y - origin_.y, rows_); }
+  int cell_coord(double offset, int cells) const {  // clamped in double: far or NaN points cannot overflow the int
+    const double c = std::floor(offset / cell_);
+    return c >= cells - 1 ? cells - 1 : c >= 0 ? static_cast<int>(c) : 0;
+  }
 
   Rect bounds_{};
   std::vector<Segment> segments_;

@@ -61,8 +61,18 @@ TestSpec parse_test(const std::string& json_text, const std::string& where, cons
 /// salsa and plugin versions.
 std::string resolved_json(const TestSpec& test, const PluginHost& host);
 
-/// A live simulation set up for `test`, its plugins created through `host`. Throws InputError.
+/// A live simulation set up for `test`, its plugins created through `host`. Throws InputError for bad
+/// input, the plugins' data included (the map, the targets' radius and positions: each named with its
+/// plugin and file), and for what the physics cannot do faithfully (check_drone, check_resolution).
 SimulationSetup make_setup(const TestSpec& test, const PluginHost& host, int threads = 0);
+
+/// A one-line warning when `test` will likely take more than an hour of wall time ("flock.json: 1,000,000
+/// drones with detection range 50 m on a 2000 m × 2000 m map: ~1,963 neighbours per drone, about 1.2e+11
+/// drone-neighbour checks per simulated second; 60 s simulated: expect hours (about 21 h on one core)"),
+/// else "". Estimated from the drones, their neighbours (density × π·range² over the free area, at most
+/// all other drones) and the steps. `setup` is make_setup's result for `test` (it holds the map); the
+/// CLI prints the line as a warning before running.
+std::string workload_warning(const TestSpec& test, const SimulationSetup& setup);
 
 /// Whether a JSON file is a map file (an object with "bounds", or with obstacles, hollow outlines or
 /// lines and no "behavior" or "tests") rather than a test file.

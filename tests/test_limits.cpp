@@ -1,0 +1,419 @@
+// Limits: every loop whose length depends on a user value ends quickly; the physics is only asked what
+// it can do (a drone at max speed never passes through a wall, float positions resolve a drone's
+// step); what plugins hand the core is checked like a user's input; huge swarms are announced.
+#include "common.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "salsa/core/simulation.hpp"
+#include "salsa/core/static_geometry.hpp"
+#include "salsa/core/test_spec.hpp"
+
+using namespace salsa;
+using namespace salsa_test;
+
+namespace {
+
+constexpr double not_a_number = std::numeric_limits<double>::quiet_NaN();
+
+/// Flies straight along +x at max speed (with a large max force the velocity follows at once).
+class Straight final : public Behavior {
+ public:
+  Vec2 decide(const Perception& me, Rng&) override { return Vec2{me.max_speed, 0} - me.velocity; }
+};
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// A drone of `radius` m whose velocity can reach `speed` m/s in one step.
+DroneConfig racer(double radius, double speed) {
+  DroneConfig d;
+  d.radius = radius;
+  d.max_speed = speed;
+  d.max_force = 1000;
+  d.obstacle_rays = 0;
+  return d;
+}
+
+}  // namespace
+
+class TestLimits : public QObject {
+  Q_OBJECT
+
+  std::unique_ptr<PluginHost> host_ = builtin_host();
+  /// The built-in plugins and the test plugins that hand the core bad data.
+  std::unique_ptr<PluginHost> bad_host_ = [] {
+    auto host = std::make_unique<PluginHost>();
+    host->load({{test_plugins_dir() / "bad-map", "test"}, {test_plugins_dir() / "bad-target", "test"},
+                {test_plugins_dir() / "bad-behavior", "test"}, {plugin_dir(), "test"}});
+    return host;
+  }();
+
+  /// make_setup's InputError for a test, or "" when it is accepted.
+  static QString refusal(const std::string& json, const PluginHost& host) {
+    try {
+      make_setup(parse_test(json, "limits.json", host), host);
+    } catch (const InputError& e) {
+      return QString::fromStdString(e.what());
+    }
+    return {};
+  }
+
+ private Q_SLOTS:
+  // ---------------------------------------------------------------- loops bounded by user values
+
+  // The nearest-neighbour search widened its radius from the detection range by ×4: from 0, forever.
+  void detection_range_zero_runs() {
+    SimulationSetup setup;
+    setup.map.bounds = {{0, 0}, {300, 300}};
+    setup.map.spawn = {150, 150};
+    setup.drone.detection_range = 0;
+    setup.drones = 40;
+    setup.behavior = std::make_shared<Straight>();
+    Simulation sim(setup);
+    sim.run_steps(5);
+    const auto got = sim.nearest_neighbour_distances();
+    const auto pos = sim.drone_positions();
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < pos.size(); ++j)
+        if (j != i) best = std::min(best, distance(pos[i], pos[j]));
+      QCOMPARE(got[i], best);
+    }
+  }
+
+  void point_grid_cells_are_bounded_data() {
+    QTest::addColumn<double>("cell");
+    QTest::addColumn<double>("spread");
+    QTest::addColumn<bool>("nan_first");
+    QTest::newRow("cell 0") << 0.0 << 1000.0 << false;
+    QTest::newRow("tiny cell, huge spread") << 1e-9 << 1e9 << false;
+    QTest::newRow("NaN cell size") << not_a_number << 1000.0 << false;
+    QTest::newRow("a NaN point first") << 10.0 << 1000.0 << true;
+  }
+  void point_grid_cells_are_bounded() {
+    QFETCH(double, cell);
+    QFETCH(double, spread);
+    QFETCH(bool, nan_first);
+    Rng rng(7, 0);
+    std::vector<Vec2> points;
+    if (nan_first) points.push_back({not_a_number, 1});
+    for (int i = 0; i < 500; ++i) points.push_back(rng.in_rect({{0, 0}, {spread, spread}}));
+    points.push_back({3, not_a_number});
+    PointGrid grid;
+    grid.build(points, cell);
+    const double c = grid.cell_size();
+    QVERIFY2((spread / c + 1) * (spread / c + 1) <= 4.0 * static_cast<double>(points.size()) + 64,
+             qPrintable(QString("cell %1 m over %2 m").arg(c).arg(spread)));
+    for (int q = 0; q < 50; ++q) {  // radius queries equal brute force; NaN points are never found
+      const Vec2 p = rng.in_rect({{0, 0}, {spread, spread}});
+      const double r = spread / 20;
+      std::vector<std::uint32_t> got, want;
+      grid.query(p, r, [&](std::uint32_t i, Vec2, double) { got.push_back(i); });
+      for (std::uint32_t i = 0; i < points.size(); ++i)
+        if (distance_squared(points[i], p) < r * r) want.push_back(i);
+      std::sort(got.begin(), got.end());
+      QCOMPARE(got, want);
+    }
+  }
+
+  // Each segment was filed by testing every cell of its bounding box: a long diagonal cost ~10^6 cells.
+  // Now it costs its length in cells: 500 map-wide diagonals index about as fast as 500 short lines
+  // (a ratio, so that sanitizer builds and busy machines measure the same thing).
+  void long_diagonals_index_quickly() {
+    MapData map, short_lines;
+    map.bounds = short_lines.bounds = {{0, 0}, {1e5, 1e5}};
+    map.spawn = short_lines.spawn = {5e4, 5e4};
+    Rng rng(1, 0);
+    for (int i = 0; i < 500; ++i) {
+      map.lines.push_back({rng.in_rect({{0, 0}, {1e4, 1e4}}), rng.in_rect({{9e4, 9e4}, {1e5, 1e5}})});
+      const Vec2 a = rng.in_rect({{0, 0}, {9e4, 9e4}});
+      short_lines.lines.push_back({a, a + Vec2{100, 100}});
+    }
+    auto start = std::chrono::steady_clock::now();
+    const StaticGeometry baseline(short_lines, 1);
+    const double short_seconds = seconds_since(start);
+    start = std::chrono::steady_clock::now();
+    const StaticGeometry g(map, 1);
+    const double long_seconds = seconds_since(start);
+    QVERIFY2(long_seconds < 20 * short_seconds + 0.5,
+             qPrintable(QString("diagonals %1 s, short lines %2 s").arg(long_seconds).arg(short_seconds)));
+    // Still right: a ray across the map meets a diagonal exactly where the brute force does.
+    std::vector<std::uint32_t> ids;
+    for (int q = 0; q < 200; ++q) {
+      const Vec2 from = rng.in_rect(map.bounds), dir = Vec2::polar(1, rng.angle());
+      g.candidates(from, 3000, ids);
+      std::optional<double> best;
+      for (const Segment& s : g.segments())
+        if (auto t = ray_segment(from, dir, 3000, s); t && (!best || *t < *best)) best = t;
+      const auto hit = g.ray_cast(from, dir, 3000, ids);
+      QCOMPARE(hit.has_value(), best.has_value());
+      if (hit) QCOMPARE(hit->distance, *best);
+    }
+  }
+
+  // Each drone tried up to 1,000,000 random points: with almost no free space, minutes per swarm.
+  void spawning_in_a_tiny_pocket_ends_quickly_data() {
+    QTest::addColumn<int>("mode");
+    QTest::newRow("uniform") << int(SpawnMode::uniform);
+    QTest::newRow("disc") << int(SpawnMode::disc);
+  }
+  void spawning_in_a_tiny_pocket_ends_quickly() {
+    QFETCH(int, mode);
+    SimulationSetup setup;
+    setup.map.bounds = {{0, 0}, {100, 100}};
+    setup.map.spawn = {50, 50};
+    // Everything is solid but a 4 m × 4 m pocket; a drone of radius 1.99 m fits in a 2 cm square of it.
+    setup.map.obstacles = {{{0, 0}, {48, 0}, {48, 100}, {0, 100}}, {{52, 0}, {100, 0}, {100, 100}, {52, 100}},
+                           {{48, 0}, {52, 0}, {52, 48}, {48, 48}}, {{48, 52}, {52, 52}, {52, 100}, {48, 100}}};
+    setup.drone.radius = 1.99;
+    setup.spawn_mode = static_cast<SpawnMode>(mode);
+    setup.drones = 1000;
+    setup.behavior = std::make_shared<Straight>();
+    const auto start = std::chrono::steady_clock::now();
+    Simulation sim(setup);
+    QVERIFY2(seconds_since(start) < 5, qPrintable(QString("%1 s").arg(seconds_since(start))));
+    for (Vec2 p : sim.drone_positions()) QVERIFY(sim.is_free(p, setup.drone.radius));
+  }
+
+  // Targets that cannot fit were tried 1000 × (count + 10) times, then placed inside obstacles silently.
+  void targets_that_cannot_fit_are_refused() {
+    const auto start = std::chrono::steady_clock::now();
+    const QString why = refusal(R"({"behavior": "random_walk", "map": {"name": "empty", "params": {"size": 100}},
+                                    "targets": {"kind": "tree", "count": 1000000, "params": {"radius": 60}}})",
+                                *host_);
+    QVERIFY2(seconds_since(start) < 5, qPrintable(QString("%1 s").arg(seconds_since(start))));
+    QVERIFY2(why.contains("limits.json: target kind 'tree' (plugin tree, ") && why.contains("libtree.so): room for only 0 of 1000000 targets of radius 60 m"),
+             qPrintable(why));
+  }
+
+  // ---------------------------------------------------------------- physics
+
+  void step_limit_data() {
+    QTest::addColumn<double>("radius");
+    QTest::addColumn<double>("speed");
+    QTest::addColumn<double>("dt");
+    QTest::addColumn<QString>("expected");  // "" when allowed
+    QTest::newRow("paper drone") << 1.0 << 10.0 << 1.0 / 60 << "";
+    QTest::newRow("at the radius") << 1.0 << 60.0 << 1.0 / 60 << "";
+    QTest::newRow("at Box2D's 2 m") << 5.0 << 20.0 << 0.1 << "";
+    QTest::newRow("1000 m/s") << 1.0 << 1000.0 << 1.0 / 60
+                              << "drone.max_speed: 1000 m/s × dt 0.0166667 s = 16.7 m per step, more than the drone's radius 1 m, so "
+                                 "it could pass through a wall between two contact checks (allowed: max_speed ≤ 60 m/s at this dt, "
+                                 "or dt ≤ 0.001 s at this max_speed)";
+    QTest::newRow("large drone, dt 1 s") << 10.0 << 3.0 << 1.0
+                                         << "drone.max_speed: 3 m/s × dt 1 s = 3 m per step, more than the 2 m Box2D moves a body "
+                                            "per step (allowed: max_speed ≤ 2 m/s at this dt, or dt ≤ 0.6666 s at this max_speed)";
+    QTest::newRow("tiny drone") << 0.01 << 10.0 << 1.0 / 60
+                                << "= 0.167 m per step, more than the drone's radius 0.01 m";
+  }
+  void step_limit() {
+    QFETCH(double, radius);
+    QFETCH(double, speed);
+    QFETCH(double, dt);
+    QFETCH(QString, expected);
+    const Problem p = check_drone(racer(radius, speed), dt);
+    if (expected.isEmpty()) QVERIFY2(!p, p.text().c_str());
+    else QVERIFY2(QString::fromStdString(p.text()).contains(expected), p.text().c_str());
+  }
+
+  // The rule's proof: at the limit, a drone flying at max speed straight at a wall (a map line, a solid
+  // polygon, a polygon thinner than a millimetre) never gets its centre past it, whatever the gap it
+  // starts from, and ends resting against it.
+  void drone_at_the_limit_never_passes_a_wall_data() {
+    QTest::addColumn<double>("radius");
+    QTest::addColumn<double>("speed");
+    QTest::addColumn<double>("dt");
+    QTest::addColumn<int>("wall");  // 0 line, 1 polygon, 2 thin polygon
+    QTest::addColumn<int>("lag");
+    const char* walls[] = {"line", "polygon", "thin polygon"};
+    for (int wall = 0; wall < 3; ++wall)
+      for (int lag = 0; lag < 2; ++lag) {
+        QTest::addRow("radius 1 m, 1 m per step, %s, lag %d", walls[wall], lag) << 1.0 << 60.0 << 1.0 / 60 << wall << lag;
+        QTest::addRow("radius 5 m, 2 m per step, %s, lag %d", walls[wall], lag) << 5.0 << 20.0 << 0.1 << wall << lag;
+        QTest::addRow("radius 0.3 m, 0.3 m per step, %s, lag %d", walls[wall], lag) << 0.3 << 300.0 << 0.001 << wall << lag;
+      }
+  }
+  void drone_at_the_limit_never_passes_a_wall() {
+    QFETCH(double, radius);
+    QFETCH(double, speed);
+    QFETCH(double, dt);
+    QFETCH(int, wall);
+    QFETCH(int, lag);
+    constexpr double x_wall = 100;
+    SimulationSetup setup;
+    setup.map.bounds = {{0, 0}, {200, 100}};
+    if (wall == 0) setup.map.lines = {{{x_wall, 0}, {x_wall, 100}}};
+    const double thickness = wall == 1 ? 20 : 0.001;
+    if (wall > 0) setup.map.obstacles = {{{x_wall, 0}, {x_wall + thickness, 0}, {x_wall + thickness, 100}, {x_wall, 100}}};
+    setup.drone = racer(radius, speed);
+    QVERIFY(!check_drone(setup.drone, dt));
+    setup.dt = dt;
+    setup.decision_lag = lag;
+    setup.drones = 1;
+    setup.spawn_radius = 1e-9;
+    setup.behavior = std::make_shared<Straight>();
+    const double step = speed * dt;
+    for (int k = 0; k <= 40; ++k) {  // gaps from all but touching to one step and a little more
+      const double gap = 0.001 + (step + 0.05) * k / 40;
+      setup.map.spawn = {x_wall - radius - gap, 50};
+      Simulation sim(setup);
+      for (int s = 0; s < 40; ++s) {
+        sim.step();
+        const double x = sim.drone_positions()[0].x;
+        QVERIFY2(x < x_wall, qPrintable(QString("gap %1 m: step %2 put the centre at x = %3").arg(gap).arg(s).arg(x)));
+      }
+      const double x = sim.drone_positions()[0].x;
+      QVERIFY2(x > x_wall - radius - 0.05, qPrintable(QString("gap %1 m: never reached the wall (x = %2)").arg(gap).arg(x)));
+      QVERIFY2(x < x_wall - radius + 0.05, qPrintable(QString("gap %1 m: not pushed back out (x = %2)").arg(gap).arg(x)));
+    }
+  }
+
+  void float_resolution_limit() {
+    const DroneConfig paper;  // 10 m/s
+    const double dt = 1.0 / 60;
+    QVERIFY(!check_resolution({{0, 0}, {32767, 32767}}, paper, dt));
+    QVERIFY(!check_resolution({{-32767, 0}, {0, 100}}, paper, dt));
+    const Problem p = check_resolution({{0, 0}, {32768, 100}}, paper, dt);
+    QCOMPARE(QString::fromStdString(p.text()),
+             "bounds: (0, 0) to (32768, 100): Box2D keeps positions as 32-bit floats, 0.00391 m apart at 32768 m, more "
+             "than 2 % of a drone's step (max_speed 10 m/s × dt 0.0166667 s = 0.167 m), so drones would move in jumps or "
+             "not at all (allowed: coordinates within ±32768 m at this max_speed and dt)");
+    QVERIFY(check_resolution({{0, 0}, {1e12, 1e12}}, paper, dt));
+    // A slower drone needs finer positions: the allowed size shrinks with the step.
+    QVERIFY(QString::fromStdString(check_resolution({{0, 0}, {5000, 5000}}, racer(1, 0.1), dt).text()).contains("within ±512 m"));
+
+    // Just inside the limit a drone still flies at its speed, within 1 %.
+    SimulationSetup setup;
+    setup.map.bounds = {{32000, 0}, {32767, 100}};
+    setup.map.spawn = {32100, 50};
+    setup.drone = racer(1, 10);
+    setup.drone.max_force = 1000;
+    setup.drones = 1;
+    setup.spawn_radius = 1e-9;
+    setup.behavior = std::make_shared<Straight>();
+    Simulation sim(setup);
+    sim.run_steps(5);
+    const double x0 = sim.drone_positions()[0].x;
+    sim.run_steps(600);
+    const double travelled = sim.drone_positions()[0].x - x0;
+    QVERIFY2(std::abs(travelled - 100) <= 1, qPrintable(QString("%1 m in 10 s at 10 m/s").arg(travelled)));
+  }
+
+  void make_setup_checks_the_physics() {
+    QVERIFY(refusal(R"({"behavior": "random_walk", "drone": {"max_speed": 1000}})", *host_)
+                .startsWith("limits.json: drone.max_speed: 1000 m/s × dt 0.0166667 s = 16.7 m per step"));
+    QVERIFY(refusal(R"({"behavior": "random_walk", "dt": 1, "drone": {"max_speed": 10}})", *host_)
+                .startsWith("limits.json: drone.max_speed: 10 m/s × dt 1 s = 10 m per step"));
+    QVERIFY(refusal(R"({"behavior": "random_walk", "map": {"name": "empty", "params": {"size": 1000000}}})", *host_)
+                .startsWith("limits.json: map 'empty': bounds: (0, 0) to (1000000, 1000000): Box2D keeps positions as 32-bit floats"));
+    QCOMPARE(refusal(R"({"behavior": "random_walk", "map": {"name": "empty", "params": {"size": 30000}}})", *host_), QString());
+  }
+
+  // ---------------------------------------------------------------- plugin data is input
+
+  void bad_plugin_data_is_refused_data() {
+    QTest::addColumn<QString>("json");
+    QTest::addColumn<QString>("expected");
+    const QString map = R"({"behavior": "random_walk", "map": {"name": "test_bad_map", "params": {"kind": %1}}})";
+    QTest::newRow("map: NaN bounds") << map.arg(1) << "libtest_bad_map.so) returned bounds: (0, 0) to (nan, 100) (allowed: finite corners";
+    QTest::newRow("map: infinite point") << map.arg(2) << "libtest_bad_map.so) returned obstacles[0][1]: (inf, 10) is not finite";
+    QTest::newRow("map: point outside") << map.arg(3) << "libtest_bad_map.so) returned obstacles[0][2]: (20, 120) is outside the bounds (0, 0) to (100, 100)";
+    QTest::newRow("map: 2-point polygon") << map.arg(4) << "libtest_bad_map.so) returned obstacles[0]: has 2 points (allowed: a polygon of at least 3 points)";
+    QTest::newRow("map: NaN spawn") << map.arg(5) << "libtest_bad_map.so) returned spawn: (nan, 50) is not a finite point";
+    QTest::newRow("map: 1-point line") << map.arg(6) << "libtest_bad_map.so) returned lines[0]: has 1 point (allowed: a line of at least 2 points)";
+    QTest::newRow("map: throws") << map.arg(7) << "libtest_bad_map.so) failed: no terrain today";
+    QTest::newRow("map: NaN hollow point") << map.arg(9) << "libtest_bad_map.so) returned hollow[0][2]: (nan, 70) is not finite";
+    const QString target = R"({"behavior": "random_walk", "map": {"name": "empty", "params": {"size": 100}},
+                               "targets": {"kind": "test_bad_target", "count": 10, "params": {"kind": %1}}})";
+    QTest::newRow("target: NaN position") << target.arg(1) << "libtest_bad_target.so): positions[9]: (nan, ";
+    QTest::newRow("target: outside") << target.arg(2) << "libtest_bad_target.so): positions[9]: (110, 0) is outside the bounds";
+    QTest::newRow("target: radius -1") << target.arg(3) << "libtest_bad_target.so): radius: -1 m (allowed: a finite radius ≥ 0 m)";
+    QTest::newRow("target: radius NaN") << target.arg(4) << "libtest_bad_target.so): radius: nan m";
+    QTest::newRow("target: place throws") << target.arg(5) << "libtest_bad_target.so): lost the seed list";
+    QTest::newRow("target: one too few") << target.arg(6) << "libtest_bad_target.so): positions: 9 placed for 10 targets asked for";
+    QTest::newRow("target: infinite") << target.arg(7) << "libtest_bad_target.so): positions[9]: (";
+  }
+  void bad_plugin_data_is_refused() {
+    QFETCH(QString, json);
+    QFETCH(QString, expected);
+    const QString why = refusal(json.toStdString(), *bad_host_);
+    const QString plugin = json.contains("test_bad_map") ? "map 'test_bad_map' (plugin test_bad_map, " : "target kind 'test_bad_target' (plugin test_bad_target, ";
+    QVERIFY2(why.startsWith("limits.json: " + plugin) && why.contains(expected) && !why.contains('\n'), qPrintable(why));
+  }
+
+  void huge_map_from_a_plugin_is_refused() {
+    const QString why = refusal(R"({"behavior": "random_walk", "map": {"name": "test_bad_map", "params": {"kind": 8}}})", *bad_host_);
+    QVERIFY2(why.startsWith("limits.json: map 'test_bad_map': bounds: (0, 0) to (1000000000000, 1000000000000): Box2D keeps positions"),
+             qPrintable(why));
+  }
+
+  // Bad plugin data handed to a Simulation directly (the GUI's path) is refused too.
+  void simulation_checks_what_it_is_given() {
+    SimulationSetup setup;
+    setup.map.bounds = {{0, 0}, {100, 100}};
+    setup.map.spawn = {50, 50};
+    setup.behavior = std::make_shared<Straight>();
+    auto refused = [](SimulationSetup s) {
+      try {
+        Simulation sim(std::move(s));
+      } catch (const std::invalid_argument& e) {
+        return QString::fromStdString(e.what());
+      }
+      return QString();
+    };
+    SimulationSetup s = setup;
+    s.map.obstacles = {{{10, 10}, {not_a_number, 10}, {20, 20}}};
+    QCOMPARE(refused(s), "map: obstacles[0][1]: (nan, 10) is not finite (allowed: a point inside the bounds (0, 0) to (100, 100))");
+    s = setup;
+    s.drone.detection_range = -1;
+    QCOMPARE(refused(s), "drone.detection_range: -1 m is out of range (allowed: a finite value ≥ 0 m)");
+    s = setup;
+    s.dt = not_a_number;
+    QCOMPARE(refused(s), "dt: nan s is out of range (allowed: a finite time step > 0 s)");
+    s = setup;
+    const auto& bad_target = bad_host_->target_kind("test_bad_target");
+    ParameterValues nan_position(bad_target.factory.parameters);
+    nan_position.set("kind", 1);
+    s.target_kind = PluginHost::create(bad_target, nan_position);
+    s.targets = 5;
+    QVERIFY(refused(s).startsWith("positions[4]: (nan, "));
+  }
+
+  // A behavior steering NaN is a failure while running: exit status 1, one line naming it and the test.
+  void nan_steering_names_behavior_and_test() {
+    QTemporaryDir dir;
+    write_file(dir.filePath("nan.json"), R"({"behavior": {"name": "test_nan", "params": {"at": 0.1}}, "time": 1})");
+    const CliResult r = run_salsa({"run", "nan.json", "--out", "out", "--plugin-dir", q(test_plugins_dir() / "bad-behavior")}, dir.path());
+    QVERIFY2(!r.crashed && r.exit_code == 1, describe(r));
+    const QStringList lines = non_empty_lines(r.err);
+    QCOMPARE(lines.size(), 1);
+    QVERIFY2(lines[0].contains("nan.json") && lines[0].contains("'test_nan'") &&
+                 lines[0].contains("decide returned a non-finite steering (nan, 0) for drone 0"),
+             describe(r));
+  }
+
+  // ---------------------------------------------------------------- huge swarms
+
+  void huge_swarm_is_announced() {
+    const std::string json = R"({"behavior": "random_walk", "drones": 1000000, "drone": {"detection_range": 50},
+                                 "map": {"name": "empty", "params": {"size": 2000}}, "time": 60})";
+    const TestSpec t = parse_test(json, "swarm.json", *host_);
+    const QString w = QString::fromStdString(workload_warning(t, make_setup(t, *host_)));
+    QVERIFY2(w.startsWith("swarm.json: 1,000,000 drones with detection range 50 m on a 2000 m × 2000 m map: ~1,963 "
+                          "neighbours per drone, about 1.2e+11 drone-neighbour checks per simulated second; 60 s simulated: "
+                          "expect hours (about "),
+             qPrintable(w));
+    // Every example runs in minutes at most: no warning.
+    for (const auto& entry : std::filesystem::directory_iterator(source_dir() / "examples"))
+      if (entry.path().extension() == ".json")
+        for (const TestSpec& e : load_tests(entry.path(), *host_))
+          QVERIFY2(workload_warning(e, make_setup(e, *host_)).empty(), e.source.c_str());
+  }
+};
+
+QTEST_GUILESS_MAIN(TestLimits)
+#include "test_limits.moc"
