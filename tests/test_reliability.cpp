@@ -179,7 +179,7 @@ class TestReliability : public QObject {
 
   void rows_reach_the_disk_within_two_seconds() {
     QTemporaryDir dir;
-    write(dir.filePath("t.json"), R"({"name": "slow", "behavior": "flocking", "drones": 50, "time": 100000, "log_interval": 1000})");
+    write(dir.filePath("t.json"), R"({"name": "slow", "behavior": "flocking", "drones": 50, "time": 1000000, "log_interval": 10000})");
     Background run({"run", "t.json", "--out", "out", "--threads", "1"}, dir.path());
     QVERIFY(wait_for(dir.filePath("out/.slow.partial/summary.csv")));
     QThread::msleep(3000);
@@ -187,8 +187,9 @@ class TestReliability : public QObject {
     run.finish();
     const QStringList summary = non_empty_lines(QString::fromUtf8(read_file(dir.filePath("out/.slow.partial/summary.csv"))));
     QVERIFY2(summary.size() >= 2 && summary[1].startsWith("0.0000,"), qPrintable(summary.join('\n')));
+    // The header, then whole logged steps of 50 drones (the t = 0 one at least).
     const QStringList drones = non_empty_lines(QString::fromUtf8(read_file(dir.filePath("out/.slow.partial/drones.csv"))));
-    QCOMPARE(drones.size(), 1 + 50);
+    QVERIFY2(drones.size() >= 1 + 50 && (drones.size() - 1) % 50 == 0, qPrintable(QString::number(drones.size()) + " lines"));
     check_whole_rows(dir.filePath("out/.slow.partial"));
   }
 
