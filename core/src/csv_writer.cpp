@@ -1,20 +1,22 @@
 #include "salsa/core/csv_writer.hpp"
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <charconv>
-#include <stdexcept>
+#include <cstring>
 
 namespace salsa {
 
 namespace {
-constexpr std::size_t handover_bytes = 1 << 20;
-constexpr auto handover_period = std::chrono::seconds(2);
+// Wake the writer early when this much is waiting, so memory stays bounded with many drones.
+constexpr std::size_t wake_bytes = 1 << 20;
 }  // namespace
 
 CsvWriter::CsvWriter(const std::filesystem::path& file, const std::string& header) : path_(file) {
   file_ = std::fopen(file.c_str(), "wb");
-  if (!file_) throw std::runtime_error(file.string() + ": cannot create file");
-  buffer_ = header + "\n";
-  last_handover_ = std::chrono::steady_clock::now();
+  if (!file_) throw WriteError(file.string() + ": cannot create file (" + std::strerror(errno) + ")");
+  pending_ = header + "\n";
   thread_ = std::thread([this] { run(); });
 }
 
@@ -50,54 +52,54 @@ CsvWriter& CsvWriter::empty_field() {
 
 void CsvWriter::end_row() {
   row_ += '\n';
-  buffer_ += row_;
-  row_.clear();
   first_field_ = true;
-  hand_over(false);
-}
-
-void CsvWriter::hand_over(bool force) {
-  const auto now = std::chrono::steady_clock::now();
-  if (!force && buffer_.size() < handover_bytes && now - last_handover_ < handover_period) return;
-  last_handover_ = now;
   std::lock_guard lock(mutex_);
-  pending_ += buffer_;
-  buffer_.clear();
-  wake_.notify_one();
+  if (failed_) fail();
+  pending_ += row_;
+  row_.clear();
+  if (pending_.size() >= wake_bytes) wake_.notify_one();
 }
 
+void CsvWriter::fail() const {
+  throw WriteError(path_.string() + ": write failed (disk full?): " + std::strerror(error_));
+}
+
+// The writer thread: every flush_period (or when woken) it takes the rows ended so far and writes them.
 void CsvWriter::run() {
   std::string writing;
   std::unique_lock lock(mutex_);
   for (;;) {
-    wake_.wait(lock, [this] { return stop_ || !pending_.empty(); });
+    wake_.wait_for(lock, flush_period, [this] { return stop_ || pending_.size() >= wake_bytes; });
     writing.swap(pending_);
     const bool stopping = stop_;
     lock.unlock();
-    if (!writing.empty()) {
-      const bool ok = std::fwrite(writing.data(), 1, writing.size(), file_) == writing.size() && std::fflush(file_) == 0;
-      writing.clear();
-      lock.lock();
-      failed_ = failed_ || !ok;
-    } else {
-      lock.lock();
+    bool ok = true;
+    int error = 0;
+    if (!writing.empty() && !failed_) {
+      errno = 0;
+      ok = std::fwrite(writing.data(), 1, writing.size(), file_) == writing.size() && std::fflush(file_) == 0;
+      error = errno;
     }
-    if (stopping && pending_.empty()) return;
+    writing.clear();
+    lock.lock();
+    if (!ok && !failed_) failed_ = true, error_ = error ? error : EIO;
+    if (stopping) return;
   }
 }
 
 void CsvWriter::close() {
   if (!file_) return;
-  hand_over(true);
   {
     std::lock_guard lock(mutex_);
     stop_ = true;
   }
   wake_.notify_one();
   thread_.join();
-  const bool ok = std::fclose(file_) == 0 && !failed_;
+  // Synced before the test's folder is renamed into place: a complete folder stays complete.
+  if (!failed_ && std::fflush(file_) == 0 && ::fsync(fileno(file_)) != 0 && errno != EINVAL) failed_ = true, error_ = errno;
+  if (std::fclose(file_) != 0 && !failed_) failed_ = true, error_ = errno;
   file_ = nullptr;
-  if (!ok) throw std::runtime_error(path_.string() + ": write failed (disk full?)");
+  if (failed_) fail();
 }
 
 }  // namespace salsa

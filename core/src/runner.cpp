@@ -1,17 +1,32 @@
 #include "salsa/core/runner.hpp"
 
+#include <fcntl.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <mutex>
 #include <optional>
+#include <sstream>
 
-#include "salsa/core/csv_writer.hpp"
+#include "salsa/core/names.hpp"
 
 namespace salsa {
 
 namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
 
 namespace {
+
+// ---- Data files
 
 // summary.csv: one row per logged step.
 class SummaryObserver final : public Observer {
@@ -77,76 +92,410 @@ void write_targets(const fs::path& file, const Simulation& sim) {
   csv.close();
 }
 
+/// Writes a whole small file and syncs it; WriteError naming the file on any failure.
+void write_file(const fs::path& file, const std::string& text) {
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw WriteError(file.string() + ": cannot create file (" + std::strerror(errno) + ")");
+  std::size_t done = 0;
+  int error = 0;
+  while (done < text.size() && !error) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n > 0) done += static_cast<std::size_t>(n);
+    else if (n < 0 && errno != EINTR) error = errno;
+  }
+  if (!error && ::fsync(fd) != 0 && errno != EINVAL) error = errno;
+  if (::close(fd) != 0 && !error) error = errno;
+  if (error) throw WriteError(file.string() + ": write failed (disk full?): " + std::strerror(error));
+}
+
+void sync_folder(const fs::path& folder) {
+  const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  ::fsync(fd);
+  ::close(fd);
+}
+
+// ---- Output folders: only folders carrying the marker are ever removed or replaced.
+
+const char* marker_text = "This folder was written by salsa run (docs/output-format.md); salsa may replace it with --force.\n";
+
 fs::path partial_folder(const fs::path& out, const std::string& name) { return out / ("." + name + ".partial"); }
 
-/// Why a test's existing output folder may not be written to ("" when it may).
-std::string refusal(const fs::path& folder, const RunOptions& options) {
-  if (options.force || !fs::exists(folder)) return {};
-  if (!options.resume)
-    return folder.string() + ": already exists (allowed: a new folder; use --resume to skip finished tests or --force " +
-           "to replace them)";
-  if (!fs::exists(folder / "config.json"))
-    return folder.string() + ": already exists but holds no finished test (no config.json), so --resume cannot skip it " +
-           "(allowed: a finished test's folder or a new folder; use --force to replace it)";
+bool exists_at_all(const fs::path& p) {
+  std::error_code ec;
+  return fs::exists(fs::symlink_status(p, ec));
+}
+
+/// A real folder (not a symbolic link) holding the marker file.
+bool salsa_wrote(const fs::path& folder) {
+  std::error_code ec;
+  return fs::is_directory(fs::symlink_status(folder, ec)) && fs::is_regular_file(fs::symlink_status(folder / folder_marker, ec));
+}
+
+void remove_ours(const fs::path& folder) {
+  if (!salsa_wrote(folder)) throw InputError(folder.string() + ": salsa did not write this folder (no " + folder_marker + " file), so it is left alone (remove or rename it yourself)");
+  std::error_code ec;
+  fs::remove_all(folder, ec);
+  if (ec) throw WriteError(folder.string() + ": cannot remove folder (" + ec.message() + ")");
+}
+
+/// Why a leftover .partial folder cannot be cleaned up ("" when it can, or is absent).
+std::string partial_problem(const fs::path& work) {
+  if (!exists_at_all(work) || salsa_wrote(work)) return {};
+  std::error_code ec;
+  if (fs::is_directory(fs::symlink_status(work, ec)) && fs::is_empty(work, ec) && !ec) return {};  // cut off before its marker
+  return work.string() + ": salsa did not write this (no " + folder_marker + " file), so it is left alone (remove or rename it yourself)";
+}
+
+void clean_partial(const fs::path& work) {
+  if (const std::string why = partial_problem(work); !why.empty()) throw InputError(why);
+  if (!exists_at_all(work)) return;
+  std::error_code ec;
+  fs::remove_all(work, ec);
+  if (ec) throw WriteError(work.string() + ": cannot remove folder (" + ec.message() + ")");
+}
+
+// ---- --resume: a finished test is kept only when it is the test asked for now.
+
+std::string shown(const json& v) {
+  if (v.is_object()) return "an object";
+  if (v.is_array()) return "a list";
+  const std::string s = v.dump();
+  return s.size() > 40 ? s.substr(0, 37) + "..." : s;
+}
+
+/// The first difference between a finished test's config (there) and the one asked for (now), as
+/// "seed is 3 there, 4 now", or "" when they are the same. Walks `now` (whose depth salsa made), so
+/// a deeply nested file there cannot exhaust the stack.
+std::string first_difference(const json& there, const json& now, const std::string& field) {
+  const std::string name = field.empty() ? "the file" : field;
+  if (now.is_object()) {
+    if (!there.is_object()) return name + " is " + shown(there) + " there, an object now";
+    for (const auto& [key, value] : now.items()) {
+      const std::string sub = field.empty() ? key : field + "." + key;
+      if (!there.contains(key)) return sub + " is missing there, " + shown(value) + " now";
+      if (std::string d = first_difference(there[key], value, sub); !d.empty()) return d;
+    }
+    for (const auto& [key, value] : there.items())
+      if (!now.contains(key)) return (field.empty() ? key : field + "." + key) + " is " + shown(value) + " there, not set now";
+    return {};
+  }
+  if (now.is_array()) {
+    if (!there.is_array()) return name + " is " + shown(there) + " there, a list now";
+    if (there.size() != now.size())
+      return name + " has " + std::to_string(there.size()) + " entries there, " + std::to_string(now.size()) + " now";
+    for (std::size_t i = 0; i < now.size(); ++i)
+      if (std::string d = first_difference(there[i], now[i], name + "[" + std::to_string(i) + "]"); !d.empty()) return d;
+    return {};
+  }
+  if (there.is_structured() || there != now) return name + " is " + shown(there) + " there, " + shown(now) + " now";
   return {};
+}
+
+/// For a finished test's folder under --resume: "" when it holds the test asked for now (skip it),
+/// else why it does not.
+std::string resume_difference(const fs::path& folder, const std::string& config_now) {
+  const fs::path file = folder / "config.json";
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in) return file.string() + ": cannot be read";
+  if (text.str() == config_now) return {};
+  json there;
+  try {
+    there = json::parse(text.str());
+  } catch (const std::exception&) {
+    return file.string() + ": not valid JSON, so it cannot be the same test";
+  }
+  const std::string d = first_difference(there, json::parse(config_now), "");
+  return d.empty() ? "" : file.string() + ": " + d;
+}
+
+/// Why this test may not write its folder ("" when it may, or when --resume will skip it).
+std::string refusal(const TestSpec& test, const std::string& config, const RunOptions& options) {
+  if (const std::string why = name_problem(test.name); !why.empty()) return test.source + ": name: " + why;
+  const fs::path folder = options.out / test.name;
+  if (const std::string why = partial_problem(partial_folder(options.out, test.name)); !why.empty()) return why;
+  if (!exists_at_all(folder)) return {};
+  const std::string replace = salsa_wrote(folder) ? "use --force to replace it"
+                                                  : std::string("salsa did not write it (no ") + folder_marker + " file), so it is left alone";
+  if (options.resume) {
+    if (!exists_at_all(folder / "config.json")) {
+      if (options.force && salsa_wrote(folder)) return {};
+      return folder.string() + ": holds no finished test (no config.json), so --resume cannot skip it (" + replace + ")";
+    }
+    const std::string diff = resume_difference(folder, config);
+    if (diff.empty() || (options.force && salsa_wrote(folder))) return {};
+    return diff + "; --resume keeps only identical tests (" + replace + ")";
+  }
+  if (options.force) {
+    if (salsa_wrote(folder)) return {};
+    return folder.string() + ": --force replaces only folders salsa wrote, and this one has no " + folder_marker +
+           " file (remove or rename it yourself)";
+  }
+  return folder.string() + ": already exists (allowed: a new folder; use --resume to skip finished tests or --force to replace them)";
+}
+
+// ---- Signals: a note prepared before each test, written by the handlers with write(2) only.
+
+std::atomic<int> stop_requested{0};
+std::atomic<bool> handlers_installed{false};
+
+struct RunningNote {
+  std::string head;  // "salsa: test 'x' (x.json) "
+  std::string tail;  // " of 600; plugins: behavior 'b' (file), ...\n"
+  std::atomic<bool> active{false};
+  std::atomic<std::uint64_t> step{0};
+};
+RunningNote note;
+
+void write_all(const char* text, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(STDERR_FILENO, text, size);
+    if (n <= 0) {
+      if (n < 0 && errno == EINTR) continue;
+      return;
+    }
+    text += n, size -= static_cast<std::size_t>(n);
+  }
+}
+void write_all(const char* text) { write_all(text, std::strlen(text)); }
+
+const char* signal_text(int sig) {
+  switch (sig) {
+    case SIGSEGV: return "SIGSEGV (segmentation fault)";
+    case SIGBUS: return "SIGBUS (bus error)";
+    case SIGFPE: return "SIGFPE (arithmetic error)";
+    case SIGILL: return "SIGILL (illegal instruction)";
+    case SIGABRT: return "SIGABRT (aborted)";
+    case SIGINT: return "SIGINT (interrupted)";
+    case SIGTERM: return "SIGTERM (terminated)";
+    case SIGKILL: return "SIGKILL (killed)";
+    default: return nullptr;
+  }
+}
+
+/// "<head><event><detail> at step <n><tail>", async-signal-safe.
+void write_note(const char* event, const char* detail = "") {
+  write_all(note.head.data(), note.head.size());
+  write_all(event);
+  write_all(detail);
+  write_all(" at step ");
+  char digits[24];
+  std::size_t i = sizeof digits;
+  std::uint64_t n = note.step.load(std::memory_order_relaxed);
+  do digits[--i] = static_cast<char>('0' + n % 10); while ((n /= 10) > 0);
+  write_all(digits + i, sizeof digits - i);
+  write_all(note.tail.data(), note.tail.size());
+}
+
+extern "C" void on_fatal_signal(int sig) {
+  const int saved = errno;
+  const char* name = signal_text(sig);
+  if (note.active.load(std::memory_order_acquire)) {
+    write_note("died of ", name ? name : "a fatal signal");
+  } else {
+    write_all("salsa: died of ");
+    write_all(name ? name : "a fatal signal");
+    write_all("\n");
+  }
+  errno = saved;
+  ::signal(sig, SIG_DFL);  // SA_RESETHAND did this already; kept for clarity
+  ::raise(sig);
+}
+
+extern "C" void on_stop_signal(int sig) {
+  int none = 0;
+  if (!stop_requested.compare_exchange_strong(none, sig)) {  // the second one: stop now
+    ::signal(sig, SIG_DFL);
+    ::raise(sig);
+  }
+}
+
+extern "C" void on_exit_mid_test() {
+  if (!note.active.load(std::memory_order_acquire)) return;
+  write_note("ended by a call to exit() in plugin code");
+  ::_exit(1);
+}
+
+/// Prepares the note for `test` (on the stepping thread, before the test's plugins run).
+void prepare_note(const TestSpec& test, const PluginHost& host, const fs::path& work) {
+  if (!handlers_installed.load()) return;
+  static std::once_flag exit_hooks;  // registered after the plugins are loaded, so they run first at exit
+  std::call_once(exit_hooks, [] {
+    std::atexit(on_exit_mid_test);
+    std::at_quick_exit(on_exit_mid_test);
+  });
+  auto plugin = [](const char* kind, const std::string& name, const auto& entry) {
+    return std::string(kind) + " '" + name + "' (" + entry.plugin().file.string() + ")";
+  };
+  std::string plugins = plugin("behavior", test.behavior.name, host.behavior(test.behavior.name)) + ", " +
+                        plugin("map", test.map.name, host.map(test.map.name));
+  if (test.targets > 0) plugins += ", " + plugin("target kind", test.target.name, host.target_kind(test.target.name));
+  for (const auto& h : test.contact_handlers) plugins += ", " + plugin("contact handler", h, host.contact_handler(h));
+  note.active.store(false, std::memory_order_release);
+  note.head = "salsa: test '" + test.name + "' (" + test.source + ") ";
+  // One line, whatever the names hold.
+  note.tail = " of " + std::to_string(test.steps()) + "; plugins: " + plugins + "; rows so far in " + work.string();
+  for (char& c : note.tail)
+    if (c == '\n' || c == '\r') c = ' ';
+  note.tail += "\n";
+  note.step.store(0, std::memory_order_relaxed);
+  note.active.store(true, std::memory_order_release);
+}
+
+struct NoteGuard {
+  ~NoteGuard() { note.active.store(false, std::memory_order_release); }
+};
+
+/// What config.json holds. A map file's path is made absolute: a relative one would resolve against
+/// config.json's own folder when it is rerun, not against the folder it was given in.
+std::string config_of(const TestSpec& test, const PluginHost& host) {
+  if (test.map_file.empty() || fs::path(test.map_file).is_absolute()) return resolved_json(test, host);
+  TestSpec copy = test;
+  copy.map_file = fs::absolute(test.map_file).lexically_normal().string();
+  return resolved_json(copy, host);
+}
+
+std::string format_time(double t) {
+  std::ostringstream s;
+  s.precision(6);
+  s << t;
+  return s.str();
 }
 
 }  // namespace
 
-void check_outputs(const std::vector<TestSpec>& tests, const RunOptions& options) {
+// ---- Public
+
+std::string signal_name(int signal) {
+  const char* name = signal_text(signal);
+  return name ? name : "signal " + std::to_string(signal);
+}
+
+int stop_signal() { return stop_requested.load(); }
+
+void install_signal_handlers() {
+  if (handlers_installed.exchange(true)) return;
+  // Crash notes run on their own stack, so a stack overflow on the main thread is still reported.
+  static std::vector<char> alt_stack(std::max<std::size_t>(SIGSTKSZ, 1 << 16));
+  stack_t ss{};
+  ss.ss_sp = alt_stack.data();
+  ss.ss_size = alt_stack.size();
+  ::sigaltstack(&ss, nullptr);
+  struct sigaction fatal {};
+  fatal.sa_handler = on_fatal_signal;
+  fatal.sa_flags = SA_ONSTACK | SA_RESETHAND | SA_NODEFER;
+  sigemptyset(&fatal.sa_mask);
+  for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) ::sigaction(sig, &fatal, nullptr);
+  struct sigaction stop {};
+  stop.sa_handler = on_stop_signal;
+  stop.sa_flags = SA_RESTART;
+  sigemptyset(&stop.sa_mask);
+  for (int sig : {SIGINT, SIGTERM}) ::sigaction(sig, &stop, nullptr);
+}
+
+void check_outputs(const std::vector<TestSpec>& tests, const PluginHost& host, const RunOptions& options) {
+  const fs::path& out = options.out;
+  if (out.empty()) throw InputError("--out: \"\" is empty (allowed: a folder, created if missing)");
+  std::error_code ec;
+  if (const auto st = fs::status(out, ec); fs::exists(st) && !fs::is_directory(st))
+    throw InputError("--out: " + out.string() + " is a file (allowed: a folder, created if missing)");
   for (const auto& t : tests)
-    if (const std::string why = refusal(options.out / t.name, options); !why.empty()) throw InputError(why);
+    if (const std::string why = refusal(t, config_of(t, host), options); !why.empty()) throw InputError(why);
+  fs::create_directories(out, ec);
+  if (ec) throw InputError("--out: " + out.string() + ": cannot create folder (" + ec.message() + ")");
+}
+
+bool already_done(const TestSpec& test, const PluginHost& host, const RunOptions& options) {
+  const fs::path folder = options.out / test.name;
+  return options.resume && name_problem(test.name).empty() && exists_at_all(folder / "config.json") &&
+         resume_difference(folder, config_of(test, host)).empty();
 }
 
 RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOptions& options) {
   RunResult result;
+  // The runner's own check of the name, whatever the reader did: it becomes a path.
+  if (const std::string why = name_problem(test.name); !why.empty()) throw InputError(test.source + ": name: " + why);
   result.folder = options.out / test.name;
-  if (options.resume && fs::exists(result.folder / "config.json")) {
+  if (already_done(test, host, options)) {
     result.skipped = true;
     return result;
   }
-  if (const std::string why = refusal(result.folder, options); !why.empty()) throw InputError(why);
+  const std::string config = config_of(test, host);
+  if (const std::string why = refusal(test, config, options); !why.empty()) throw InputError(why);
 
-  // Everything that can fail on bad input fails here, before a file is written.
-  SimulationSetup setup = make_setup(test, host, options.threads);
-  const std::string config = resolved_json(test, host);
-
+  // The .partial folder: a leftover one (an interrupted run) is cleaned up; the marker goes in first.
   const fs::path work = partial_folder(options.out, test.name);
-  fs::remove_all(work);
-  fs::create_directories(work);
+  clean_partial(work);
+  std::error_code ec;
+  fs::create_directories(work, ec);
+  if (ec) throw WriteError(work.string() + ": cannot create folder (" + ec.message() + ")");
+  write_file(work / folder_marker, marker_text);
+
+  NoteGuard guard;
+  prepare_note(test, host, work);
+  const std::string where = "test '" + test.name + "' (" + test.source + ")";
+  const std::string behavior = "behavior '" + test.behavior.name + "' (" + host.behavior(test.behavior.name).plugin().file.string() + ")";
   const auto start = std::chrono::steady_clock::now();
   {
-    Simulation sim(std::move(setup));
+    std::optional<Simulation> sim;
+    try {
+      sim.emplace(make_setup(test, host, options.threads));
+    } catch (const std::exception& e) {
+      throw TestFailure(where + ": could not start: " + e.what());
+    }
     SummaryObserver summary(work / "summary.csv");
     std::optional<DroneObserver> drones;
     if (options.drones_csv) drones.emplace(work / "drones.csv");
-    sim.add_observer(&summary);
-    if (drones) sim.add_observer(&*drones);
-    summary.observe(sim);  // time 0
-    if (drones) drones->observe(sim);
+    sim->add_observer(&summary);
+    if (drones) sim->add_observer(&*drones);
+    summary.observe(*sim);  // time 0
+    if (drones) drones->observe(*sim);
     const std::size_t steps = test.steps();
     try {
-      sim.run_steps(steps);
+      for (std::size_t i = 0; i < steps; ++i) {
+        if (const int sig = stop_requested.load(std::memory_order_relaxed)) {
+          summary.close();
+          if (drones) drones->close();
+          throw Interrupted(signal_name(sig) + ": stopped " + where + " at t = " + format_time(sim->time()) +
+                                " s; its rows so far are in " + work.string() + " (run again with --resume to redo it)",
+                            sig);
+        }
+        sim->step();
+        note.step.store(i + 1, std::memory_order_relaxed);
+      }
+    } catch (const Interrupted&) {
+      throw;
+    } catch (const WriteError& e) {
+      throw WriteError(where + ": " + e.what());
     } catch (const std::exception& e) {
-      throw std::runtime_error(test.source + ": behavior '" + test.behavior.name + "' failed at t = " +
-                               std::to_string(sim.time()) + " s: " + e.what());
+      throw TestFailure(where + ": " + behavior + " failed at t = " + format_time(sim->time()) + " s: " + e.what() +
+                        " (rows so far in " + work.string() + ")");
     }
-    summary.close();
-    if (drones) drones->close();
-    write_targets(work / "targets.csv", sim);
+    try {
+      summary.close();
+      if (drones) drones->close();
+      write_targets(work / "targets.csv", *sim);
+    } catch (const WriteError& e) {
+      throw WriteError(where + ": " + e.what());
+    }
     result.steps = steps;
-    result.targets = sim.targets().size();
-    result.found = sim.targets_found();
+    result.targets = sim->targets().size();
+    result.found = sim->targets_found();
   }
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // config.json last: its presence marks a complete test (what --resume looks for).
-  {
-    std::ofstream out(work / "config.json");
-    out << config;
-    if (!out) throw std::runtime_error((work / "config.json").string() + ": write failed");
+  try {
+    // config.json last: its presence marks a complete test (what --resume looks for).
+    write_file(work / "config.json", config);
+    sync_folder(work);
+    if (exists_at_all(result.folder)) remove_ours(result.folder);  // --force, checked again just before
+    fs::rename(work, result.folder, ec);
+    if (ec) throw WriteError(result.folder.string() + ": cannot move " + work.string() + " there (" + ec.message() + ")");
+    sync_folder(options.out);
+  } catch (const WriteError& e) {
+    throw WriteError(where + ": " + e.what());
   }
-  if (fs::exists(result.folder)) fs::remove_all(result.folder);  // --force
-  fs::rename(work, result.folder);
   return result;
 }
 

@@ -1,19 +1,28 @@
 #pragma once
-// CSV files written by a background thread: the simulation appends whole rows to a buffer and hands
-// it over at least every couple of seconds, so an interrupted run loses at most that window and a file
-// never ends in half a row.
+// CSV files written by a background thread: the simulation hands each row over as soon as it ends, and
+// the thread writes what it holds at least every 2 s (sooner when much is waiting), so an interrupted
+// run loses at most that window whatever the log interval, and a file never ends in half a row.
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <thread>
 
 namespace salsa {
 
+/// A file could not be created or written (disk full, no permission); the message names the file.
+struct WriteError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 class CsvWriter {
  public:
+  /// The longest a finished row waits in memory before it is written.
+  static constexpr auto flush_period = std::chrono::seconds(2);
+
   CsvWriter(const std::filesystem::path& file, const std::string& header);
   ~CsvWriter();
   CsvWriter(const CsvWriter&) = delete;
@@ -23,22 +32,25 @@ class CsvWriter {
   CsvWriter& field(double value, int decimals);
   CsvWriter& field(std::uint64_t value);
   CsvWriter& empty_field();
+  /// Hands the row to the writer thread; throws WriteError once a write has failed.
   void end_row();
-  /// Writes everything still buffered and closes the file; throws on an I/O error.
+  /// Writes every ended row, syncs the file to disk and closes it; throws WriteError on an I/O error.
+  /// An unfinished row is dropped.
   void close();
 
  private:
-  void hand_over(bool force);
   void run();
+  [[noreturn]] void fail() const;
 
   std::filesystem::path path_;
   std::FILE* file_ = nullptr;
-  std::string row_, buffer_, pending_;
+  std::string row_;
   bool first_field_ = true;
-  std::chrono::steady_clock::time_point last_handover_;
-  std::mutex mutex_;
+  std::mutex mutex_;  // guards pending_, stop_ and failed_
   std::condition_variable wake_;
+  std::string pending_;  // ended rows not yet written
   bool stop_ = false, failed_ = false;
+  int error_ = 0;  // errno of the failed write
   std::thread thread_;
 };
 

@@ -1,24 +1,31 @@
 #pragma once
 // Runs tests at full speed and writes their data: per test a folder with config.json, summary.csv,
 // drones.csv and targets.csv (docs/output-format.md).
+//
+// Output folders: a test writes to OUT/.<name>.partial/ and renames it to OUT/<name>/ when complete.
+// Both carry a marker file (folder_marker) written before anything else, and salsa removes or replaces
+// only folders that carry it: never a path computed from user text alone.
 #include <filesystem>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "salsa/core/csv_writer.hpp"
 #include "salsa/core/plugin_host.hpp"
 #include "salsa/core/test_spec.hpp"
 
 namespace salsa {
 
+/// The file that marks a folder as one salsa wrote (a test's folder or its .partial folder).
+inline constexpr const char* folder_marker = ".salsa-test";
+
 struct RunOptions {
   std::filesystem::path out = "results";
-  bool force = false;   ///< replace finished tests' folders
-  bool resume = false;  ///< skip tests whose folder is complete
+  bool force = false;   ///< replace folders salsa wrote (marked) for these tests
+  bool resume = false;  ///< skip tests whose folder holds the identical finished test
   int threads = 0;      ///< decide threads per simulation; 0: all cores
   bool drones_csv = true;
-  /// Progress: called with a line of text (test started / finished); may be empty.
-  std::function<void(const std::string&)> progress;
 };
 
 struct RunResult {
@@ -29,12 +36,46 @@ struct RunResult {
   std::size_t targets = 0, found = 0;
 };
 
-/// Before anything runs: refuses tests whose output folder exists (unless force or resume), so that
-/// nothing already written is touched. Throws InputError.
-void check_outputs(const std::vector<TestSpec>& tests, const RunOptions& options);
+/// A test failed while running (a plugin threw): one line naming the test and the plugin. The other
+/// tests may go on.
+struct TestFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// The run was stopped by SIGINT or SIGTERM (see install_signal_handlers); the test's rows so far
+/// are whole in its .partial folder. The message is one line.
+struct Interrupted : std::runtime_error {
+  Interrupted(const std::string& what, int sig) : std::runtime_error(what), signal(sig) {}
+  int signal;
+};
+
+/// Before anything runs: refuses (InputError, one line) a bad output folder, names that fail
+/// name_problem(), and tests whose folders may not be written: an existing folder without --resume
+/// or --force, a finished test that differs from the one asked for (--resume, naming the first
+/// difference), a folder salsa did not write (--force). Creates OUT when all is well.
+void check_outputs(const std::vector<TestSpec>& tests, const PluginHost& host, const RunOptions& options);
+
+/// Whether `run_test` would skip this test (--resume and its folder holds the identical test).
+bool already_done(const TestSpec& test, const PluginHost& host, const RunOptions& options);
 
 /// Runs one test into `options.out / test.name`, written in a hidden ".partial" folder first and moved
-/// into place only when complete. Throws InputError / std::runtime_error.
+/// into place only when complete. Throws InputError, TestFailure, WriteError or Interrupted.
 RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOptions& options);
+
+/// For front-ends that run tests in the foreground (the CLI), once, before the first test:
+/// - SIGINT / SIGTERM ask the running test to stop (run_test then throws Interrupted); a second one
+///   ends the process at once;
+/// - SIGSEGV, SIGBUS, SIGFPE, SIGILL and SIGABRT print one line naming the test, the step and the
+///   plugins it runs (prepared before the test, written with write(2) only), then end the process
+///   with that signal;
+/// - a plugin calling exit() or quick_exit() during a test prints the same kind of line and the
+///   process ends with status 1.
+void install_signal_handlers();
+
+/// The signal that asked the run to stop (SIGINT or SIGTERM), or 0.
+int stop_signal();
+
+/// "SIGSEGV (segmentation fault)", for messages.
+std::string signal_name(int signal);
 
 }  // namespace salsa
