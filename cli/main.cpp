@@ -82,8 +82,9 @@ std::vector<fs::path> plugin_dirs(const po::variables_map& vm) {
 void load_plugins(PluginHost& host, const po::variables_map& vm, bool report_failures) {
   host.load(PluginHost::default_search_path(plugin_dirs(vm)));
   if (report_failures && !vm.count("quiet"))
-    for (const auto& f : host.failures())
-      std::cerr << "salsa: warning: plugin " << f.file.string() << " skipped: " << f.reason << "\n";
+    for (const auto& f : host.failures())  // a whole file skipped, or one registration of a file that loaded
+      std::cerr << "salsa: warning: plugin " << f.file.string() << (f.registration.empty() ? " skipped: " : ": ") << f.reason
+                << "\n";
 }
 
 /// Says so on stderr when a test will likely take hours (estimated neighbours per drone and steps).
@@ -98,9 +99,10 @@ int cmd_plugins(int argc, char** argv) {
   PluginHost host;
   load_plugins(host, vm, false);
   std::cout << "Folders searched, in order:\n";
+  std::error_code ec;  // a link loop is "missing" here; the Refused list below says why
   for (const auto& d : host.searched())
     std::cout << "  " << std::left << std::setw(18) << d.origin << " " << d.path.string()
-              << (fs::is_directory(d.path) ? "" : "  (missing)") << "\n";
+              << (fs::is_directory(d.path, ec) ? "" : "  (missing)") << "\n";
   // Columns as wide as their longest entry.
   std::vector<std::array<std::string, 5>> rows{{"KIND", "NAME", "VERSION", "BRIEF", "FILE"}};
   auto add = [&](const char* kind, const auto& entries) {

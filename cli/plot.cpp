@@ -127,13 +127,14 @@ int cmd_plot(int argc, char** argv) {
   }
   if (!vm.count("file") || !vm.count("out")) throw InputError("plot: needs FILE and --out PNG (see 'salsa plot --help')");
   const fs::path file = vm["file"].as<std::string>();
-  if (fs::is_directory(file)) throw InputError(file.string() + ": is a folder (allowed: a bench JSON file or a summary.csv)");
+  std::error_code ec;  // a link loop or an unreadable folder is "not a folder" here; reading it says why
+  if (fs::is_directory(file, ec)) throw InputError(file.string() + ": is a folder (allowed: a bench JSON file or a summary.csv)");
   // The PNG goes to a file in an existing folder; say so before drawing anything.
   const fs::path png = vm["out"].as<std::string>();
   const fs::path png_folder = png.parent_path().empty() ? fs::path(".") : png.parent_path();
-  if (png.filename().empty() || fs::is_directory(png))
+  if (png.filename().empty() || fs::is_directory(png, ec))
     throw InputError("--out: " + png.string() + " is a folder (allowed: a PNG file name, e.g. found.png)");
-  if (!fs::is_directory(png_folder))
+  if (!fs::is_directory(png_folder, ec))
     throw InputError("--out: " + png.string() + ": the folder " + png_folder.string() + " does not exist (allowed: a file in an existing folder)");
   const salsa::plots::Chart chart =
       file.extension() == ".csv" ? csv_chart(file, vm["column"].as<std::string>()) : bench_chart(file);

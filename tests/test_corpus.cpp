@@ -113,6 +113,13 @@ class TestCorpus : public QObject {
   Q_OBJECT
 
  private Q_SLOTS:
+  void corpus_is_large() {
+    QDirIterator it(q(source_dir() / "tests/corpus"), {"*.case"}, QDir::Files, QDirIterator::Subdirectories);
+    int n = 0;
+    while (it.hasNext()) it.next(), ++n;
+    QVERIFY2(n >= 120, qPrintable(QString("the corpus holds %1 cases; issue 6 asks for at least 120").arg(n)));
+  }
+
   void bad_input_data() {
     QTest::addColumn<QString>("file");
     const QString root = q(source_dir() / "tests/corpus");
