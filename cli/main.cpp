@@ -288,12 +288,13 @@ int run_isolated(const TestSpec& test, const PluginHost& host, int argc, char** 
     ::close(pipe_fds[0]);
     throw std::runtime_error("test '" + test.name + "': cannot start its process (" + std::strerror(spawned) + ")");
   }
-  bool said_something = false, passed_on = false;
+  bool said_something = false;
+  int passed_on = 0;  // the stop signal handed to the child
   char buffer[4096];
   for (;;) {
     if (const int sig = stop_signal(); sig && !passed_on) {
       ::kill(pid, sig);
-      passed_on = true;
+      passed_on = sig;
     }
     pollfd p{pipe_fds[0], POLLIN, 0};
     if (::poll(&p, 1, 100) <= 0) continue;
@@ -307,7 +308,9 @@ int run_isolated(const TestSpec& test, const PluginHost& host, int argc, char** 
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
-  if (WIFSIGNALED(status) && !said_something)
+  // A child that died of the stop signal we handed it (before its own handlers were in place) was
+  // interrupted, not crashed: the line that says where the run stopped is ours to print.
+  if (WIFSIGNALED(status) && !said_something && WTERMSIG(status) != passed_on)
     std::cerr << "salsa: test '" << test.name << "' (" << test.source << ") died of " << signal_name(WTERMSIG(status))
               << " in its own process (--isolate); behavior '" << test.behavior.name << "' ("
               << host.behavior(test.behavior.name).plugin().file.string() << ")\n";
