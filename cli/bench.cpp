@@ -65,7 +65,9 @@ std::vector<Cell> parse_cells(const std::string& text) {
 
 int cmd_bench(int argc, char** argv) {
   po::options_description o("bench options");
-  o.add_options()("help,h", "show this help")("workload", po::value<std::string>(), "table1 or scale")(
+  o.add_options()("help,h", "show this help")("workload", po::value<std::string>(), "table1, scale or queue")(
+      "file", po::value<std::string>(), "queue: the queue or test file to time")(
+      "jobs", po::value<int>()->default_value(0), "queue: tests run at once (0: all cores)")(
       "cells", po::value<std::string>(), "table1 cells DRONESxTARGETS, comma-separated (default: the 12 cells of Table I)")(
       "sizes", po::value<std::string>()->default_value("1000,10000,100000"), "scale: drone counts")(
       "seeds", po::value<int>(), "seeds 1..N per cell (default: 5 for table1, 1 for scale)")(
@@ -76,17 +78,29 @@ int cmd_bench(int argc, char** argv) {
       "profile", "print the time spent in each step phase")("json", po::value<std::string>(), "write all figures to this JSON file")(
       "plugin-dir", po::value<std::vector<std::string>>()->composing(), "also search this folder for plugins");
   po::positional_options_description pos;
-  pos.add("workload", 1);
+  pos.add("workload", 1).add("file", 1);
   po::variables_map vm;
   po::store(po::command_line_parser(argc, argv).options(o).positional(pos).run(), vm);
   po::notify(vm);
   if (vm.count("help") || !vm.count("workload")) {
-    std::cout << "usage: salsa bench table1|scale [options]\n\n" << o;
+    std::cout << "usage: salsa bench table1|scale [options]\n       salsa bench queue FILE [--jobs N] [--floor] [--json F]\n\n" << o;
     return vm.count("help") ? 0 : 2;
   }
   const std::string workload = vm["workload"].as<std::string>();
-  if (workload != "table1" && workload != "scale")
-    throw InputError("bench: unknown workload '" + workload + "' (allowed: table1, scale)");
+  if (workload != "table1" && workload != "scale" && workload != "queue")
+    throw InputError("bench: unknown workload '" + workload + "' (allowed: table1, scale, queue)");
+  if (vm["jobs"].as<int>() < 0 || vm["jobs"].as<int>() > 1024)
+    throw InputError("--jobs: " + std::to_string(vm["jobs"].as<int>()) + " is out of range (allowed: 0 to 1024; 0 means all cores)");
+  if (vm.count("time") && !(vm["time"].as<double>() >= 1.0 / 60 && vm["time"].as<double>() <= 1e7))
+    throw InputError("--time: out of range (allowed: 1/60 to 10000000 s)");
+  if (workload == "queue") {
+    PluginHost host;
+    std::vector<std::filesystem::path> extra;
+    if (vm.count("plugin-dir"))
+      for (const auto& d : vm["plugin-dir"].as<std::vector<std::string>>()) extra.emplace_back(d);
+    host.load(PluginHost::default_search_path(extra));
+    return bench_queue(vm, host, cpu_model());
+  }
   const bool is_table1 = workload == "table1";
   const int threads = vm["threads"].as<int>();
   if (threads < 0 || threads > 1024) throw InputError("--threads: " + std::to_string(threads) + " is out of range (allowed: 0 to 1024)");
