@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
 #include <unordered_map>
 
@@ -97,9 +98,11 @@ std::string grouped(double v) {  // 1234567 -> "1,234,567"
   return out;
 }
 
-/// The value on the coarsest decimal grid within `tolerance` of x: a range in steps of 0.1 gives 0.3,
-/// not 0.30000000000000004 (the step's float error would show in names and config.json).
-double tidy(double x, double tolerance) {
+/// from + i × step, on the coarsest decimal grid within its rounding error (an ulp or two): a range in steps of 0.1 gives
+/// 0.3, not 0.30000000000000004 (the float noise would show in names and config.json).
+double grid_value(double from, double i, double step) {
+  const double x = from + i * step;
+  const double tolerance = std::numeric_limits<double>::epsilon() * (std::fabs(from) + std::fabs(i * step));
   double scale = 1;
   for (int digits = 0; digits <= 17 && std::fabs(x) * scale < 1e17; ++digits, scale *= 10) {
     const double y = std::round(x * scale) / scale;
@@ -131,7 +134,7 @@ std::vector<double> range_values(const json& v, const std::string& field, const 
     const bool reaches_to = std::fabs(steps - whole) <= 1e-9 * std::max(1.0, steps);
     const auto n = static_cast<std::size_t>(reaches_to ? whole : std::floor(steps)) + 1;
     for (std::size_t i = 0; i < n; ++i)
-      out.push_back(reaches_to && i + 1 == n ? to : tidy(from + static_cast<double>(i) * step, 1e-9 * step));
+      out.push_back(reaches_to && i + 1 == n ? to : grid_value(from, static_cast<double>(i), step));
   } else {
     const auto count = static_cast<std::size_t>(r.integer(v["count"], field + ".count", 1, max_queue_tests));
     if (count == 1 && from != to)
@@ -139,7 +142,7 @@ std::vector<double> range_values(const json& v, const std::string& field, const 
                                    " differ (allowed: a count ≥ 2, or from = to)");
     const double step = count > 1 ? (to - from) / static_cast<double>(count - 1) : 0;
     for (std::size_t i = 0; i < count; ++i)
-      out.push_back(i + 1 == count ? to : tidy(from + static_cast<double>(i) * step, 1e-9 * step));
+      out.push_back(i + 1 == count ? to : grid_value(from, static_cast<double>(i), step));
   }
   return out;
 }
@@ -507,14 +510,14 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
 
   const double per_repeat = static_cast<double>(configs.size()) + (sweep ? sweep->size() : 0);
   const double total = per_repeat * static_cast<double>(repeats);
-  const std::string count = grouped(total) + " tests" +
-                            (repeats > 1 ? " (" + grouped(per_repeat) + " × " + std::to_string(repeats) + " repeats)" : "");
+  const std::string count = "the queue expands to " + grouped(total) + " tests (" +
+                            (repeats > 1 ? grouped(per_repeat) + " × " + grouped(static_cast<double>(repeats)) + " repeats; " : "");
   if (total > static_cast<double>(max_queue_tests))
-    throw InputError(shown_file + ": the queue expands to " + count + " (allowed: at most " + grouped(max_queue_tests) +
-                     " in one queue, even with --yes; split it into several files)");
+    throw InputError(shown_file + ": " + count + "allowed: at most " + grouped(max_queue_tests) +
+                     " in one queue, even with --yes): split it into several files");
   if (total > static_cast<double>(options.max_tests) && !options.yes)
-    throw InputError(shown_file + ": the queue expands to " + count + " (allowed: " + grouped(static_cast<double>(options.max_tests)) +
-                     " without --yes; check the sweep, or pass --yes to run them all)");
+    throw InputError(shown_file + ": " + count + "allowed: " + grouped(static_cast<double>(options.max_tests)) +
+                     " without --yes): check the sweep, or pass --yes to run them all");
 
   // ---- The sweep multiplied out: worlds outer, behaviors fastest.
   if (sweep) {
