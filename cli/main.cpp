@@ -19,9 +19,11 @@
 #include <iomanip>
 #include <iostream>
 #include <optional>
+#include <unordered_map>
 #include <sstream>
 
 #include "salsa/core/plugin_host.hpp"
+#include "salsa/core/queue.hpp"
 #include "salsa/core/runner.hpp"
 #include "salsa/core/test_spec.hpp"
 #include "commands.hpp"
@@ -35,8 +37,9 @@ namespace {
 const char* usage = R"(usage: salsa <command> [options]
 
 commands:
-  run FILE...        run tests (a test, a list of tests, or {"tests": [...]}) and write their data
-  validate FILE...   check test and map files without running them
+  run FILE...        run tests (a test, a list of tests, or a queue with a sweep) and write their data
+  validate FILE...   check test, queue and map files without running them
+  queue expand FILE  print the tests a queue expands to (count, then one line each)
   plugins            list the plugins found, the folders searched and the files refused
   describe NAME      print a plugin's parameters (name, default, min, max, unit, meaning)
   bench WORKLOAD     measure speed (table1, scale)
@@ -171,7 +174,8 @@ po::options_description run_options() {
   // what is allowed rather than wrapping around or a parser's message.
   o.add_options()("files", po::value<std::vector<std::string>>(), "test files")(
       "out,o", po::value<std::string>()->default_value("results"), "output folder; each test writes to OUT/<test name>/")(
-      "seed", po::value<std::string>(), "seed for every test, a whole number in [0, 2^53] (the i-th test of a file gets SEED + i)")(
+      "seed", po::value<std::string>(), "queue seed of every file, a whole number in [0, 2^53]: each test's seed is paired from it (over the seeds in the files)")(
+      "yes,y", "allow a queue of more than 10,000 tests")(
       "time", po::value<std::string>(), "simulated seconds per test (overrides the files)")(
       "log-interval", po::value<std::string>(), "seconds between logged rows (overrides the files)")(
       "threads", po::value<std::string>()->default_value("0"), "threads for each simulation's decide phase (0: all cores)")(
@@ -221,28 +225,26 @@ double seconds_option(const po::variables_map& vm, const char* name, const TestS
   return *v;
 }
 
-/// Loads every file's tests and applies the command-line overrides (with the same checks as the files).
+/// --seed and --yes as QueueOptions.
+QueueOptions queue_options(const po::variables_map& vm) {
+  QueueOptions o;
+  if (vm.count("seed")) o.seed = whole_option(vm, "seed", static_cast<std::uint64_t>(max_seed));
+  o.yes = vm.count("yes");
+  return o;
+}
+
+/// Loads every file's queue and applies the command-line overrides (with the same checks as the files).
 std::vector<TestSpec> load_all(const po::variables_map& vm, const PluginHost& host) {
   if (!vm.count("files")) throw InputError("missing FILE (a test file, see examples/)");
-  std::optional<std::uint64_t> seed;
-  if (vm.count("seed")) seed = whole_option(vm, "seed", static_cast<std::uint64_t>(max_seed));
+  const QueueOptions options = queue_options(vm);
   std::vector<TestSpec> all;
+  std::unordered_map<std::string, std::string> sources;  // name -> where it was given
   for (const auto& f : vm["files"].as<std::vector<std::string>>()) {
-    auto tests = load_tests(f, host);
-    for (std::size_t i = 0; i < tests.size(); ++i) {
-      TestSpec& t = tests[i];
-      if (seed) {
-        if (*seed + i > static_cast<std::uint64_t>(max_seed))
-          throw InputError("--seed: " + std::to_string(*seed) + " + " + std::to_string(i) + " for " + t.source +
-                           " is out of range (allowed: SEED + i up to 9007199254740992, i counting the tests of a file)");
-        t.seed = *seed + i;
-      }
+    for (auto& t : load_queue(f, host, options).tests) {
       if (vm.count("time")) t.time = seconds_option(vm, "time", t);
       if (vm.count("log-interval")) t.log_interval = seconds_option(vm, "log-interval", t);
-    }
-    for (auto& t : tests) {
-      for (const auto& other : all)
-        if (other.name == t.name) throw InputError(t.source + ": name: \"" + t.name + "\" is already used by " + other.source);
+      if (const auto [it, fresh] = sources.emplace(t.name, t.source); !fresh)
+        throw InputError(t.source + ": name: \"" + t.name + "\" is already used by " + it->second);
       all.push_back(std::move(t));
     }
   }
@@ -379,10 +381,12 @@ int cmd_run(int argc, char** argv) {
 
 int cmd_validate(int argc, char** argv) {
   po::options_description o("validate options");
-  o.add_options()("files", po::value<std::vector<std::string>>(), "test or map files");
+  o.add_options()("files", po::value<std::vector<std::string>>(), "test, queue or map files")(
+      "seed", po::value<std::string>(), "queue seed, as for run")("yes,y", "allow a queue of more than 10,000 tests");
   po::variables_map vm;
   if (!parse(argc, argv, "validate", "FILE... [options]", o, vm, "files")) return 0;
   if (!vm.count("files")) throw InputError("validate: missing FILE");
+  const QueueOptions options = queue_options(vm);
   PluginHost host;
   load_plugins(host, vm, true);
   for (const auto& f : vm["files"].as<std::vector<std::string>>()) {
@@ -391,9 +395,48 @@ int cmd_validate(int argc, char** argv) {
       if (!vm.count("quiet")) std::cout << f << ": ok (map)\n";
       continue;
     }
-    const auto tests = load_tests(f, host);
+    const auto tests = load_queue(f, host, options).tests;
     for (const auto& t : tests) warn_workload(t, make_setup(t, host), vm.count("quiet"));
     if (!vm.count("quiet")) std::cout << f << ": ok (" << tests.size() << (tests.size() == 1 ? " test)\n" : " tests)\n");
+  }
+  return 0;
+}
+
+/// `salsa queue expand FILE`: the count, then a line per test in the order they run.
+int cmd_queue(int argc, char** argv) {
+  po::options_description o("queue options");
+  o.add_options()("seed", po::value<std::string>(), "queue seed, as for run")("yes,y", "allow a queue of more than 10,000 tests");
+  po::options_description hidden;
+  hidden.add_options()("args", po::value<std::vector<std::string>>(), "");
+  po::variables_map vm;
+  if (!parse(argc, argv, "queue", "expand FILE [options]", o, vm, "args", hidden)) return 0;
+  const auto args = vm.count("args") ? vm["args"].as<std::vector<std::string>>() : std::vector<std::string>{};
+  if (args.empty() || args[0] != "expand")
+    throw InputError("queue: " + (args.empty() ? std::string("missing action") : "unknown action '" + args[0] + "'") + " (allowed: expand)");
+  if (args.size() != 2) throw InputError("queue expand: " + std::string(args.size() < 2 ? "missing FILE" : "one FILE at a time"));
+  PluginHost host;
+  load_plugins(host, vm, true);
+  const Queue queue = load_queue(args[1], host, queue_options(vm));
+  // One row per test, columns as wide as their longest entry.
+  std::vector<std::vector<std::string>> rows;
+  for (const TestSpec& t : queue.tests) {
+    std::string targets = "targets=" + std::to_string(t.targets);
+    if (t.targets > 0) {
+      const std::string kind = describe_choice(t.target, host.target_kind(t.target.name).factory.parameters);
+      if (kind != "tree") targets += " " + kind;
+    }
+    rows.push_back({t.name, variant(t, host), "drones=" + std::to_string(t.drones), targets,
+                    "map=" + (t.map_file.empty() ? describe_choice(t.map, host.map(t.map.name).factory.parameters) : t.map_file),
+                    "drone=" + t.drone.name, "repeat=" + std::to_string(t.repeat), "seed=" + std::to_string(t.seed)});
+  }
+  std::vector<std::size_t> width(rows.empty() ? 0 : rows[0].size(), 0);
+  for (const auto& row : rows)
+    for (std::size_t c = 0; c < row.size(); ++c) width[c] = std::max(width[c], row[c].size());
+  std::cout << queue.tests.size() << (queue.tests.size() == 1 ? " test\n" : " tests\n");
+  for (const auto& row : rows) {
+    std::string line;
+    for (std::size_t c = 0; c < row.size(); ++c) line += row[c] + (c + 1 < row.size() ? std::string(width[c] - row[c].size() + 2, ' ') : "");
+    std::cout << line << "\n";
   }
   return 0;
 }
@@ -413,11 +456,12 @@ int main(int argc, char** argv) {
   try {
     if (command == "run") return cmd_run(argc - 1, argv + 1);
     if (command == "validate") return cmd_validate(argc - 1, argv + 1);
+    if (command == "queue") return cmd_queue(argc - 1, argv + 1);
     if (command == "plugins") return cmd_plugins(argc - 1, argv + 1);
     if (command == "describe") return cmd_describe(argc - 1, argv + 1);
     if (command == "bench") return cmd_bench(argc - 1, argv + 1);
     if (command == "plot") return cmd_plot(argc - 1, argv + 1);
-    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, validate, plugins, describe, bench, plot)\n";
+    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, validate, queue, plugins, describe, bench, plot)\n";
     return 2;
   } catch (const po::error& e) {
     std::cerr << "salsa " << command << ": " << e.what() << " (see 'salsa " << command << " --help')\n";

@@ -1,7 +1,7 @@
 // Every shipped example is a test (DESIGN §7): each test file under examples/ validates and runs
-// (shortened to 5 s) through the salsa CLI and writes its data; each map file validates.
+// (shortened to 5 s) through the salsa CLI and writes its data (a queue, every test it expands to);
+// each map file validates.
 #include <QDirIterator>
-#include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
 #include <QtTest>
@@ -14,17 +14,14 @@ using namespace salsa_test;
 
 namespace {
 
-/// The names of the tests in a test file, as salsa names their output folders.
+/// The names of the tests in a test or queue file, as salsa names their output folders: the first
+/// column of `salsa queue expand` (the count, then a line per test).
 QStringList test_names(const QString& file) {
-  const QJsonDocument doc = QJsonDocument::fromJson(read_file(file));
-  const QString stem = QFileInfo(file).completeBaseName();
-  QJsonArray list;
-  if (doc.isArray()) list = doc.array();
-  else if (doc.object().contains("tests")) list = doc.object()["tests"].toArray();
-  else return {doc.object().value("name").toString(stem)};
+  const CliResult r = run_salsa({"queue", "expand", file});
+  const QStringList lines = non_empty_lines(r.out);
   QStringList names;
-  for (qsizetype i = 0; i < list.size(); ++i)
-    names << list[i].toObject().value("name").toString(stem + "-" + QString::number(i + 1));
+  for (qsizetype i = 1; i < lines.size(); ++i) names << lines[i].section(' ', 0, 0);
+  if (r.exit_code != 0 || lines.value(0) != QString::number(names.size()) + (names.size() == 1 ? " test" : " tests")) return {};
   return names;
 }
 

@@ -138,8 +138,9 @@ class TestReliability : public QObject {
     QVERIFY2(r.exit_code == 2 && non_empty_lines(r.err).size() == 1, describe(r));
     QCOMPARE(snapshot(other.path()), outside);
 
-    // A folder salsa wrote is replaced.
-    r = run_salsa({"run", "t.json", "--out", other.filePath("real"), "--force", "--seed", "5"}, dir.path());
+    // A folder salsa wrote is replaced (by another test: its own seed).
+    write(dir.filePath("t.json"), R"({"name": "x", "behavior": "flocking", "drones": 3, "time": 1, "seed": 5})");
+    r = run_salsa({"run", "t.json", "--out", other.filePath("real"), "--force"}, dir.path());
     QVERIFY2(r.exit_code == 0, describe(r));
     QVERIFY(read_file(other.filePath("real/x/config.json")).contains("\"seed\": 5"));
   }
@@ -210,21 +211,29 @@ class TestReliability : public QObject {
 
   void resume_refuses_a_different_test() {
     QTemporaryDir dir;
-    write(dir.filePath("t.json"), R"({"name": "x", "behavior": "flocking", "drones": 3, "time": 1})");
-    CliResult r = run_salsa({"run", "t.json", "--out", "out", "--seed", "3"}, dir.path());
+    // Seeds given in the file: --seed would pair them (docs/test-format.md), and the message shows them as given.
+    const QByteArray seed_3 = R"({"name": "x", "behavior": "flocking", "drones": 3, "time": 1, "seed": 3})";
+    const QByteArray seed_4 = R"({"name": "x", "behavior": "flocking", "drones": 3, "time": 1, "seed": 4})";
+    write(dir.filePath("t.json"), seed_3);
+    CliResult r = run_salsa({"run", "t.json", "--out", "out"}, dir.path());
     QVERIFY2(r.exit_code == 0, describe(r));
+    write(dir.filePath("t.json"), seed_4);
     const auto before = snapshot(dir.path());
-    r = run_salsa({"run", "t.json", "--out", "out", "--seed", "4", "--resume"}, dir.path());
+    r = run_salsa({"run", "t.json", "--out", "out", "--resume"}, dir.path());
     QVERIFY2(r.exit_code == 2 && non_empty_lines(r.err).size() == 1, describe(r));
     QVERIFY2(r.err.contains("out/x/config.json: seed is 3 there, 4 now; --resume keeps only identical tests (use --force to replace it)"),
              describe(r));
-    r = run_salsa({"run", "t.json", "--out", "out", "--time", "2", "--seed", "3", "--resume"}, dir.path());
+    QCOMPARE(snapshot(dir.path()), before);
+    write(dir.filePath("t.json"), seed_3);
+    const auto with_seed_3 = snapshot(dir.path());
+    r = run_salsa({"run", "t.json", "--out", "out", "--time", "2", "--resume"}, dir.path());
     QVERIFY2(r.exit_code == 2 && r.err.contains("time is 1.0 there, 2.0 now"), describe(r));
-    QCOMPARE(snapshot(dir.path()), before);
-    r = run_salsa({"run", "t.json", "--out", "out", "--seed", "3", "--resume"}, dir.path());
+    QCOMPARE(snapshot(dir.path()), with_seed_3);
+    r = run_salsa({"run", "t.json", "--out", "out", "--resume"}, dir.path());
     QVERIFY2(r.exit_code == 0 && r.out.contains("skipped"), describe(r));
-    QCOMPARE(snapshot(dir.path()), before);
-    r = run_salsa({"run", "t.json", "--out", "out", "--seed", "4", "--resume", "--force"}, dir.path());
+    QCOMPARE(snapshot(dir.path()), with_seed_3);
+    write(dir.filePath("t.json"), seed_4);
+    r = run_salsa({"run", "t.json", "--out", "out", "--resume", "--force"}, dir.path());
     QVERIFY2(r.exit_code == 0 && read_file(dir.filePath("out/x/config.json")).contains("\"seed\": 4"), describe(r));
   }
 

@@ -2,6 +2,7 @@
 // configurations from a JSON file, and config.json rereading to the very same test.
 #include "common.hpp"
 
+#include "salsa/core/queue.hpp"
 #include "salsa/core/test_spec.hpp"
 
 using namespace salsa;
@@ -59,14 +60,14 @@ class TestTestFormat : public QObject {
     QCOMPARE(by_name.map.params.get("size"), 500.0);
   }
 
-  void lists_get_seeds_and_names_by_index() {
+  void lists_get_names_by_index_and_paired_seeds() {
     QTemporaryDir dir;
     QVERIFY(write_file(dir.filePath("queue.json"),
                        R"({"tests": [{"behavior": "flocking"}, {"behavior": "random_walk", "seed": 99}]})"));
     const auto tests = load_tests(dir.filePath("queue.json").toStdString(), *host_);
     QCOMPARE(tests.size(), std::size_t(2));
     QCOMPARE(tests[0].name, std::string("queue-1"));
-    QCOMPARE(tests[0].seed, std::uint64_t(1));
+    QCOMPARE(tests[0].seed, paired_seed(1, 0, world_key(tests[0])));  // not the position: docs/test-format.md
     QCOMPARE(tests[1].name, std::string("queue-2"));
     QCOMPARE(tests[1].seed, std::uint64_t(99));
   }

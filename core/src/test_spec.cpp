@@ -1,16 +1,18 @@
 #include "salsa/core/test_spec.hpp"
 
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <cstdio>
 
 #include "salsa/core/names.hpp"
-#include "strict_json.hpp"
+#include "salsa/core/queue.hpp"
+#include "test_reader.hpp"
 
 namespace salsa {
 
-using json = nlohmann::ordered_json;
+using detail::json;
+using detail::num;
+using detail::Reader;
+using detail::show;
 
 const char* salsa_version() { return SALSA_VERSION; }
 
@@ -19,86 +21,8 @@ std::size_t TestSpec::log_every() const {
   return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(log_interval / dt)));
 }
 
-namespace {
+namespace detail {
 
-std::string show(const json& v) { return strict_json::shown(v); }
-std::string num(double v) { return Parameter::format(v); }
-
-/// Reads JSON values with one-line errors: "<where>: <field>: <value> <what is allowed>".
-class Reader {
- public:
-  Reader(std::string where, std::filesystem::path base) : where_(std::move(where)), base_(std::move(base)) {}
-
-  [[noreturn]] void fail(const std::string& field, const std::string& message) const {
-    // Names and keys quoted in `message` are user text: one line whatever they hold.
-    throw InputError(where_ + ": " + field + ": " + strict_json::printable(message, 1000));
-  }
-  void only_keys(const json& obj, const std::string& field, std::initializer_list<const char*> allowed) const {
-    if (!obj.is_object()) fail(field.empty() ? "(top level)" : field, show(obj) + " must be an object");
-    for (const auto& [key, value] : obj.items()) {
-      bool ok = false;
-      std::string list;
-      for (const char* a : allowed) {
-        ok = ok || key == a;
-        list += (list.empty() ? "" : ", ") + std::string(a);
-      }
-      if (!ok) fail(join(field, key), "unknown key (allowed: " + list + ")");
-    }
-  }
-  double number(const json& v, const std::string& field, double lo, double hi, const char* unit = "") const {
-    const std::string range = "[" + num(lo) + ", " + num(hi) + "]" + (*unit ? std::string(" ") + unit : "");
-    if (!v.is_number()) fail(field, show(v) + " is not a number (allowed: " + range + ")");
-    const double x = v.get<double>();
-    if (!(x >= lo && x <= hi)) fail(field, show(v) + " is out of range (allowed: " + range + ")");
-    return x;
-  }
-  std::uint64_t integer(const json& v, const std::string& field, double lo, double hi) const {
-    const std::string range = "whole number in [" + num(lo) + ", " + num(hi) + "]";
-    if (!v.is_number() || v.get<double>() != std::floor(v.get<double>()))
-      fail(field, show(v) + " is not a whole number (allowed: " + range + ")");
-    if (!(v.get<double>() >= lo && v.get<double>() <= hi)) fail(field, show(v) + " is out of range (allowed: " + range + ")");
-    return v.is_number_unsigned() ? v.get<std::uint64_t>() : static_cast<std::uint64_t>(v.get<double>());
-  }
-  std::string string(const json& v, const std::string& field) const {
-    if (!v.is_string() || v.get<std::string>().empty()) fail(field, show(v) + " must be a non-empty string");
-    return v.get<std::string>();
-  }
-  std::filesystem::path path(const json& v, const std::string& field) const {
-    std::filesystem::path p = string(v, field);
-    return p.is_relative() && !base_.empty() ? (base_ / p).lexically_normal() : p;
-  }
-  /// Validates given values against the declared parameters and fills in the defaults.
-  ParameterValues params(const json& given, const std::string& field, const Parameters& schema,
-                         const std::string& owner) const {
-    ParameterValues values(schema);
-    if (given.is_null()) return values;
-    if (!given.is_object()) fail(field, show(given) + " must be an object of parameter values");
-    for (const auto& item : given.items()) {
-      const std::string& key = item.key();  // not a structured binding: clang 14 (fuzz preset) cannot capture those
-      const json& v = item.value();
-      auto it = std::find_if(schema.begin(), schema.end(), [&](const Parameter& p) { return p.name == key; });
-      if (it == schema.end()) {
-        std::string declared;
-        for (const auto& p : schema) declared += (declared.empty() ? "" : ", ") + p.name;
-        fail(join(field, key), "unknown parameter of " + owner + " (declared: " + (declared.empty() ? "none" : declared) + ")");
-      }
-      if (!v.is_number()) fail(join(field, key), show(v) + " is not a number (allowed: " + it->range() + ")");
-      const std::string why = it->check(v.get<double>());
-      if (!why.empty()) fail(join(field, key), show(v) + " " + why);
-      values.set(key, v.get<double>());
-    }
-    return values;
-  }
-  static std::string join(const std::string& field, const std::string& key) {
-    return (field.empty() ? "" : field + ".") + strict_json::printable(key);
-  }
-
- private:
-  std::string where_;
-  std::filesystem::path base_;
-};
-
-/// Every JSON file salsa reads comes through here: strict (see strict_json.hpp), one line per problem.
 json read_json_file(const std::filesystem::path& file, std::string_view expected) {
   try {
     return strict_json::read_file<json>(file, expected);
@@ -106,6 +30,7 @@ json read_json_file(const std::filesystem::path& file, std::string_view expected
     throw InputError(e.what());
   }
 }
+namespace {
 json parse_json(const std::string& text, const std::string& where) {
   try {
     return strict_json::parse<json>(text, where);
@@ -113,8 +38,8 @@ json parse_json(const std::string& text, const std::string& where) {
     throw InputError(e.what());
   }
 }
+}  // namespace
 
-/// A drone configuration at `at` ("drone" in a test, its name in a drone configuration file).
 DroneConfig parse_drone(const json& v, const Reader& r, const std::vector<DroneConfig>& named, const std::string& at) {
   auto by_name = [&](const std::string& name, const std::string& field) {
     for (const auto& c : named)
@@ -156,18 +81,20 @@ std::vector<DroneConfig> drone_configs_file(const std::filesystem::path& file) {
   return out;
 }
 
+namespace {
 Vec2 point(const json& v, const Reader& r, const std::string& field) {
   if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number())
     r.fail(field, show(v) + " must be a point [x, y] in m");
   return {v[0].get<double>(), v[1].get<double>()};
 }
 
-TestSpec parse(const json& j, const Reader& r, const PluginHost& host, std::size_t index) {
+}  // namespace
+
+TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
   r.only_keys(j, "", {"name", "behavior", "drone", "drone_configs", "drones", "map", "spawn", "targets",
                       "contact_handlers", "time", "dt", "log_interval", "velocity_iterations",
-                      "position_iterations", "decision_lag", "seed", "versions"});
+                      "position_iterations", "decision_lag", "seed", "repeat", "versions"});
   TestSpec t;
-  t.seed = 1 + index;
   if (j.contains("name")) {
     t.name = r.string(j["name"], "name");
     if (const std::string why = name_problem(t.name); !why.empty()) r.fail("name", why);
@@ -272,62 +199,17 @@ TestSpec parse(const json& j, const Reader& r, const PluginHost& host, std::size
   if (j.contains("velocity_iterations")) t.velocity_iterations = static_cast<int>(r.integer(j["velocity_iterations"], "velocity_iterations", 1, 100));
   if (j.contains("position_iterations")) t.position_iterations = static_cast<int>(r.integer(j["position_iterations"], "position_iterations", 1, 100));
   if (j.contains("decision_lag")) t.decision_lag = static_cast<int>(r.integer(j["decision_lag"], "decision_lag", 0, 1));
-  if (j.contains("seed")) t.seed = r.integer(j["seed"], "seed", 0, 9007199254740992.0);
+  if (j.contains("repeat")) t.repeat = r.integer(j["repeat"], "repeat", 0, 1'000'000);
+  t.seed_given = j.contains("seed");
+  t.seed = t.seed_given ? r.integer(j["seed"], "seed", 0, 9007199254740992.0) : paired_seed(1, t.repeat, world_key(t));
   return t;
 }
 
-}  // namespace
-
-namespace {
-
-/// A test without "name" is named after its file; that name must be fit for a folder too.
-void name_after_file(TestSpec& t, const std::string& name) {
-  if (!t.name.empty()) return;
-  if (const std::string why = name_problem(name); !why.empty())
-    throw InputError(t.source + ": name: missing, and the file name cannot stand in for it: " + why + "; give the test a \"name\"");
-  t.name = name;
-}
-
-}  // namespace
-
-std::vector<TestSpec> load_tests(const std::filesystem::path& file, const PluginHost& host) {
-  const json j = read_json_file(file, "a test, a list of tests or {\"tests\": [...]}");
-  const std::string shown_file = strict_json::printable(file.string(), 200);
-  const json* list = &j;
-  std::string prefix;
-  if (j.is_object() && j.contains("tests")) {
-    list = &j["tests"];
-    prefix = "tests";
-    if (j.size() != 1) throw InputError(shown_file + ": a queue object may only hold \"tests\"");
-  }
-  std::vector<TestSpec> tests;
-  const std::string stem = file.stem().string();
-  if (list->is_array()) {
-    if (list->empty()) throw InputError(shown_file + ": " + (prefix.empty() ? "the list" : prefix) + " holds no tests");
-    for (std::size_t i = 0; i < list->size(); ++i) {
-      const std::string where = shown_file + ": " + prefix + "[" + std::to_string(i) + "]";
-      TestSpec t = parse((*list)[i], Reader(where, file.parent_path()), host, i);
-      t.source = where;
-      name_after_file(t, stem + "-" + std::to_string(i + 1));
-      tests.push_back(std::move(t));
-    }
-  } else {
-    TestSpec t = parse(j, Reader(shown_file, file.parent_path()), host, 0);
-    t.source = shown_file;
-    name_after_file(t, stem);
-    tests.push_back(std::move(t));
-  }
-  for (std::size_t i = 0; i < tests.size(); ++i)
-    for (std::size_t k = 0; k < i; ++k)
-      if (tests[i].name == tests[k].name)
-        throw InputError(tests[i].source + ": name: \"" + tests[i].name + "\" is already used by " + tests[k].source +
-                         " (each test writes to a folder of its name)");
-  return tests;
-}
+}  // namespace detail
 
 TestSpec parse_test(const std::string& json_text, const std::string& where, const PluginHost& host,
                     const std::filesystem::path& base_dir) {
-  TestSpec t = parse(parse_json(json_text, where), Reader(where, base_dir), host, 0);
+  TestSpec t = detail::parse_test(detail::parse_json(json_text, where), Reader(where, base_dir), host);
   t.source = where;
   if (t.name.empty()) t.name = "test";
   return t;
@@ -367,6 +249,7 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   j["position_iterations"] = t.position_iterations;
   j["decision_lag"] = t.decision_lag;
   j["seed"] = t.seed;
+  j["repeat"] = t.repeat;
   json versions = {{"salsa", salsa_version()}, {"behavior", plugin_json(host.behavior(t.behavior.name))},
                    {"map", plugin_json(host.map(t.map.name))}};
   if (t.targets > 0) versions["target"] = plugin_json(host.target_kind(t.target.name));

@@ -45,15 +45,17 @@ struct TestSpec {
   int position_iterations = 3;
   int decision_lag = 1;             ///< steps until a decision takes effect (SimulationSetup)
   std::uint64_t seed = 1;
+  bool seed_given = false;          ///< "seed" was in the file: it wins over the paired seed (queue.hpp)
+  std::size_t repeat = 0;           ///< which repeat of its configuration in a queue (0 first)
 
   std::size_t steps() const;
   std::size_t log_every() const;
 };
 
-/// Reads a test file: one test object, a JSON list of them, or {"tests": [...]}. Relative map files
-/// resolve against the test file's folder. Throws InputError.
+/// Reads a test or queue file with the default QueueOptions: load_queue(file, host, {}).tests (queue.hpp).
 std::vector<TestSpec> load_tests(const std::filesystem::path& file, const PluginHost& host);
-/// Parses one test from JSON text (`where` names it in errors, e.g. "file.json: tests[2]").
+/// Parses one test from JSON text (`where` names it in errors, e.g. "file.json: tests[2]"). Without a
+/// "seed" it gets the paired seed of queue seed 1 and its "repeat" (default 0).
 TestSpec parse_test(const std::string& json_text, const std::string& where, const PluginHost& host,
                     const std::filesystem::path& base_dir = {});
 

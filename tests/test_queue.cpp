@@ -1,0 +1,503 @@
+// Queues as docs/test-format.md describes them: sweeps multiplied out (counts, ranges), every bad input
+// refused with one line naming the position, paired seeds (the same world for every behavior of a
+// repeat; no seed moves when tests are added or reordered), interleaved order, names fit for folders,
+// and `salsa queue expand` / `salsa validate` through the CLI.
+#include "common.hpp"
+
+#include <map>
+#include <set>
+
+#include "salsa/core/names.hpp"
+#include "salsa/core/queue.hpp"
+
+using namespace salsa;
+using namespace salsa_test;
+
+class TestQueue : public QObject {
+  Q_OBJECT
+
+  std::unique_ptr<PluginHost> host_ = builtin_host();
+  QTemporaryDir dir_;
+
+  std::string file(const QString& name, const QByteArray& json) {
+    const QString path = dir_.filePath(name);
+    if (!write_file(path, json)) qFatal("cannot write %s", qPrintable(path));
+    return path.toStdString();
+  }
+  /// The queue, or a failed test (not an abort) when it is refused.
+  Queue load(const QByteArray& json, QueueOptions options = {}) {
+    try {
+      return load_queue(file("q.json", json), *host_, options);
+    } catch (const InputError& e) {
+      QTest::qFail(e.what(), __FILE__, __LINE__);
+      return {};
+    }
+  }
+  QString error_of(const QByteArray& json, QueueOptions options = {}) {
+    try {
+      load_queue(file("q.json", json), *host_, options);
+    } catch (const InputError& e) {
+      return QString::fromStdString(e.what());
+    }
+    return "(accepted)";
+  }
+  static std::map<std::string, std::uint64_t> seeds_by_name(const Queue& q) {
+    std::map<std::string, std::uint64_t> out;
+    for (const auto& t : q.tests) out[t.name] = t.seed;
+    return out;
+  }
+
+ private Q_SLOTS:
+  void initTestCase() {
+    QVERIFY(dir_.isValid());
+    file("w.json", read_file(q(source_dir() / "examples/maps/warehouse.json")));  // a map file beside the queues
+  }
+
+  // ---- Expansion
+
+  void expansion_counts_data() {
+    QTest::addColumn<QByteArray>("queue");
+    QTest::addColumn<int>("count");
+    QTest::newRow("one test") << QByteArray(R"({"behavior": "flocking"})") << 1;
+    QTest::newRow("a list") << QByteArray(R"([{"behavior": "flocking"}, {"behavior": "random_walk"}, {"behavior": "flocking", "drones": 3}])") << 3;
+    QTest::newRow("tests object") << QByteArray(R"({"tests": [{"behavior": "flocking"}, {"behavior": "random_walk"}]})") << 2;
+    QTest::newRow("four behaviors")
+        << QByteArray(R"({"sweep": {"behaviors": ["random_walk", "flocking", "pheromone_avoidance", "dynamic_space_partitioning"]}})") << 4;
+    QTest::newRow("a behavior's parameter product")
+        << QByteArray(R"({"sweep": {"behaviors": ["random_walk", {"name": "flocking", "params": {"cohesion_weight": [1, 2],
+                         "alignment_weight": {"from": 0.5, "to": 2, "step": 0.5}}}]}})")
+        << 1 + 2 * 4;
+    QTest::newRow("behaviors x drones x maps")
+        << QByteArray(R"({"sweep": {"behaviors": ["random_walk", {"name": "flocking", "params": {"cohesion_weight": [1, 2]}}],
+                         "drones": [10, 20, 30], "maps": ["empty", {"name": "forest", "params": {"clusters": [5, 10]}}]}})")
+        << 3 * 3 * 3;
+    QTest::newRow("x repeats")
+        << QByteArray(R"({"repeats": 4, "sweep": {"behaviors": ["random_walk", "flocking"], "drones": {"from": 10, "to": 50, "step": 10}}})")
+        << 4 * 2 * 5;
+    QTest::newRow("tests and a sweep, repeated")
+        << QByteArray(R"({"repeats": 3, "tests": [{"name": "a", "behavior": "flocking"}, {"name": "b", "behavior": "random_walk", "drones": 4}],
+                         "sweep": {"test": {"drones": 20}, "behaviors": ["random_walk", "flocking", "pheromone_avoidance"]}})")
+        << 3 * (2 + 3);
+    QTest::newRow("targets x drone configurations")
+        << QByteArray(R"({"sweep": {"test": {"behavior": "random_walk"}, "targets": [0, 100, {"kind": "tree", "count": 50, "params": {"radius": 2}}],
+                         "drone": ["small", "medium", {"name": "fast", "base": "small", "max_speed": 15}]}})")
+        << 3 * 3;
+    QTest::newRow("count form") << QByteArray(R"({"sweep": {"behaviors": [{"name": "flocking", "params": {"cohesion_weight": {"from": 0, "to": 1, "count": 5}}}]}})") << 5;
+    QTest::newRow("float step reaches its end") << QByteArray(R"({"sweep": {"behaviors": [{"name": "flocking", "params": {"cohesion_weight": {"from": 0.1, "to": 0.7, "step": 0.2}}}]}})") << 4;
+    QTest::newRow("step past the end stops") << QByteArray(R"({"sweep": {"test": {"behavior": "flocking"}, "drones": {"from": 1, "to": 10, "step": 4}}})") << 3;
+    QTest::newRow("map files") << QByteArray(R"({"sweep": {"behaviors": ["flocking", "random_walk"], "maps": ["w.json", {"name": "empty", "params": {"size": [200, 300]}}]}})") << 2 * 3;
+  }
+  void expansion_counts() {
+    QFETCH(QByteArray, queue);
+    QFETCH(int, count);
+    QCOMPARE(load(queue).tests.size(), std::size_t(count));
+  }
+
+  void range_values_data() {
+    QTest::addColumn<QByteArray>("range");
+    QTest::addColumn<QList<double>>("values");
+    QTest::newRow("step 0.1: 0.3, not 0.30000000000000004") << QByteArray(R"({"from": 0.1, "to": 0.5, "step": 0.1})") << QList<double>{0.1, 0.2, 0.3, 0.4, 0.5};
+    QTest::newRow("step 0.5") << QByteArray(R"({"from": 0.5, "to": 2, "step": 0.5})") << QList<double>{0.5, 1, 1.5, 2};
+    QTest::newRow("count 4") << QByteArray(R"({"from": 0.5, "to": 2, "count": 4})") << QList<double>{0.5, 1, 1.5, 2};
+    QTest::newRow("count 4, thirds") << QByteArray(R"({"from": 0, "to": 1, "count": 4})") << QList<double>{0, 1.0 / 3, 2.0 / 3, 1};
+    QTest::newRow("step short of the end") << QByteArray(R"({"from": 1, "to": 2, "step": 0.3})") << QList<double>{1, 1.3, 1.6, 1.9};
+    QTest::newRow("from = to") << QByteArray(R"({"from": 2, "to": 2, "step": 1})") << QList<double>{2};
+    QTest::newRow("count 1, from = to") << QByteArray(R"({"from": 2, "to": 2, "count": 1})") << QList<double>{2};
+    QTest::newRow("a list") << QByteArray("[3, 0, 2.5]") << QList<double>{3, 0, 2.5};
+    QTest::newRow("one number") << QByteArray("7") << QList<double>{7};
+  }
+  void range_values() {
+    QFETCH(QByteArray, range);
+    QFETCH(QList<double>, values);
+    const Queue q = load(R"({"sweep": {"behaviors": [{"name": "flocking", "params": {"cohesion_weight": )" + range + "}}]}}");
+    QList<double> got;
+    for (const auto& t : q.tests) got << t.behavior.params.get("cohesion_weight");
+    QCOMPARE(got, values);  // exactly: the ends as given, the steps without float noise where it matters
+  }
+
+  // ---- Bad input: one line naming the file, the position, the value and what is allowed.
+
+  void errors_data() {
+    QTest::addColumn<QByteArray>("queue");
+    QTest::addColumn<QStringList>("expect");
+    QTest::newRow("unknown behavior")
+        << QByteArray(R"({"sweep": {"behaviors": ["random_walk", "flocking", "flokking"]}})")
+        << QStringList{"q.json: sweep.behaviors[2]: unknown behavior 'flokking' (known: ", "flocking"};
+    QTest::newRow("unknown behavior in an object")
+        << QByteArray(R"({"sweep": {"behaviors": [{"name": "flokking"}]}})") << QStringList{"q.json: sweep.behaviors[0].name: unknown behavior 'flokking'"};
+    QTest::newRow("unknown parameter")
+        << QByteArray(R"({"sweep": {"behaviors": ["random_walk", {"name": "flocking", "params": {"cohesion": [1, 2]}}]}})")
+        << QStringList{"q.json: sweep.behaviors[1].params.cohesion: unknown parameter of behavior 'flocking' (declared: ", "cohesion_weight"};
+    QTest::newRow("value out of range")
+        << QByteArray(R"({"sweep": {"behaviors": ["random_walk", {"name": "flocking", "params": {"cohesion_weight": [1, 20]}}]}})")
+        << QStringList{"q.json: sweep.behaviors[1].params.cohesion_weight[1]: 20 is out of range (allowed: [0, 10])"};
+    QTest::newRow("range out of range")
+        << QByteArray(R"({"sweep": {"behaviors": [{"name": "flocking", "params": {"cohesion_weight": {"from": 0, "to": 20, "step": 5}}}]}})")
+        << QStringList{"q.json: sweep.behaviors[0].params.cohesion_weight: {\"from\":0,\"to\":20,\"step\":5} gives 15, which is out of range (allowed: [0, 10])"};
+    QTest::newRow("whole-number parameter")
+        << QByteArray(R"({"sweep": {"behaviors": [{"name": "pheromone_avoidance", "params": {"directions": {"from": 4, "to": 8, "count": 4}}}]}})")
+        << QStringList{"q.json: sweep.behaviors[0].params.directions: {\"from\":4,\"to\":8,\"count\":4} gives 5.333333333333333, which is out of range (allowed: whole number in [3, 64])"};
+    QTest::newRow("mistyped value")
+        << QByteArray(R"({"sweep": {"behaviors": [{"name": "flocking", "params": {"cohesion_weight": ["1"]}}]}})")
+        << QStringList{"q.json: sweep.behaviors[0].params.cohesion_weight[0]: \"1\" is not a number (allowed: [0, 10])"};
+    QTest::newRow("a value twice")
+        << QByteArray(R"({"sweep": {"behaviors": [{"name": "flocking", "params": {"cohesion_weight": [1, 2, 1]}}]}})")
+        << QStringList{"q.json: sweep.behaviors[0].params.cohesion_weight[2]: 1 is already in the list"};
+    QTest::newRow("map parameter")
+        << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "maps": ["empty", {"name": "forest", "params": {"clusters": [10, 2.5]}}]}})")
+        << QStringList{"q.json: sweep.maps[1].params.clusters[1]: 2.5 is out of range (allowed: whole number in [0, 1000])"};
+    QTest::newRow("unknown map") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "maps": ["empty", "forrest"]}})")
+                                 << QStringList{"q.json: sweep.maps[1]: unknown map 'forrest'"};
+    QTest::newRow("drones out of range") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": [10, 0]}})")
+                                         << QStringList{"q.json: sweep.drones[1]: 0 is out of range (allowed: whole number in [1, 1000000])"};
+    QTest::newRow("drones not whole")
+        << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": {"from": 1, "to": 10, "step": 1.5}}})")
+        << QStringList{"q.json: sweep.drones: {\"from\":1,\"to\":10,\"step\":1.5} gives 2.5, which is out of range (allowed: whole number in [1, 1000000])"};
+    QTest::newRow("drones not a list") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": 10}})")
+                                       << QStringList{"q.json: sweep.drones: 10 must be a list, e.g. [10, 20, 30]"};
+    QTest::newRow("targets count") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "targets": [10, -1]}})")
+                                   << QStringList{"q.json: sweep.targets[1]: -1 is out of range (allowed: whole number in [0, 10000000])"};
+    QTest::newRow("target kind") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "targets": [{"kind": "rock", "count": 3}]}})")
+                                 << QStringList{"q.json: sweep.targets[0].kind: unknown target 'rock' (known: tree)"};
+    QTest::newRow("drone configuration")
+        << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drone": ["small", {"name": "x", "max_speed": 5000}]}})")
+        << QStringList{"q.json: sweep.drone[1].max_speed: 5000 is out of range (allowed: [0.001, 1000] m/s)"};
+    QTest::newRow("unnamed drone configuration")
+        << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drone": ["small", {"max_speed": 5}]}})")
+        << QStringList{"q.json: sweep.drone[1].name: missing"};
+    QTest::newRow("unknown drone configuration") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drone": ["tiny"]}})")
+                                                 << QStringList{"q.json: sweep.drone[0]: unknown drone configuration 'tiny' (known: small, medium, large)"};
+    QTest::newRow("empty axis") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "maps": []}})")
+                                << QStringList{"q.json: sweep.maps: [] is an empty list (allowed: at least one entry"};
+    QTest::newRow("empty behaviors") << QByteArray(R"({"sweep": {"behaviors": []}})") << QStringList{"q.json: sweep.behaviors: [] is an empty list"};
+    QTest::newRow("empty parameter list") << QByteArray(R"({"sweep": {"behaviors": [{"name": "flocking", "params": {"cohesion_weight": []}}]}})")
+                                          << QStringList{"q.json: sweep.behaviors[0].params.cohesion_weight: [] is an empty list (allowed: values in [0, 10]"};
+    QTest::newRow("empty tests") << QByteArray(R"({"tests": []})") << QStringList{"q.json: tests holds no tests"};
+    QTest::newRow("unknown sweep key") << QByteArray(R"({"sweep": {"behaviours": ["flocking"]}})")
+                                       << QStringList{"q.json: sweep.behaviours: unknown key (allowed: test, behaviors, maps, drones, targets, drone)"};
+    QTest::newRow("unknown queue key") << QByteArray(R"({"sweep": {"behaviors": ["flocking"]}, "repeat": 3})")
+                                       << QStringList{"q.json: repeat: unknown key (allowed: seed, repeats, tests, sweep)"};
+    QTest::newRow("unknown range key") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": {"from": 1, "to": 5, "by": 1}}})")
+                                       << QStringList{"q.json: sweep.drones.by: unknown key (allowed: from, to, step, count)"};
+    QTest::newRow("range without step or count") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": {"from": 1, "to": 5}}})")
+                                                 << QStringList{"q.json: sweep.drones: {\"from\":1,\"to\":5} needs \"from\", \"to\" and either \"step\" or \"count\""};
+    QTest::newRow("range backwards") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": {"from": 5, "to": 1, "step": 1}}})")
+                                     << QStringList{"q.json: sweep.drones.to: 1 is below \"from\" 5 (allowed: to ≥ from)"};
+    QTest::newRow("step zero") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": {"from": 1, "to": 5, "step": 0}}})")
+                               << QStringList{"q.json: sweep.drones.step: 0 is not positive (allowed: a step > 0)"};
+    QTest::newRow("count 1 with two ends") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": {"from": 1, "to": 5, "count": 1}}})")
+                                           << QStringList{"q.json: sweep.drones.count: 1 gives one value, but \"from\" 1 and \"to\" 5 differ"};
+    QTest::newRow("a range of a trillion")
+        << QByteArray(R"({"sweep": {"behaviors": [{"name": "flocking", "params": {"cohesion_weight": {"from": 0, "to": 10, "step": 1e-11}}}]}})")
+        << QStringList{"q.json: sweep.behaviors[0].params.cohesion_weight: ", " values (allowed: at most 1,000,000 in one range)"};
+    QTest::newRow("too many without --yes")
+        << QByteArray(R"({"repeats": 3, "sweep": {"behaviors": ["random_walk", "flocking"], "drones": {"from": 1, "to": 2000, "step": 1}}})")
+        << QStringList{"q.json: the queue expands to 12,000 tests (4,000 × 3 repeats; allowed: 10,000 without --yes): check the sweep, or pass --yes to run them all"};
+    QTest::newRow("past the limit even with --yes")
+        << QByteArray(R"({"repeats": 1000, "sweep": {"behaviors": ["random_walk", "flocking"], "drones": {"from": 1, "to": 1000, "step": 1}}})")
+        << QStringList{"q.json: the queue expands to 2,000,000 tests (2,000 × 1,000 repeats; allowed: at most 1,000,000 in one queue, even with --yes): split it"};
+    QTest::newRow("the same map twice")
+        << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "maps": ["empty", "w.json", {"file": "w.json", "name": "json"}]}})")
+        << QStringList{"q.json: sweep (behaviors[0], maps[2]): the same test as ", "q.json: sweep (behaviors[0], maps[1]) (the same world"};
+    QTest::newRow("a key in sweep.test and an axis") << QByteArray(R"({"sweep": {"test": {"drones": 5}, "behaviors": ["flocking"], "drones": [1, 2]}})")
+                                                     << QStringList{"q.json: sweep.test.drones: also swept by sweep.drones (allowed: one or the other)"};
+    QTest::newRow("bad field in sweep.test") << QByteArray(R"({"sweep": {"test": {"time": 0}, "behaviors": ["flocking"]}})")
+                                             << QStringList{"q.json: sweep.test: time: 0 is out of range (allowed: [0.016666666666666666, 10000000] s)"};
+    QTest::newRow("no behavior anywhere") << QByteArray(R"({"sweep": {"drones": [1, 2]}})") << QStringList{"q.json: sweep.test: behavior: missing"};
+    QTest::newRow("bad explicit test") << QByteArray(R"({"tests": [{"behavior": "flocking"}, {"behavior": "flocking", "drones": 0}]})")
+                                       << QStringList{"q.json: tests[1]: drones: 0 is out of range (allowed: whole number in [1, 1000000])"};
+    QTest::newRow("the same test twice") << QByteArray(R"({"tests": [{"name": "a", "behavior": "flocking"}, {"name": "b", "behavior": "flocking"}]})")
+                                         << QStringList{"q.json: tests[1]: the same test as ", "q.json: tests[0] (the same world, seed and behavior give the same data"};
+    QTest::newRow("a sweep repeating an explicit test")
+        << QByteArray(R"({"tests": [{"name": "a", "behavior": "flocking", "drones": 20}], "sweep": {"behaviors": ["flocking"], "drones": [10, 20]}})")
+        << QStringList{"q.json: sweep (behaviors[0], drones[1]): the same test as ", "q.json: tests[0] (the same world"};
+    QTest::newRow("explicit seed with repeats") << QByteArray(R"({"repeats": 3, "tests": [{"behavior": "flocking", "seed": 4}]})")
+                                                << QStringList{"q.json: tests[0]: seed: 4 would be the seed of every repeat (\"repeats\": 3)"};
+    QTest::newRow("repeat with repeats") << QByteArray(R"({"repeats": 2, "tests": [{"behavior": "flocking", "repeat": 1}]})")
+                                         << QStringList{"q.json: tests[0]: repeat: 1 is given, and the queue has \"repeats\": 2 (allowed: one or the other)"};
+    QTest::newRow("repeats zero") << QByteArray(R"({"repeats": 0, "tests": [{"behavior": "flocking"}]})")
+                                  << QStringList{"q.json: repeats: 0 is out of range (allowed: whole number in [1, 1000000])"};
+    QTest::newRow("queue seed") << QByteArray(R"({"seed": -1, "tests": [{"behavior": "flocking"}]})")
+                                << QStringList{"q.json: seed: -1 is out of range (allowed: whole number in [0, 9007199254740992])"};
+  }
+  void errors() {
+    QFETCH(QByteArray, queue);
+    QFETCH(QStringList, expect);
+    const QString message = error_of(queue);
+    QVERIFY2(!message.contains('\n'), qPrintable(message));
+    for (const QString& e : expect) QVERIFY2(message.contains(e), qPrintable("expected \"" + e + "\" in\n" + message));
+  }
+
+  void yes_allows_a_large_queue() {
+    const QByteArray queue = R"({"repeats": 3, "sweep": {"behaviors": ["random_walk", "flocking"], "drones": {"from": 1, "to": 2000, "step": 1}}})";
+    QueueOptions options;
+    options.yes = true;
+    QCOMPARE(load(queue, options).tests.size(), std::size_t(12000));
+    options = {};
+    options.max_tests = 5;
+    QVERIFY(error_of(R"({"sweep": {"behaviors": ["random_walk", "flocking", "pheromone_avoidance"], "drones": [1, 2]}})", options)
+                .contains("q.json: the queue expands to 6 tests (allowed: 5 without --yes): check the sweep"));
+  }
+
+  // ---- Seeds: the paired rule
+
+  void reordering_tests_or_adding_a_behavior_changes_no_seed() {
+    const Queue before = load(R"({"tests": [{"name": "a", "behavior": "flocking", "drones": 6}, {"name": "b", "behavior": "random_walk", "drones": 4}],
+                                  "sweep": {"behaviors": ["random_walk", "flocking"], "drones": [10, 20]}})");
+    const Queue after = load(R"({"tests": [{"name": "c", "behavior": "flocking", "drones": 7},
+                                           {"name": "b", "behavior": "random_walk", "drones": 4}, {"name": "a", "behavior": "flocking", "drones": 6}],
+                                 "sweep": {"behaviors": ["pheromone_avoidance", "flocking", "random_walk"], "drones": [30, 20, 10]}})");
+    const auto old_seeds = seeds_by_name(before), new_seeds = seeds_by_name(after);
+    QCOMPARE(old_seeds.size(), std::size_t(6));
+    QCOMPARE(new_seeds.size(), std::size_t(12));
+    for (const auto& [name, seed] : old_seeds) {
+      QVERIFY2(new_seeds.count(name), name.c_str());  // the names did not change either
+      QCOMPARE(new_seeds.at(name), seed);
+    }
+  }
+
+  void behaviors_in_one_repeat_share_their_world_data() {
+    QTest::addColumn<QByteArray>("queue");
+    QTest::newRow("behaviors x drones x maps, 3 repeats")
+        << QByteArray(R"({"repeats": 3, "sweep": {"behaviors": ["random_walk", "pheromone_avoidance",
+                         {"name": "flocking", "params": {"cohesion_weight": [1, 2]}}], "drones": [10, 20],
+                         "maps": ["empty", {"name": "forest", "params": {"clusters": [5, 10]}}]}})");
+    QTest::newRow("explicit tests and a sweep")
+        << QByteArray(R"({"repeats": 2, "tests": [{"name": "x", "behavior": "dynamic_space_partitioning", "drones": 20, "map": "forest",
+                         "time": 30}], "sweep": {"test": {"map": "forest"}, "behaviors": ["random_walk", "flocking"], "drones": [10, 20]}})");
+    QTest::newRow("drone configurations and targets")
+        << QByteArray(R"({"repeats": 2, "sweep": {"behaviors": ["random_walk", "flocking"], "drone": ["small", "large"], "targets": [0, 50]}})");
+  }
+  void behaviors_in_one_repeat_share_their_world() {
+    QFETCH(QByteArray, queue);
+    const Queue q = load(queue);
+    std::map<std::pair<std::string, std::size_t>, std::uint64_t> by_world;  // (world, repeat) -> seed
+    std::map<std::string, std::set<std::string>> behaviors;                   // world -> behaviors seen
+    for (const auto& t : q.tests) {
+      const auto [it, fresh] = by_world.emplace(std::pair{world_key(t), t.repeat}, t.seed);
+      QVERIFY2(fresh || it->second == t.seed, t.name.c_str());  // every behavior of a world and repeat: one seed
+      behaviors[world_key(t)].insert(variant(t, *host_));
+    }
+    for (const auto& [world, seen] : behaviors) QVERIFY2(seen.size() >= 2, world.c_str());  // the rule was put to the test
+    // Other repeats and other worlds: other seeds.
+    std::set<std::uint64_t> distinct;
+    for (const auto& [key, seed] : by_world) distinct.insert(seed);
+    QCOMPARE(distinct.size(), by_world.size());
+  }
+
+  void world_key_holds_the_world_only() {
+    const TestSpec a = parse_test(R"({"name": "a", "behavior": "flocking", "drones": 30, "map": "forest", "time": 10})", "t", *host_);
+    const TestSpec b = parse_test(R"({"name": "b", "behavior": {"name": "random_walk", "params": {"max_duration": 3}}, "drones": 30,
+                                      "map": {"name": "forest", "params": {"size": 500}}, "time": 99, "log_interval": 2, "decision_lag": 0})",
+                                  "t", *host_);
+    QCOMPARE(world_key(a), world_key(b));
+    QCOMPARE(a.seed, b.seed);  // the paired seed of queue seed 1, repeat 0
+    for (const char* other : {R"({"behavior": "flocking", "drones": 31, "map": "forest"})",
+                              R"({"behavior": "flocking", "drones": 30, "map": {"name": "forest", "params": {"clusters": 13}}})",
+                              R"({"behavior": "flocking", "drones": 30, "map": "forest", "targets": {"count": 1}})",
+                              R"({"behavior": "flocking", "drones": 30, "map": "forest", "drone": "medium"})",
+                              R"({"behavior": "flocking", "drones": 30, "map": "forest", "spawn": {"mode": "uniform"}})"}) {
+      const TestSpec c = parse_test(other, "t", *host_);
+      QVERIFY2(world_key(c) != world_key(a), other);
+      QVERIFY2(c.seed != a.seed, other);
+    }
+    // A map file is known by its name, not the folder it was reached from.
+    const std::string warehouse = (source_dir() / "examples/maps/warehouse.json").string();
+    const TestSpec by_path = parse_test("{\"behavior\": \"flocking\", \"map\": \"" + warehouse + "\"}", "t", *host_);
+    const TestSpec relative = parse_test(R"({"behavior": "flocking", "map": "maps/warehouse.json"})", "t", *host_, source_dir() / "examples");
+    QCOMPARE(world_key(by_path), world_key(relative));
+  }
+
+  void paired_seed_is_stable() {
+    // The rule as documented (queue.hpp, docs/test-format.md), computed apart from salsa: a queue
+    // expanded by another version must get the same seeds.
+    QCOMPARE(paired_seed(1, 0, "{}"), std::uint64_t(7101787162266751));
+    QCOMPARE(paired_seed(7, 2, "{\"drones\":30}"), std::uint64_t(5596072146341897));
+    std::set<std::uint64_t> seeds;
+    for (std::uint64_t s = 0; s < 100; ++s)
+      for (std::size_t r = 0; r < 100; ++r) {
+        const std::uint64_t seed = paired_seed(s, r, "{\"drones\":30}");
+        QVERIFY(seed < (std::uint64_t{1} << 53));
+        seeds.insert(seed);
+      }
+    QCOMPARE(seeds.size(), std::size_t(10000));
+  }
+
+  void explicit_seed_wins() {
+    const Queue q = load(R"({"seed": 9, "tests": [{"name": "fixed", "behavior": "flocking", "seed": 42}, {"name": "paired", "behavior": "flocking", "drones": 5}],
+                             "sweep": {"test": {"seed": 43}, "behaviors": ["random_walk", "flocking"], "drones": [3, 4]}})");
+    QCOMPARE(q.tests.size(), std::size_t(6));
+    QCOMPARE(q.tests[0].seed, std::uint64_t(42));
+    QVERIFY(q.tests[0].seed_given);
+    QCOMPARE(q.tests[1].seed, paired_seed(9, 0, world_key(q.tests[1])));
+    QVERIFY(!q.tests[1].seed_given);
+    for (std::size_t i = 2; i < q.tests.size(); ++i) QCOMPARE(q.tests[i].seed, std::uint64_t(43));
+  }
+
+  void command_line_seed_changes_all() {
+    const QByteArray queue = R"({"seed": 9, "repeats": 2, "tests": [{"name": "a", "behavior": "flocking"}],
+                                 "sweep": {"behaviors": ["random_walk", "flocking"], "drones": [3, 4]}})";
+    const Queue plain = load(queue);
+    QueueOptions options;
+    options.seed = 5;
+    const Queue seeded = load(queue, options);
+    QCOMPARE(seeded.seed, std::uint64_t(5));
+    QCOMPARE(seeded.tests.size(), plain.tests.size());
+    for (std::size_t i = 0; i < plain.tests.size(); ++i) {
+      QCOMPARE(seeded.tests[i].name, plain.tests[i].name);
+      QVERIFY(seeded.tests[i].seed != plain.tests[i].seed);
+      QCOMPARE(seeded.tests[i].seed, paired_seed(5, seeded.tests[i].repeat, world_key(seeded.tests[i])));
+    }
+    // Over the seeds in the file too: a fixed-seed queue gets new worlds, repeats included.
+    const QByteArray fixed = R"({"repeats": 2, "tests": [{"name": "a", "behavior": "flocking", "seed": 42}]})";
+    QVERIFY(error_of(fixed).contains("seed: 42 would be the seed of every repeat"));
+    const Queue over = load(fixed, options);
+    QCOMPARE(over.tests[0].seed, paired_seed(5, 0, world_key(over.tests[0])));
+    QCOMPARE(over.tests[1].seed, paired_seed(5, 1, world_key(over.tests[1])));
+  }
+
+  void plain_test_files_keep_working() {
+    const Queue one = load_queue(file("fast.json", R"({"behavior": "flocking", "drones": 5})"), *host_, {});
+    QCOMPARE(one.tests.size(), std::size_t(1));
+    QCOMPARE(one.tests[0].name, std::string("fast"));
+    QCOMPARE(one.tests[0].repeat, std::size_t(0));
+    QCOMPARE(one.tests[0].seed, paired_seed(1, 0, world_key(one.tests[0])));
+    const auto list = load_tests(file("list.json", R"([{"behavior": "flocking"}, {"behavior": "random_walk", "drones": 4}])"), *host_);
+    QCOMPARE(list.size(), std::size_t(2));
+    QCOMPARE(list[0].name, std::string("list-1"));
+    QCOMPARE(list[1].name, std::string("list-2"));
+  }
+
+  // ---- Order and names
+
+  void interleaved_order() {
+    const Queue q = load(R"({"repeats": 3, "tests": [{"name": "a", "behavior": "flocking"}, {"name": "b", "behavior": "random_walk"}],
+                             "sweep": {"behaviors": ["random_walk", "flocking"], "drones": [3, 4]}})");
+    QCOMPARE(q.tests.size(), std::size_t(3 * 6));
+    const std::vector<std::string> one_repeat{"a", "b", "random_walk_d3", "flocking_d3", "random_walk_d4", "flocking_d4"};
+    for (std::size_t i = 0; i < q.tests.size(); ++i) {
+      const std::size_t repeat = i / one_repeat.size();
+      QCOMPARE(q.tests[i].repeat, repeat);
+      QCOMPARE(q.tests[i].name, one_repeat[i % one_repeat.size()] + "_r" + std::to_string(repeat));
+    }
+  }
+
+  void names_are_unique_and_fit_for_folders_data() {
+    QTest::addColumn<QByteArray>("queue");
+    QTest::addColumn<QStringList>("some_names");
+    QTest::newRow("parameters, counts, maps")
+        << QByteArray(R"({"sweep": {"behaviors": [{"name": "flocking", "params": {"cohesion_weight": [2], "alignment_weight": [0.5, 1e-9]}}],
+                         "drones": [30], "targets": [100], "maps": [{"name": "forest", "params": {"size": [1000]}}]}})")
+        << QStringList{"flocking_aw0.5_cw2_d30_t100_forest_size1000_r0", "flocking_aw1e-09_cw2_d30_t100_forest_size1000_r0"};
+    QTest::newRow("look-alike initials spelled out")
+        << QByteArray(R"({"sweep": {"behaviors": [{"name": "random_walk", "params": {"min_duration": [1], "max_duration": [5], "turn_distance": [0.5]}}]}})")
+        << QStringList{"random_walk_min_duration1_max_duration5_td0.5_r0"};
+    QTest::newRow("a prefix, drone configurations, map files, target objects")
+        << QByteArray(R"({"sweep": {"test": {"name": "study"}, "behaviors": ["flocking"], "maps": ["w.json"],
+                         "drone": ["small", {"name": "fast one", "max_speed": 15}], "targets": [{"kind": "tree", "count": 5, "params": {"radius": 2}}]}})")
+        << QStringList{"study_flocking_tree5_radius2_w_small_r0", "study_flocking_tree5_radius2_w_fast_one_r0"};
+    QTest::newRow("explicit names with repeats")
+        << QByteArray(R"({"repeats": 2, "tests": [{"name": "mine", "behavior": "flocking"}, {"behavior": "random_walk"}]})")
+        << QStringList{"mine_r0", "q-2_r0", "mine_r1", "q-2_r1"};
+    QTest::newRow("long names get a hash")
+        << QByteArray(R"({"sweep": {"test": {"name": ")" + QByteArray(100, 'x') + R"("}, "behaviors": [{"name": "flocking",
+                         "params": {"cohesion_weight": [1, 2], "alignment_weight": [0.25], "separation_weight": [0.125]}}]}})")
+        << QStringList{};
+  }
+  void names_are_unique_and_fit_for_folders() {
+    QFETCH(QByteArray, queue);
+    QFETCH(QStringList, some_names);
+    file("w.json", read_file(q(source_dir() / "examples/maps/warehouse.json")));
+    const Queue q = load(queue);
+    std::set<std::string> names;
+    for (const auto& t : q.tests) {
+      QVERIFY2(name_problem(t.name).empty(), name_problem(t.name).c_str());
+      QVERIFY2(names.insert(t.name).second, t.name.c_str());
+    }
+    for (const QString& n : some_names) QVERIFY2(names.count(n.toStdString()), qPrintable(n + " not among the names"));
+    if (some_names.isEmpty())
+      for (const auto& name : names) {
+        QCOMPARE(name.size(), max_name_length);
+        QVERIFY2(name.ends_with("_r0") && name.starts_with(std::string(100, 'x') + "_flocking_"), name.c_str());
+      }
+  }
+
+  void config_json_holds_the_repeat_and_reruns_it() {
+    const Queue q = load(R"({"repeats": 2, "sweep": {"behaviors": ["flocking"], "drones": [3]}})");
+    const std::string config = resolved_json(q.tests[1], *host_);
+    QVERIFY(config.find("\"repeat\": 1") != std::string::npos);
+    const TestSpec again = parse_test(config, "config.json", *host_);
+    QCOMPARE(again.repeat, std::size_t(1));
+    QCOMPARE(again.seed, q.tests[1].seed);
+    QCOMPARE(resolved_json(again, *host_), config);
+  }
+
+  // ---- Through the CLI
+
+  void cli_queue_expand() {
+    const std::string path = file("cli.json", R"({"seed": 4, "repeats": 2, "tests": [{"name": "base", "behavior": "random_walk", "drones": 5}],
+                                                  "sweep": {"behaviors": ["random_walk", {"name": "flocking", "params": {"cohesion_weight": [2]}}],
+                                                            "drones": [10], "maps": [{"name": "forest", "params": {"clusters": [5]}}]}})");
+    const CliResult r = run_salsa({"queue", "expand", q(path)});
+    QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
+    const QStringList lines = non_empty_lines(r.out);
+    QCOMPARE(lines.value(0), QString("6 tests"));
+    QCOMPARE(lines.size(), 7);
+    const Queue queue = load_queue(path, *host_, {});
+    for (std::size_t i = 0; i < queue.tests.size(); ++i) {
+      const TestSpec& t = queue.tests[i];
+      const QStringList fields = lines[qsizetype(i) + 1].split(' ', Qt::SkipEmptyParts);
+      QCOMPARE(fields.value(0), q(t.name));
+      QVERIFY2(fields.contains("seed=" + QString::number(t.seed)) && fields.contains("repeat=" + QString::number(t.repeat)),
+               qPrintable(lines[qsizetype(i) + 1]));
+    }
+    QVERIFY2(lines[2].split(' ', Qt::SkipEmptyParts) ==
+                 QStringList({"random_walk_d10_forest_clusters5_r0", "random_walk", "drones=10", "targets=0", "map=forest(clusters=5)",
+                              "drone=small", "repeat=0", "seed=" + QString::number(queue.tests[1].seed)}),
+             qPrintable(lines[2]));
+    QVERIFY2(lines[3].contains(" flocking(cohesion_weight=2) "), qPrintable(lines[3]));
+
+    // --seed changes every seed; the names stay.
+    const CliResult seeded = run_salsa({"queue", "expand", q(path), "--seed", "5"});
+    QVERIFY2(seeded.exit_code == 0, describe(seeded));
+    const QStringList other = non_empty_lines(seeded.out);
+    QCOMPARE(other.size(), lines.size());
+    for (qsizetype i = 1; i < lines.size(); ++i) {
+      QCOMPARE(other[i].section(' ', 0, 0), lines[i].section(' ', 0, 0));
+      QVERIFY(other[i].section("seed=", 1) != lines[i].section("seed=", 1));
+    }
+  }
+
+  void cli_validate_and_yes() {
+    const std::string small = file("small.json", R"({"sweep": {"behaviors": ["random_walk", "flocking"], "drones": [3, 4]}})");
+    CliResult r = run_salsa({"validate", q(small)});
+    QVERIFY2(r.exit_code == 0 && r.out.trimmed() == q(small) + ": ok (4 tests)", describe(r));
+
+    const std::string big = file("big.json", R"({"sweep": {"behaviors": ["random_walk", "flocking"], "drones": {"from": 1, "to": 5001, "step": 1}}})");
+    r = run_salsa({"queue", "expand", q(big)});
+    QVERIFY2(r.exit_code == 2 && non_empty_lines(r.err).size() == 1 && r.out.isEmpty(), describe(r));
+    QVERIFY2(r.err.contains("big.json: the queue expands to 10,002 tests (allowed: 10,000 without --yes): check the sweep, or pass --yes"), describe(r));
+    r = run_salsa({"queue", "expand", q(big), "--yes"});
+    QVERIFY2(r.exit_code == 0 && r.out.startsWith("10002 tests\n"), qPrintable(r.err));
+
+    r = run_salsa({"queue", "list", q(small)});
+    QVERIFY2(r.exit_code == 2 && r.err.contains("queue: unknown action 'list' (allowed: expand)"), describe(r));
+  }
+
+  void cli_run_writes_the_seeds_it_expanded() {
+    const std::string path = file("run.json", R"({"repeats": 2, "sweep": {"test": {"time": 1, "targets": {"count": 5}},
+                                                  "behaviors": ["random_walk", "flocking"], "drones": [3]}})");
+    QTemporaryDir out;
+    const CliResult r = run_salsa({"run", q(path), "--out", out.path(), "--no-drones-csv"});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    for (const TestSpec& t : load_queue(path, *host_, {}).tests) {
+      const QByteArray config = read_file(out.filePath(q(t.name) + "/config.json"));
+      QVERIFY2(config.contains("\"seed\": " + QByteArray::number(quint64(t.seed)) + ",") &&
+                   config.contains("\"repeat\": " + QByteArray::number(quint64(t.repeat)) + ","),
+               config.constData());
+    }
+  }
+};
+
+QTEST_GUILESS_MAIN(TestQueue)
+#include "test_queue.moc"
