@@ -131,11 +131,9 @@ void plot_folder(const fs::path& folder) {
   if (tests.empty() && !queue)
     throw InputError(salsa::strict_json::printable(folder.string(), 200) +
                      ": neither a test folder (no config.json) nor a results folder (no test folders, no summary.csv)");
+  if (queue) salsa::write_comparison(folder);  // first: a bad summary.csv is refused before anything is drawn
   for (const auto& test : tests) salsa::plots::draw_test_plots(test);
-  if (queue) {
-    salsa::write_comparison(folder);
-    salsa::plots::draw_queue_plots(folder);
-  }
+  if (queue) salsa::plots::draw_queue_plots(folder);
   std::cout << "plots of " << tests.size() << " test" << (tests.size() == 1 ? "" : "s") << " in <test>/plots"
             << (queue ? ", queue plots in " + (folder / "plots").string() + ", comparison in " + (folder / "comparison.csv").string() : "")
             << "\n";

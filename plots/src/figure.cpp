@@ -118,6 +118,11 @@ QPainter& Figure::begin() {
   p.drawText(QRectF(0, 12, image_.width(), 40), Qt::AlignCenter, title_);
   p.setFont(font(15));
   const QPen grid(QColor(225, 225, 225), 1);
+  for (std::size_t i = 0; i < y_names_.size(); ++i) {
+    const double y = at(x_lo_, static_cast<double>(i)).y();
+    if (i % 2 == 0) p.fillRect(QRectF(plot_.left(), y - (plot_.height() / static_cast<double>(y_names_.size())) / 2, plot_.width(), plot_.height() / static_cast<double>(y_names_.size())), QColor(246, 246, 246));
+    p.drawText(QRectF(10, y - 11, plot_.left() - 20, 22), Qt::AlignRight | Qt::AlignVCenter, y_names_[i]);
+  }
   for (std::size_t i = 0; i < x_ticks_.size(); ++i) {
     const double x = at(x_ticks_[i], y_lo_).x();
     p.setPen(grid);
@@ -139,11 +144,6 @@ QPainter& Figure::begin() {
     p.drawLine(QPointF(plot_.left() - 6, y), QPointF(plot_.left(), y));
     const double step = y_ticks_.size() > 1 ? y_ticks_[1] - y_ticks_[0] : 1;
     p.drawText(QRectF(plot_.left() - 100, y - 11, 90, 22), Qt::AlignRight | Qt::AlignVCenter, tick_text(y_ticks_[i], step));
-  }
-  for (std::size_t i = 0; i < y_names_.size(); ++i) {
-    const double y = at(x_lo_, static_cast<double>(i)).y();
-    if (i % 2 == 0) p.fillRect(QRectF(plot_.left(), y - (plot_.height() / static_cast<double>(y_names_.size())) / 2, plot_.width(), plot_.height() / static_cast<double>(y_names_.size())), QColor(246, 246, 246));
-    p.drawText(QRectF(10, y - 11, plot_.left() - 20, 22), Qt::AlignRight | Qt::AlignVCenter, y_names_[i]);
   }
   p.setFont(font(18));
   p.drawText(QRectF(plot_.left(), image_.height() - 45, plot_.width(), 30), Qt::AlignCenter, x_label_);

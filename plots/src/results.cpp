@@ -535,8 +535,8 @@ void forest(const fs::path& csv, const fs::path& file) {
     auto scaled = [&](std::size_t c) { auto v = in.optional_number(c); return v ? std::optional(*v * scale) : v; };
     const auto win = in.optional_number(c_win);
     rows.push_back({QString::fromStdString(std::string(in[c_a]) + " − " + std::string(in[c_b]) + ", " + std::string(in[c_drones]) + " drones"),
-                    "n=" + QString::fromUtf8(in[c_n].data(), static_cast<qsizetype>(in[c_n].size())) +
-                        (win ? ", A wins " + QString::number(*win * 100, 'f', 0) + " %" : QString()),
+                    "n = " + QString::fromUtf8(in[c_n].data(), static_cast<qsizetype>(in[c_n].size())) +
+                        (win ? ", A better in " + QString::number(*win * 100, 'f', 0) + " %" : QString()),
                     scaled(c_mean), scaled(c_lo), scaled(c_hi)});
   }
   if (rows.empty()) return;
@@ -547,11 +547,14 @@ void forest(const fs::path& csv, const fs::path& file) {
   std::vector<QString> labels;
   for (const auto& r : rows) labels.push_back(r.label);
   const bool percent = metric.starts_with("fraction");
-  Figure f("Paired differences in " + QString::fromStdString(metric) + " (mean, 95 % CI)", plot_width,
-           std::max(plot_height, 160 + 40 * static_cast<int>(rows.size())));
+  const double pad = 0.05 * std::max(hi - lo, 1e-9);  // keeps 0 off the border
+  lo -= pad, hi += pad;
+  Figure f("Paired differences A − B in " + QString::fromStdString(metric == "fraction_found" ? "targets found" : metric) +
+               " (mean, 95 % CI)",
+           plot_width, comparison_plot_height(rows.size()));
   f.x_axis(percent ? "difference A − B (percentage points)" : "difference A − B (" + QString::fromStdString(metric) + ")", lo, hi);
   f.y_categories(labels);
-  f.reserve_right(170);
+  f.reserve_right(200);
   QPainter& p = f.begin();
   p.setPen(QPen(Qt::black, 1.5, Qt::DashLine));
   p.drawLine(QPointF(f.at(0, 0).x(), f.plot_area().top()), QPointF(f.at(0, 0).x(), f.plot_area().bottom()));
@@ -575,7 +578,7 @@ void forest(const fs::path& csv, const fs::path& file) {
   p.setPen(Qt::black);
   p.setFont(font(15));
   for (std::size_t i = 0; i < rows.size(); ++i)
-    p.drawText(QRectF(f.plot_area().right() + 12, f.at(0, static_cast<double>(i)).y() - 11, 170, 22), Qt::AlignLeft | Qt::AlignVCenter, rows[i].note);
+    p.drawText(QRectF(f.plot_area().right() + 12, f.at(0, static_cast<double>(i)).y() - 11, 200, 22), Qt::AlignLeft | Qt::AlignVCenter, rows[i].note);
   f.save(file);
 }
 

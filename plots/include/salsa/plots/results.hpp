@@ -2,6 +2,8 @@
 // The plots of a run, drawn from its files alone (see docs/plots.md): per test into TEST/plots/, per
 // queue into OUT/plots/. PNGs of 1200 × 800 pixels, rendered offscreen with QPainter. Call from the
 // main thread only (Qt). Throws salsa::InputError (one line naming the file) on bad input.
+#include <algorithm>
+#include <cstddef>
 #include <filesystem>
 #include <utility>
 #include <vector>
@@ -9,6 +11,8 @@
 namespace salsa::plots {
 
 inline constexpr int plot_width = 1200, plot_height = 800;
+/// comparison.png grows with its rows: 1200 × max(400, 180 + 50 · rows).
+inline int comparison_plot_height(std::size_t rows) { return std::max(400, 180 + 50 * static_cast<int>(rows)); }
 
 /// Writes TEST/plots/*.png from config.json, summary.csv, drones.csv, targets.csv and map.json (each
 /// plot whose data is there).
