@@ -146,7 +146,7 @@ QPainter& Figure::begin() {
     p.drawText(QRectF(plot_.left() - 100, y - 11, 90, 22), Qt::AlignRight | Qt::AlignVCenter, tick_text(y_ticks_[i], step));
   }
   p.setFont(font(18));
-  p.drawText(QRectF(plot_.left(), image_.height() - 45, plot_.width(), 30), Qt::AlignCenter, x_label_);
+  p.drawText(QRectF(plot_.left(), std::min(image_.height() - 45.0, plot_.bottom() + 36), plot_.width(), 30), Qt::AlignCenter, x_label_);
   p.save();
   p.translate(std::max(22.0, plot_.left() - 72), plot_.center().y());
   p.rotate(-90);

@@ -291,8 +291,9 @@ void trajectories(const TestData& t, const fs::path& file) {
   f.legend(legend);
   QPainter& p = f.begin();
   draw_map(f, t.map);
-  // Paths: points closer than half a pixel to the last one drawn are skipped (millions of rows).
-  const double min_step = 0.5 / f.pixels_per_x();
+  // Paths: points within 1.5 pixels of the last one drawn are skipped (millions of rows; a line is
+  // 1.4 pixels wide, so nothing visible is lost).
+  const double min_step = 1.5 / f.pixels_per_x();
   std::size_t k = 0;
   for (const auto& [id, path] : t.paths) {
     QPolygonF line;
@@ -302,7 +303,8 @@ void trajectories(const TestData& t, const fs::path& file) {
     QColor c = palette(k++);
     c.setAlpha(170);
     p.setPen(QPen(c, 1.4));
-    p.drawPolyline(line);
+    // In short pieces: Qt fills a translucent polyline as one path, which is slow when it crosses itself.
+    for (qsizetype i = 0; i + 1 < line.size(); i += 16) p.drawPolyline(line.constData() + i, static_cast<int>(std::min<qsizetype>(17, line.size() - i)));
     p.setBrush(c);
     if (!line.empty()) p.drawEllipse(line.back(), 3, 3);
   }
@@ -371,7 +373,21 @@ void heat_map(const TestData& t, const fs::path& file) {
 
 void speeds(const TestData& t, const fs::path& file) {
   std::vector<double> time, mean, lo, hi, sd_lo, sd_hi;
-  for (const auto& s : t.speeds)
+  // At most ~1000 points across 1000 pixels: consecutive times merged (mean of the means and sds, min, max).
+  const std::size_t k = t.speeds.size() / 1000 + 1;
+  std::vector<TestData::Speeds> merged;
+  for (std::size_t i = 0; i < t.speeds.size(); i += k) {
+    TestData::Speeds m{0, 0, 0, 1e300, -1e300};
+    const std::size_t end = std::min(t.speeds.size(), i + k);
+    for (std::size_t j = i; j < end; ++j) {
+      const auto& s = t.speeds[j];
+      m.time += s.time, m.mean += s.mean, m.sd += s.sd, m.min = std::min(m.min, s.min), m.max = std::max(m.max, s.max);
+    }
+    const double n = static_cast<double>(end - i);
+    m.time /= n, m.mean /= n, m.sd /= n;
+    merged.push_back(m);
+  }
+  for (const auto& s : merged)
     time.push_back(s.time), mean.push_back(s.mean), lo.push_back(s.min), hi.push_back(s.max),
         sd_lo.push_back(std::max(s.min, s.mean - s.sd)), sd_hi.push_back(std::min(s.max, s.mean + s.sd));
   Figure f(QString::fromStdString(t.name) + ": drone speeds", plot_width, plot_height);
@@ -404,8 +420,11 @@ void draw_test_plots(const fs::path& folder) {
   if (t.has_coverage) time_chart(t, t.coverage, "area covered", "coverage (%)", std::pair{0.0, 100.0}, dir / "coverage.png");
   if (!t.paths.empty()) {
     trajectories(t, dir / "trajectories.png");
+
     heat_map(t, dir / "heatmap.png");
+
     speeds(t, dir / "speeds.png");
+
   }
 }
 
