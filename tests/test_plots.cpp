@@ -123,6 +123,11 @@ class TestPlots : public QObject {
   void coverage_column() {
     write_file(path("out/c/config.json"), R"({"name": "c"})");
     write_file(path("out/c/summary.csv"), "time,targets_found,fraction_found,mean_nn_distance,coverage\n0,0,0,,0.1\n1,1,0.5,,0.4\n");
+    // map.json (the map as a map file) gives the area and the obstacles.
+    write_file(path("out/c/map.json"), R"({"bounds": {"min": [-10, 0], "max": [40, 30]}, "obstacles": [[[0, 0], [5, 0], [5, 5]]]})");
+    const salsa::plots::Rect area = salsa::plots::test_area(path("out/c").toStdString());
+    QCOMPARE(area.x0, -10.0);
+    QCOMPARE(area.y1, 30.0);
     const CliResult r = run_salsa({"plot", path("out/c")});
     QVERIFY2(r.exit_code == 0, describe(r));
     check_png(path("out/c/plots/coverage.png"), salsa::plots::plot_width, salsa::plots::plot_height);

@@ -102,6 +102,8 @@ MapShape read_map(const fs::path& folder) {
   if (!j.is_object() || !j.contains("bounds") || !j["bounds"].is_object() || !j["bounds"].contains("min") || !j["bounds"].contains("max"))
     throw InputError(name + ": bounds: missing (a map file has {\"bounds\": {\"min\": [x, y], \"max\": [x, y]}})");
   const QPointF lo = point(j["bounds"]["min"], "bounds.min"), hi = point(j["bounds"]["max"], "bounds.max");
+  if (!(hi.x() > lo.x() && hi.y() > lo.y()))
+    throw InputError(name + ": bounds.max: " + strict_json::shown(j["bounds"]["max"]) + " must be greater than bounds.min " + strict_json::shown(j["bounds"]["min"]));
   m.bounds = Rect{lo.x(), lo.y(), hi.x(), hi.y()};
   for (auto [key, into] : {std::pair{"obstacles", &m.solid}, std::pair{"hollow", &m.hollow}, std::pair{"lines", &m.lines}}) {
     if (!j.contains(key)) continue;
