@@ -85,6 +85,18 @@ class TestPlots : public QObject {
       check_png(t + "/plots/" + png, salsa::plots::plot_width, salsa::plots::plot_height);
     QCOMPARE(QFileInfo::exists(t + "/plots/coverage.png"), read_file(t + "/summary.csv").split('\n')[0].contains("coverage"));
 
+    // found.png ends at summary.csv's last fraction_found: the line's pixels next to the right border are
+    // at that height (plot area 95 … 1170 × 70 … 715 px, y from 0 to 100 %, no legend).
+    const auto summary = csv_rows(t + "/summary.csv");
+    const double last = summary.last()[2].toDouble() * 100;
+    const QImage found(t + "/plots/found.png");
+    double sum = 0;
+    int hits = 0;
+    for (int y = 70; y <= 715; ++y)
+      if (const QColor c = found.pixelColor(1166, y); c.blue() > c.red() + 40) sum += y, ++hits;
+    QVERIFY2(hits > 0, "no line at the right end of found.png");
+    QVERIFY2(std::abs(sum / hits - (715 - last * 6.45)) < 4, qPrintable(QString::number(sum / hits) + " vs " + QString::number(last)));
+
     // The area: the map file's bounds when there is one, else around every position.
     const salsa::plots::Rect area = salsa::plots::test_area(t.toStdString());
     if (map_file) {
