@@ -108,12 +108,13 @@ void write_comparison(const fs::path& out, const std::string& metric) {
           }
         }
         const double dn = static_cast<double>(n);
+        const auto put = [&](const std::string& field) { (text += ',') += field; };
         text += csv_field(c.id);
-        for (const auto& d : c.description) text += "," + csv_field(d);
-        text += "," + csv_field(metric) + "," + csv_field(c.variants[a]) + "," + csv_field(c.variants[b]) + "," +
-                std::to_string(n) + "," + number(n ? sum_a / dn : nan) + "," + number(n ? sum_b / dn : nan) + "," +
-                number(mean) + "," + number(mean - half) + "," + number(mean + half) + "," +
-                number(n ? wins / dn : nan) + "\n";
+        for (const auto& d : c.description) put(csv_field(d));
+        for (const auto* v : {&metric, &c.variants[a], &c.variants[b]}) put(csv_field(*v));
+        put(std::to_string(n));
+        for (double v : {n ? sum_a / dn : nan, n ? sum_b / dn : nan, mean, mean - half, mean + half, n ? wins / dn : nan}) put(number(v));
+        text += '\n';
       }
   const fs::path file = out / "comparison.csv";
   std::ofstream o(file, std::ios::binary | std::ios::trunc);
