@@ -114,7 +114,7 @@ salsa::plots::Chart csv_chart(const fs::path& file, const std::string& column) {
 
 // A results folder: a test folder (config.json) or a queue folder (test folders, and summary.csv when
 // the queue wrote one). Everything is redrawn from the files alone.
-void plot_folder(const fs::path& folder) {
+void plot_folder(const fs::path& folder, const std::string& metric) {
   std::error_code ec;
   if (fs::is_regular_file(folder / "config.json", ec)) {
     salsa::plots::draw_test_plots(folder);
@@ -131,7 +131,7 @@ void plot_folder(const fs::path& folder) {
   if (tests.empty() && !queue)
     throw InputError(salsa::strict_json::printable(folder.string(), 200) +
                      ": neither a test folder (no config.json) nor a results folder (no test folders, no summary.csv)");
-  if (queue) salsa::write_comparison(folder);  // first: a bad summary.csv is refused before anything is drawn
+  if (queue) salsa::write_comparison(folder, metric);  // first: a bad summary.csv is refused before anything is drawn
   for (const auto& test : tests) salsa::plots::draw_test_plots(test);
   if (queue) salsa::plots::draw_queue_plots(folder);
   std::cout << "plots of " << tests.size() << " test" << (tests.size() == 1 ? "" : "s") << " in <test>/plots"
@@ -145,7 +145,8 @@ int cmd_plot(int argc, char** argv) {
   po::options_description o("plot options");
   o.add_options()("help,h", "show this help")("file", po::value<std::string>(), "a results folder, a test folder, a bench JSON file or a summary.csv")(
       "out,o", po::value<std::string>(), "PNG file to write (for a FILE)")(
-      "column", po::value<std::string>()->default_value("targets_found"), "summary.csv column to plot over time");
+      "column", po::value<std::string>()->default_value("targets_found"), "summary.csv column to plot over time")(
+      "metric", po::value<std::string>()->default_value("fraction_found"), "queue summary.csv column compared in comparison.csv (FOLDER)");
   po::positional_options_description pos;
   pos.add("file", 1);
   po::variables_map vm;
@@ -163,7 +164,7 @@ int cmd_plot(int argc, char** argv) {
   std::error_code ec;  // a link loop or an unreadable folder is "not a folder" here; reading it says why
   if (fs::is_directory(file, ec)) {
     if (vm.count("out")) throw InputError("--out: " + vm["out"].as<std::string>() + ": not for a folder (its plots go into FOLDER/plots)");
-    plot_folder(file);
+    plot_folder(file, vm["metric"].as<std::string>());
     return 0;
   }
   if (!vm.count("out")) throw InputError("plot: needs FILE and --out PNG (see 'salsa plot --help')");
