@@ -43,7 +43,7 @@ commands:
   plugins            list the plugins found, the folders searched and the files refused
   describe NAME      print a plugin's parameters (name, default, min, max, unit, meaning)
   bench WORKLOAD     measure speed (table1, scale)
-  plot FILE          PNG chart of a bench JSON file or a summary.csv column over time
+  plot FOLDER|FILE   redraw the plots of a results or test folder; chart a bench JSON or summary.csv
 
 'salsa <command> --help' shows the options of a command.
 )";

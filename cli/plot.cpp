@@ -3,6 +3,7 @@
 #include <boost/program_options.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -11,8 +12,10 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "salsa/core/comparison.hpp"
 #include "salsa/core/test_spec.hpp"
 #include "salsa/plots/chart.hpp"
+#include "salsa/plots/results.hpp"
 #include "strict_json.hpp"
 
 namespace po = boost::program_options;
@@ -109,26 +112,62 @@ salsa::plots::Chart csv_chart(const fs::path& file, const std::string& column) {
   return c;
 }
 
+// A results folder: a test folder (config.json) or a queue folder (test folders, and summary.csv when
+// the queue wrote one). Everything is redrawn from the files alone.
+void plot_folder(const fs::path& folder, const std::string& metric) {
+  std::error_code ec;
+  if (fs::is_regular_file(folder / "config.json", ec)) {
+    salsa::plots::draw_test_plots(folder);
+    std::cout << "plots in " << (folder / "plots").string() << "\n";
+    return;
+  }
+  std::vector<fs::path> tests;  // sorted, so the order (and any first error) is the same every time
+  for (const auto& entry : fs::directory_iterator(folder, ec))
+    if (entry.is_directory(ec) && !entry.path().filename().string().starts_with(".") &&
+        fs::is_regular_file(entry.path() / "config.json", ec))
+      tests.push_back(entry.path());
+  std::sort(tests.begin(), tests.end());
+  const bool queue = fs::is_regular_file(folder / "summary.csv", ec);
+  if (tests.empty() && !queue)
+    throw InputError(salsa::strict_json::printable(folder.string(), 200) +
+                     ": neither a test folder (no config.json) nor a results folder (no test folders, no summary.csv)");
+  if (queue) salsa::write_comparison(folder, metric);  // first: a bad summary.csv is refused before anything is drawn
+  for (const auto& test : tests) salsa::plots::draw_test_plots(test);
+  if (queue) salsa::plots::draw_queue_plots(folder);
+  std::cout << "plots of " << tests.size() << " test" << (tests.size() == 1 ? "" : "s") << " in <test>/plots"
+            << (queue ? ", queue plots in " + (folder / "plots").string() + ", comparison in " + (folder / "comparison.csv").string() : "")
+            << "\n";
+}
+
 }  // namespace
 
 int cmd_plot(int argc, char** argv) {
   po::options_description o("plot options");
-  o.add_options()("help,h", "show this help")("file", po::value<std::string>(), "a bench JSON file or a summary.csv")(
-      "out,o", po::value<std::string>(), "PNG file to write")(
-      "column", po::value<std::string>()->default_value("targets_found"), "summary.csv column to plot over time");
+  o.add_options()("help,h", "show this help")("file", po::value<std::string>(), "a results folder, a test folder, a bench JSON file or a summary.csv")(
+      "out,o", po::value<std::string>(), "PNG file to write (for a FILE)")(
+      "column", po::value<std::string>()->default_value("targets_found"), "summary.csv column to plot over time")(
+      "metric", po::value<std::string>()->default_value("fraction_found"), "queue summary.csv column compared in comparison.csv (FOLDER)");
   po::positional_options_description pos;
   pos.add("file", 1);
   po::variables_map vm;
   po::store(po::command_line_parser(argc, argv).options(o).positional(pos).run(), vm);
   po::notify(vm);
   if (vm.count("help")) {
-    std::cout << "usage: salsa plot FILE --out PNG [options]\n\n" << o;
+    std::cout << "usage: salsa plot FOLDER          redraw the plots of a results folder (every test's, the queue's,\n"
+                 "                                  comparison.csv) or of one test folder, from their files alone\n"
+                 "       salsa plot FILE --out PNG  chart a bench JSON file or a summary.csv column\n\n"
+              << o;
     return 0;
   }
-  if (!vm.count("file") || !vm.count("out")) throw InputError("plot: needs FILE and --out PNG (see 'salsa plot --help')");
+  if (!vm.count("file")) throw InputError("plot: needs a FOLDER, or a FILE and --out PNG (see 'salsa plot --help')");
   const fs::path file = vm["file"].as<std::string>();
   std::error_code ec;  // a link loop or an unreadable folder is "not a folder" here; reading it says why
-  if (fs::is_directory(file, ec)) throw InputError(file.string() + ": is a folder (allowed: a bench JSON file or a summary.csv)");
+  if (fs::is_directory(file, ec)) {
+    if (vm.count("out")) throw InputError("--out: " + vm["out"].as<std::string>() + ": not for a folder (its plots go into FOLDER/plots)");
+    plot_folder(file, vm["metric"].as<std::string>());
+    return 0;
+  }
+  if (!vm.count("out")) throw InputError("plot: needs FILE and --out PNG (see 'salsa plot --help')");
   // The PNG goes to a file in an existing folder; say so before drawing anything.
   const fs::path png = vm["out"].as<std::string>();
   const fs::path png_folder = png.parent_path().empty() ? fs::path(".") : png.parent_path();

@@ -9,33 +9,17 @@
 #include <QtCharts/QLogValueAxis>
 #include <QtCharts/QValueAxis>
 
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <string>
-#include <cstdlib>
 #include <memory>
 #include <stdexcept>
+
+#include "figure.hpp"
+#include "salsa/plots/results.hpp"
 
 namespace salsa::plots {
 
 namespace {
-
-// Charts are QGraphicsWidgets and need a QApplication; a headless program gets an offscreen one.
-void ensure_application() {
-  if (QCoreApplication::instance()) return;
-  if (!std::getenv("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
-  if (!std::getenv("XDG_RUNTIME_DIR")) {  // Qt warns on stderr without one
-    const std::string dir = "/tmp/salsa-runtime-" + std::to_string(::getuid());
-    ::mkdir(dir.c_str(), 0700);
-    qputenv("XDG_RUNTIME_DIR", dir.c_str());
-  }
-  static int argc = 1;
-  static char name[] = "salsa";
-  static char* argv[] = {name, nullptr};
-  static QApplication app(argc, argv);
-}
 
 QAbstractAxis* make_axis(bool log, const std::string& title, double lo, double hi) {
   QAbstractAxis* axis;
@@ -46,8 +30,11 @@ QAbstractAxis* make_axis(bool log, const std::string& title, double lo, double h
     a->setRange(lo, hi);
     axis = a;
   } else {
+    // Round ticks from the range's ends: Qt's own split the raw range into equal parts (37.275).
+    const std::vector<double> ticks = nice_ticks(lo, hi);
     auto* a = new QValueAxis;
-    a->setRange(lo, hi);
+    a->setRange(ticks.front(), ticks.back());
+    a->setTickCount(static_cast<int>(ticks.size()));
     a->setLabelFormat("%g");
     axis = a;
   }
@@ -69,7 +56,7 @@ void save_png(const Chart& chart, const std::filesystem::path& file, int width, 
   if (x0 == x1) x0 -= 0.5, x1 += 0.5;
   if (y0 == y1) y0 -= 0.5, y1 += 0.5;
   if (chart.log_y) y0 /= 2, y1 *= 2;
-  else y0 = std::min(0.0, y0), y1 += (y1 - y0) * 0.05;
+  else y0 = std::min(0.0, y0);
 
   QGraphicsScene scene;
   auto* c = new QChart;  // owned by the scene

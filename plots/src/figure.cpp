@@ -1,0 +1,196 @@
+#include "figure.hpp"
+
+#include <QApplication>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+#include "salsa/plots/results.hpp"
+
+namespace salsa::plots {
+
+void ensure_application() {
+  if (QCoreApplication::instance()) return;
+  if (!std::getenv("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
+  if (!std::getenv("XDG_RUNTIME_DIR")) {  // Qt warns on stderr without one
+    const std::string dir = "/tmp/salsa-runtime-" + std::to_string(::getuid());
+    ::mkdir(dir.c_str(), 0700);
+    qputenv("XDG_RUNTIME_DIR", dir.c_str());
+  }
+  static int argc = 1;
+  static char name[] = "salsa";
+  static char* argv[] = {name, nullptr};
+  static QApplication app(argc, argv);
+}
+
+QColor palette(std::size_t i) {
+  static const QColor colours[] = {0x4E79A7, 0xF28E2B, 0xE15759, 0x76B7B2, 0x59A14F,
+                                   0xEDC948, 0xB07AA1, 0xFF9DA7, 0x9C755F, 0xBAB0AC};
+  return colours[i % std::size(colours)];
+}
+
+QFont font(int pixels, bool bold) {
+  QFont f("DejaVu Sans");
+  f.setPixelSize(pixels);
+  f.setBold(bold);
+  return f;
+}
+
+QString tick_text(double value, double step) {
+  int decimals = 0;
+  while (decimals < 6 && std::abs(step * std::pow(10, decimals) - std::round(step * std::pow(10, decimals))) > 1e-6) ++decimals;
+  if (std::abs(value) < step * 1e-9) value = 0;  // no "-0"
+  return QString::number(value, 'f', decimals);
+}
+
+std::vector<double> nice_ticks(double lo, double hi, int max_ticks) {
+  if (!(hi > lo)) lo -= 0.5, hi += 0.5;
+  const double raw = (hi - lo) / std::max(1, max_ticks - 1);
+  const double magnitude = std::pow(10, std::floor(std::log10(raw)));
+  double step = 10 * magnitude;
+  for (double m : {1.0, 2.0, 5.0})
+    if (m * magnitude >= raw * (1 - 1e-9)) {
+      step = m * magnitude;
+      break;
+    }
+  const double first = std::floor(lo / step + 1e-9), last = std::ceil(hi / step - 1e-9);
+  std::vector<double> ticks;
+  for (double k = first; k <= last; ++k) ticks.push_back(k * step);
+  return ticks;
+}
+
+Figure::Figure(const QString& title, int width, int height) : image_(width, height, QImage::Format_RGB32), title_(title) {
+  ensure_application();
+  image_.fill(Qt::white);
+}
+
+void Figure::x_axis(const QString& label, double lo, double hi) {
+  x_label_ = label;
+  x_ticks_ = nice_ticks(lo, hi);
+  x_lo_ = x_ticks_.front(), x_hi_ = x_ticks_.back();
+}
+
+void Figure::y_axis(const QString& label, double lo, double hi) {
+  y_label_ = label;
+  y_ticks_ = nice_ticks(lo, hi);
+  y_lo_ = y_ticks_.front(), y_hi_ = y_ticks_.back();
+}
+
+void Figure::x_categories(const QString& label, const std::vector<QString>& names) {
+  x_label_ = label;
+  x_names_ = names;
+  x_lo_ = -0.5, x_hi_ = static_cast<double>(names.size()) - 0.5;
+}
+
+void Figure::y_categories(const std::vector<QString>& names) {
+  y_names_ = names;
+  y_lo_ = static_cast<double>(names.size()) - 0.5, y_hi_ = -0.5;  // the first name at the top
+}
+
+QPainter& Figure::begin() {
+  painter_.begin(&image_);
+  painter_.setRenderHint(QPainter::Antialiasing);
+  const QFontMetrics tick_metrics(font(15)), legend_metrics(font(15));
+
+  // ---- Layout: title on top, axis labels and tick labels outside the plot, legend on the right.
+  double left = 95;
+  for (const QString& name : y_names_) left = std::max(left, 30.0 + tick_metrics.horizontalAdvance(name));
+  double legend_width = 0;
+  for (const auto& e : legend_) legend_width = std::max(legend_width, 50.0 + legend_metrics.horizontalAdvance(e.text));
+  const double right = 30 + (legend_width > 0 ? legend_width + 10 : 0) + extra_right_;
+  legend_x_ = image_.width() - 30 - extra_right_ - legend_width;
+  plot_ = QRectF(left, 70, image_.width() - left - right, image_.height() - 70 - 85);
+  if (equal_) {  // one metre is as many pixels across as up; centre the smaller side
+    const double scale = std::min(plot_.width() / (x_hi_ - x_lo_), plot_.height() / (y_hi_ - y_lo_));
+    const double w = scale * (x_hi_ - x_lo_), h = scale * (y_hi_ - y_lo_);
+    plot_ = QRectF(plot_.left() + (plot_.width() - w) / 2, plot_.top() + (plot_.height() - h) / 2, w, h);
+  }
+
+  // ---- Title, grid, ticks, labels.
+  QPainter& p = painter_;
+  p.setPen(Qt::black);
+  p.setFont(font(24, true));
+  p.drawText(QRectF(0, 12, image_.width(), 40), Qt::AlignCenter, title_);
+  p.setFont(font(15));
+  const QPen grid(QColor(225, 225, 225), 1);
+  for (std::size_t i = 0; i < y_names_.size(); ++i) {
+    const double y = at(x_lo_, static_cast<double>(i)).y();
+    if (i % 2 == 0) p.fillRect(QRectF(plot_.left(), y - (plot_.height() / static_cast<double>(y_names_.size())) / 2, plot_.width(), plot_.height() / static_cast<double>(y_names_.size())), QColor(246, 246, 246));
+    p.drawText(QRectF(10, y - 11, plot_.left() - 20, 22), Qt::AlignRight | Qt::AlignVCenter, y_names_[i]);
+  }
+  for (std::size_t i = 0; i < x_ticks_.size(); ++i) {
+    const double x = at(x_ticks_[i], y_lo_).x();
+    p.setPen(grid);
+    p.drawLine(QPointF(x, plot_.top()), QPointF(x, plot_.bottom()));
+    p.setPen(Qt::black);
+    p.drawLine(QPointF(x, plot_.bottom()), QPointF(x, plot_.bottom() + 6));
+    const double step = x_ticks_.size() > 1 ? x_ticks_[1] - x_ticks_[0] : 1;
+    p.drawText(QRectF(x - 60, plot_.bottom() + 8, 120, 22), Qt::AlignHCenter | Qt::AlignTop, tick_text(x_ticks_[i], step));
+  }
+  for (std::size_t i = 0; i < x_names_.size(); ++i) {
+    const double x = at(static_cast<double>(i), y_lo_).x();
+    p.drawText(QRectF(x - 150, plot_.bottom() + 8, 300, 22), Qt::AlignHCenter | Qt::AlignTop, x_names_[i]);
+  }
+  for (std::size_t i = 0; i < y_ticks_.size(); ++i) {
+    const double y = at(x_lo_, y_ticks_[i]).y();
+    p.setPen(grid);
+    p.drawLine(QPointF(plot_.left(), y), QPointF(plot_.right(), y));
+    p.setPen(Qt::black);
+    p.drawLine(QPointF(plot_.left() - 6, y), QPointF(plot_.left(), y));
+    const double step = y_ticks_.size() > 1 ? y_ticks_[1] - y_ticks_[0] : 1;
+    p.drawText(QRectF(plot_.left() - 100, y - 11, 90, 22), Qt::AlignRight | Qt::AlignVCenter, tick_text(y_ticks_[i], step));
+  }
+  p.setFont(font(18));
+  p.drawText(QRectF(plot_.left(), std::min(image_.height() - 45.0, plot_.bottom() + 36), plot_.width(), 30), Qt::AlignCenter, x_label_);
+  p.save();
+  p.translate(std::max(22.0, plot_.left() - 72), plot_.center().y());
+  p.rotate(-90);
+  p.drawText(QRectF(-plot_.height() / 2 - 100, -12, plot_.height() + 200, 30), Qt::AlignCenter, y_label_);
+  p.restore();
+  p.setClipRect(plot_);
+  return p;
+}
+
+QPointF Figure::at(double x, double y) const {
+  return {plot_.left() + (x - x_lo_) / (x_hi_ - x_lo_) * plot_.width(),
+          plot_.bottom() - (y - y_lo_) / (y_hi_ - y_lo_) * plot_.height()};
+}
+
+void Figure::save(const std::filesystem::path& file) {
+  QPainter& p = painter_;
+  p.setClipping(false);
+  p.setBrush(Qt::NoBrush);
+  p.setPen(QPen(Qt::black, 1));
+  p.drawRect(plot_);
+  // ---- Legend: one row per entry, a symbol then the text.
+  p.setFont(font(15));
+  double y = plot_.top() + 4;
+  const double x = legend_x_;
+  for (const auto& e : legend_) {
+    const QRectF symbol(x, y + 4, 34, 16);
+    p.setPen(Qt::NoPen);
+    p.setBrush(Qt::NoBrush);
+    switch (e.kind) {
+      case LegendEntry::line: p.setPen(QPen(e.colour, 3)); p.drawLine(QPointF(symbol.left(), symbol.center().y()), QPointF(symbol.right(), symbol.center().y())); break;
+      case LegendEntry::band: p.fillRect(symbol, e.colour); break;
+      case LegendEntry::dot: p.setBrush(e.colour); p.drawEllipse(symbol.center(), 6, 6); break;
+      case LegendEntry::ring: p.setPen(QPen(e.colour, 2)); p.drawEllipse(symbol.center(), 6, 6); break;
+      case LegendEntry::box: p.setPen(QPen(e.colour.darker(160), 1.5)); p.setBrush(e.colour); p.drawRect(symbol.adjusted(6, 0, -6, 0)); break;
+      case LegendEntry::square: p.setPen(QPen(e.colour.darker(140), 1)); p.setBrush(e.colour); p.drawRect(symbol.adjusted(9, 0, -9, 0)); break;
+      case LegendEntry::note: break;
+    }
+    p.setPen(Qt::black);
+    p.drawText(QRectF(x + 42, y, 1000, 24), Qt::AlignLeft | Qt::AlignVCenter, e.text);
+    y += 28;
+  }
+  p.end();
+  if (!image_.save(QString::fromStdString(file.string()), "PNG"))
+    throw std::runtime_error(file.string() + ": cannot write PNG");
+}
+
+}  // namespace salsa::plots

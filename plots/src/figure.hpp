@@ -1,0 +1,69 @@
+#pragma once
+// A plot frame drawn with QPainter: title, axes with round ticks and grid, axis labels, a legend in a
+// column on the right. The data is drawn between begin() and save() in data coordinates through at().
+#include <QColor>
+#include <QFont>
+#include <QImage>
+#include <QPainter>
+#include <QString>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace salsa::plots {
+
+/// Makes the offscreen QApplication a headless program needs for charts and fonts.
+void ensure_application();
+
+/// Colours of series, by index (Tableau 10: distinguishable, and in grey scale too).
+QColor palette(std::size_t i);
+QFont font(int pixels, bool bold = false);
+/// A tick value as text with as many decimals as the step needs.
+QString tick_text(double value, double step);
+
+struct LegendEntry {
+  enum Kind { line, band, dot, ring, box, square, note } kind;  // note: text only
+  QColor colour;
+  QString text;
+};
+
+class Figure {
+ public:
+  explicit Figure(const QString& title, int width, int height);
+
+  /// A numeric axis over round ticks covering [lo, hi].
+  void x_axis(const QString& label, double lo, double hi);
+  void y_axis(const QString& label, double lo, double hi);
+  /// Named positions 0 … n-1 (x: below the axis; y: top to bottom, names on the left).
+  void x_categories(const QString& label, const std::vector<QString>& names);
+  void y_categories(const std::vector<QString>& names);
+  void legend(std::vector<LegendEntry> entries) { legend_ = std::move(entries); }
+  void equal_aspect() { equal_ = true; }
+  void reserve_right(int pixels) { extra_right_ = pixels; }
+
+  /// Lays the frame out and draws the background, grid and axes; data drawn next is clipped to the
+  /// plot area.
+  QPainter& begin();
+  QPointF at(double x, double y) const;
+  double pixels_per_x() const { return plot_.width() / (x_hi_ - x_lo_); }
+  QRectF plot_area() const { return plot_; }
+  QPainter& painter() { return painter_; }
+  /// Draws the border and legend and writes the PNG. Throws std::runtime_error naming the file.
+  void save(const std::filesystem::path& file);
+
+ private:
+  QImage image_;
+  QPainter painter_;
+  QString title_, x_label_, y_label_;
+  std::vector<double> x_ticks_, y_ticks_;
+  std::vector<QString> x_names_, y_names_;
+  double x_lo_ = 0, x_hi_ = 1, y_lo_ = 0, y_hi_ = 1;
+  bool equal_ = false;
+  int extra_right_ = 0;
+  std::vector<LegendEntry> legend_;
+  QRectF plot_;
+  double legend_x_ = 0;
+};
+
+}  // namespace salsa::plots

@@ -1,0 +1,626 @@
+#include "salsa/plots/results.hpp"
+
+#include <QPainterPath>
+#include <QPolygonF>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <optional>
+
+#include "figure.hpp"
+#include "salsa/core/comparison.hpp"
+#include "salsa/core/csv_reader.hpp"
+#include "salsa/core/test_spec.hpp"
+#include "strict_json.hpp"
+
+namespace salsa::plots {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using Points = std::vector<std::pair<double, double>>;
+
+int HeatGrid::index_of(double x, double y) const {
+  const double cx = std::floor((x - area.x0) / cell), cy = std::floor((y - area.y0) / cell);
+  if (!(cx >= 0 && cx < columns && cy >= 0 && cy < rows)) return -1;
+  return static_cast<int>(cy) * columns + static_cast<int>(cx);
+}
+
+HeatGrid bin_positions(const Points& positions, const Rect& area, int columns) {
+  HeatGrid g;
+  g.area = area;
+  g.columns = std::max(1, columns);
+  g.cell = (area.x1 - area.x0) / g.columns;
+  g.rows = std::max(1, static_cast<int>(std::ceil((area.y1 - area.y0) / g.cell - 1e-9)));
+  g.values.assign(static_cast<std::size_t>(g.columns * g.rows), 0.0);
+  for (auto [x, y] : positions)
+    if (const int i = g.index_of(x, y); i >= 0 && y <= area.y1) ++g.values[static_cast<std::size_t>(i)];
+  const double top = *std::max_element(g.values.begin(), g.values.end());
+  if (top > 0)
+    for (double& v : g.values) v = v * 100 / top;
+  return g;
+}
+
+BoxStats box_stats(std::vector<double> v) {
+  BoxStats s;
+  if (v.empty()) return s;
+  std::sort(v.begin(), v.end());
+  auto quantile = [&](double q) {  // linear interpolation between order statistics
+    const double at = q * static_cast<double>(v.size() - 1);
+    const auto i = static_cast<std::size_t>(std::floor(at));
+    return i + 1 < v.size() ? v[i] + (at - static_cast<double>(i)) * (v[i + 1] - v[i]) : v[i];
+  };
+  s.q1 = quantile(0.25), s.median = quantile(0.5), s.q3 = quantile(0.75);
+  const double reach = 1.5 * (s.q3 - s.q1);
+  s.low = s.q1, s.high = s.q3;
+  for (double x : v) {
+    if (x < s.q1 - reach || x > s.q3 + reach) s.outliers.push_back(x);
+    else s.low = std::min(s.low, x), s.high = std::max(s.high, x);
+  }
+  return s;
+}
+
+namespace {
+
+std::string name_of(const fs::path& p) { return strict_json::printable(p.string(), 200); }
+
+json read_json(const fs::path& file, const char* what) {
+  try {
+    return strict_json::read_file<json>(file, what);
+  } catch (const strict_json::Error& e) {
+    throw InputError(e.what());
+  }
+}
+
+// ---- The map: bounds and geometry from map.json (written by the runner) or the json map's file.
+struct MapShape {
+  std::optional<Rect> bounds;
+  std::vector<QPolygonF> solid, hollow, lines;
+};
+
+MapShape read_map(const fs::path& folder) {
+  MapShape m;
+  fs::path file = folder / "map.json";
+  std::error_code ec;
+  if (!fs::exists(file, ec)) {
+    const json config = read_json(folder / "config.json", "a resolved test (config.json)");
+    if (!config.contains("map") || !config["map"].is_object() || !config["map"].contains("file") || !config["map"]["file"].is_string())
+      return m;  // a generated map: its geometry is not in the folder
+    file = config["map"]["file"].get<std::string>();
+    if (!fs::exists(file, ec)) return m;
+  }
+  const json j = read_json(file, "a map file (see docs/maps.md)");
+  const std::string name = name_of(file);
+  auto point = [&](const json& p, const std::string& at) {
+    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
+      throw InputError(name + ": " + at + ": " + strict_json::shown(p) + " is not a point [x, y]");
+    return QPointF(p[0].get<double>(), p[1].get<double>());
+  };
+  if (!j.is_object() || !j.contains("bounds") || !j["bounds"].is_object() || !j["bounds"].contains("min") || !j["bounds"].contains("max"))
+    throw InputError(name + ": bounds: missing (a map file has {\"bounds\": {\"min\": [x, y], \"max\": [x, y]}})");
+  const QPointF lo = point(j["bounds"]["min"], "bounds.min"), hi = point(j["bounds"]["max"], "bounds.max");
+  if (!(hi.x() > lo.x() && hi.y() > lo.y()))
+    throw InputError(name + ": bounds.max: " + strict_json::shown(j["bounds"]["max"]) + " must be greater than bounds.min " + strict_json::shown(j["bounds"]["min"]));
+  m.bounds = Rect{lo.x(), lo.y(), hi.x(), hi.y()};
+  for (auto [key, into] : {std::pair{"obstacles", &m.solid}, std::pair{"hollow", &m.hollow}, std::pair{"lines", &m.lines}}) {
+    if (!j.contains(key)) continue;
+    if (!j[key].is_array()) throw InputError(name + ": " + key + ": " + strict_json::shown(j[key]) + " is not a list of point lists");
+    for (std::size_t i = 0; i < j[key].size(); ++i) {
+      const json& shape = j[key][i];
+      const std::string at = std::string(key) + "[" + std::to_string(i) + "]";
+      if (!shape.is_array()) throw InputError(name + ": " + at + ": " + strict_json::shown(shape) + " is not a list of points");
+      QPolygonF poly;
+      for (std::size_t k = 0; k < shape.size(); ++k) poly << point(shape[k], at + "[" + std::to_string(k) + "]");
+      into->push_back(poly);
+    }
+  }
+  return m;
+}
+
+// ---- One test's files, each read once.
+struct TestData {
+  std::string name;
+  MapShape map;
+  Rect area;
+  std::vector<double> time, found, nn, coverage;  // summary.csv; nn: NaN when empty
+  bool has_coverage = false;
+  std::map<long, Points> paths;                    // drones.csv, by drone id
+  struct Speeds { double time, mean, sd, min, max; };
+  std::vector<Speeds> speeds;
+  Points targets_found, targets_missed;            // targets.csv
+};
+
+void read_summary(TestData& t, const fs::path& file) {
+  CsvReader in(file);
+  const std::size_t c_time = in.column("time"), c_found = in.column("fraction_found");
+  const auto c_nn = in.find("mean_nn_distance"), c_coverage = in.find("coverage");
+  t.has_coverage = c_coverage.has_value();
+  const double nan = std::nan("");
+  while (in.next()) {
+    t.time.push_back(in.number(c_time));
+    t.found.push_back(in.number(c_found) * 100);
+    t.nn.push_back(c_nn ? in.optional_number(*c_nn).value_or(nan) : nan);
+    if (c_coverage) t.coverage.push_back(in.optional_number(*c_coverage).value_or(nan) * 100);
+  }
+}
+
+// drones.csv is written time by time: speeds are summed per time as the rows stream past.
+void read_drones(TestData& t, const fs::path& file) {
+  CsvReader in(file);
+  const std::size_t c_time = in.column("time"), c_id = in.column("id"), c_x = in.column("x"), c_y = in.column("y"),
+                    c_vx = in.column("vx"), c_vy = in.column("vy");
+  double now = std::nan(""), n = 0, sum = 0, sum2 = 0, lo = 0, hi = 0;
+  auto flush = [&] {
+    if (n == 0) return;
+    const double mean = sum / n;
+    t.speeds.push_back({now, mean, n > 1 ? std::sqrt(std::max(0.0, (sum2 - n * mean * mean) / (n - 1))) : 0.0, lo, hi});
+  };
+  while (in.next()) {
+    const double time = in.number(c_time);
+    if (time != now) {
+      flush();
+      now = time, n = sum = sum2 = 0, lo = 1e300, hi = -1e300;
+    }
+    const double speed = std::hypot(in.number(c_vx), in.number(c_vy));
+    ++n, sum += speed, sum2 += speed * speed, lo = std::min(lo, speed), hi = std::max(hi, speed);
+    t.paths[static_cast<long>(in.number(c_id))].emplace_back(in.number(c_x), in.number(c_y));
+  }
+  flush();
+}
+
+void read_targets(TestData& t, const fs::path& file) {
+  CsvReader in(file);
+  const std::size_t c_x = in.column("x"), c_y = in.column("y"), c_found = in.column("found_time");
+  while (in.next()) (in[c_found].empty() ? t.targets_missed : t.targets_found).emplace_back(in.number(c_x), in.number(c_y));
+}
+
+bool is_file(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_regular_file(p, ec);
+}
+
+Rect data_extent(const TestData& t) {
+  Rect r{1e300, 1e300, -1e300, -1e300};
+  auto add = [&](const Points& ps) {
+    for (auto [x, y] : ps) r.x0 = std::min(r.x0, x), r.y0 = std::min(r.y0, y), r.x1 = std::max(r.x1, x), r.y1 = std::max(r.y1, y);
+  };
+  for (const auto& [id, path] : t.paths) add(path);
+  add(t.targets_found), add(t.targets_missed);
+  if (r.x0 > r.x1) return Rect{};
+  const double pad = 0.02 * std::max({r.x1 - r.x0, r.y1 - r.y0, 1.0});
+  return Rect{r.x0 - pad, r.y0 - pad, r.x1 + pad, r.y1 + pad};
+}
+
+TestData read_test(const fs::path& folder, bool with_drones) {
+  TestData t;
+  t.name = folder.filename().string();
+  if (t.name.empty()) t.name = folder.parent_path().filename().string();
+  if (!is_file(folder / "config.json"))
+    throw InputError(name_of(folder) + ": no config.json (allowed: a test folder written by 'salsa run')");
+  t.map = read_map(folder);
+  read_summary(t, folder / "summary.csv");
+  if (with_drones && is_file(folder / "drones.csv")) read_drones(t, folder / "drones.csv");
+  if (is_file(folder / "targets.csv")) read_targets(t, folder / "targets.csv");
+  t.area = t.map.bounds ? *t.map.bounds : data_extent(t);
+  return t;
+}
+
+// ---- Drawing helpers.
+void draw_line(Figure& f, const std::vector<double>& x, const std::vector<double>& y, const QColor& colour, double width = 2.5) {
+  QPainterPath path;
+  bool pen_down = false;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (std::isnan(y[i])) {
+      pen_down = false;
+      continue;
+    }
+    pen_down ? path.lineTo(f.at(x[i], y[i])) : path.moveTo(f.at(x[i], y[i]));
+    pen_down = true;
+  }
+  f.painter().setBrush(Qt::NoBrush);
+  f.painter().setPen(QPen(colour, width, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
+  f.painter().drawPath(path);
+}
+
+void draw_band(Figure& f, const std::vector<double>& x, const std::vector<double>& lo, const std::vector<double>& hi, QColor colour) {
+  QPolygonF band;
+  for (std::size_t i = 0; i < x.size(); ++i) band << f.at(x[i], lo[i]);
+  for (std::size_t i = x.size(); i-- > 0;) band << f.at(x[i], hi[i]);
+  f.painter().setPen(Qt::NoPen);
+  f.painter().setBrush(colour);
+  f.painter().drawPolygon(band);
+}
+
+std::pair<double, double> range_of(const std::vector<double>& v) {
+  double lo = 1e300, hi = -1e300;
+  for (double x : v)
+    if (!std::isnan(x)) lo = std::min(lo, x), hi = std::max(hi, x);
+  return lo > hi ? std::pair{0.0, 1.0} : std::pair{lo, hi};
+}
+
+// A value over time as one line.
+void time_chart(const TestData& t, const std::vector<double>& y, const QString& title, const QString& y_label,
+                std::optional<std::pair<double, double>> y_range, const fs::path& file) {
+  Figure f(QString::fromStdString(t.name) + ": " + title, plot_width, plot_height);
+  const auto [t0, t1] = range_of(t.time);
+  f.x_axis("simulated time (s)", t0, t1);
+  const auto [lo, hi] = y_range ? *y_range : range_of(y);
+  f.y_axis(y_label, std::min(0.0, lo), hi);
+  f.begin();
+  draw_line(f, t.time, y, palette(0));
+  f.save(file);
+}
+
+void draw_map(Figure& f, const MapShape& m) {
+  QPainter& p = f.painter();
+  auto mapped = [&](const QPolygonF& poly) {
+    QPolygonF out;
+    for (const QPointF& q : poly) out << f.at(q.x(), q.y());
+    return out;
+  };
+  p.setPen(QPen(QColor(90, 90, 90), 1.2));
+  p.setBrush(QColor(150, 150, 150, 200));
+  for (const auto& poly : m.solid) p.drawPolygon(mapped(poly));
+  p.setBrush(Qt::NoBrush);
+  p.setPen(QPen(QColor(90, 90, 90), 2.5));
+  for (const auto& poly : m.hollow) p.drawPolygon(mapped(poly));
+  for (const auto& line : m.lines) p.drawPolyline(mapped(line));
+  if (m.bounds) {
+    p.setPen(QPen(Qt::black, 3));
+    p.drawRect(QRectF(f.at(m.bounds->x0, m.bounds->y1), f.at(m.bounds->x1, m.bounds->y0)));
+  }
+}
+
+std::vector<LegendEntry> map_legend(const MapShape& m) {
+  std::vector<LegendEntry> e;
+  if (!m.solid.empty()) e.push_back({LegendEntry::square, QColor(150, 150, 150), "obstacle"});
+  if (!m.bounds) e.push_back({LegendEntry::note, Qt::black, "(map geometry not in the folder)"});
+  return e;
+}
+
+void trajectories(const TestData& t, const fs::path& file) {
+  Figure f(QString::fromStdString(t.name) + ": drone trajectories", plot_width, plot_height);
+  f.x_axis("x (m)", t.area.x0, t.area.x1);
+  f.y_axis("y (m)", t.area.y0, t.area.y1);
+  f.equal_aspect();
+  auto legend = map_legend(t.map);
+  legend.push_back({LegendEntry::line, palette(0), "drone paths (" + QString::number(t.paths.size()) + ", one colour each)"});
+  legend.push_back({LegendEntry::dot, QColor(30, 160, 60), "target found (" + QString::number(t.targets_found.size()) + ")"});
+  legend.push_back({LegendEntry::ring, QColor(210, 40, 40), "target not found (" + QString::number(t.targets_missed.size()) + ")"});
+  f.legend(legend);
+  QPainter& p = f.begin();
+  draw_map(f, t.map);
+  // Paths: points within 1.5 pixels of the last one drawn are skipped (millions of rows; a line is
+  // 1.4 pixels wide, so nothing visible is lost).
+  const double min_step = 1.5 / f.pixels_per_x();
+  std::size_t k = 0;
+  for (const auto& [id, path] : t.paths) {
+    QPolygonF line;
+    double lx = 1e300, ly = 1e300;
+    for (auto [x, y] : path)
+      if (std::abs(x - lx) + std::abs(y - ly) >= min_step) line << f.at(x, y), lx = x, ly = y;
+    QColor c = palette(k++);
+    c.setAlpha(170);
+    p.setPen(QPen(c, 1.4));
+    // In short pieces: Qt fills a translucent polyline as one path, which is slow when it crosses itself.
+    for (qsizetype i = 0; i + 1 < line.size(); i += 16) p.drawPolyline(line.constData() + i, static_cast<int>(std::min<qsizetype>(17, line.size() - i)));
+    p.setBrush(c);
+    if (!line.empty()) p.drawEllipse(line.back(), 3, 3);
+  }
+  p.setPen(QPen(QColor(210, 40, 40), 1.8));
+  p.setBrush(Qt::NoBrush);
+  for (auto [x, y] : t.targets_missed) p.drawEllipse(f.at(x, y), 4.5, 4.5);
+  p.setPen(QPen(QColor(20, 110, 40), 1));
+  p.setBrush(QColor(30, 160, 60));
+  for (auto [x, y] : t.targets_found) p.drawEllipse(f.at(x, y), 4.5, 4.5);
+  f.save(file);
+}
+
+// White (never visited) through yellow and orange to dark red (most visited).
+QColor heat_colour(double v) {
+  static const QColor stops[] = {QColor(255, 255, 255), QColor(255, 237, 160), QColor(254, 178, 76),
+                                 QColor(240, 59, 32), QColor(128, 0, 38)};
+  const double at = std::clamp(v, 0.0, 100.0) / 100 * 4;
+  const int i = std::min(3, static_cast<int>(at));
+  const double w = at - i;
+  const QColor &a = stops[i], &b = stops[i + 1];
+  return QColor::fromRgbF(static_cast<float>(a.redF() + w * (b.redF() - a.redF())), static_cast<float>(a.greenF() + w * (b.greenF() - a.greenF())),
+                          static_cast<float>(a.blueF() + w * (b.blueF() - a.blueF())));
+}
+
+constexpr int heat_columns = 60;
+
+void heat_map(const TestData& t, const fs::path& file) {
+  Points all;
+  for (const auto& [id, path] : t.paths) all.insert(all.end(), path.begin(), path.end());
+  const HeatGrid g = bin_positions(all, t.area, heat_columns);
+  Figure f(QString::fromStdString(t.name) + ": where the drones were", plot_width, plot_height);
+  f.x_axis("x (m)", t.area.x0, t.area.x1);
+  f.y_axis("y (m)", t.area.y0, t.area.y0 + g.rows * g.cell);
+  f.equal_aspect();
+  f.reserve_right(110);
+  QPainter& p = f.begin();
+  for (int r = 0; r < g.rows; ++r)
+    for (int c = 0; c < g.columns; ++c) {
+      const double x = t.area.x0 + c * g.cell, y = t.area.y0 + r * g.cell;
+      p.fillRect(QRectF(f.at(x, y + g.cell), f.at(x + g.cell, y)).adjusted(0, 0, 0.6, 0.6), heat_colour(g.values[static_cast<std::size_t>(r * g.columns + c)]));
+    }
+  MapShape outline = t.map;
+  draw_map(f, outline);
+  // Colour scale on the right: 0 … 100 % of the busiest cell.
+  p.setClipping(false);
+  const QRectF area = f.plot_area();
+  const QRectF bar(plot_width - 30 - 110 + 20, area.top() + 20, 26, std::min(area.height() - 40, 500.0));
+  for (int i = 0; i < static_cast<int>(bar.height()); ++i)
+    p.fillRect(QRectF(bar.left(), bar.bottom() - i - 1, bar.width(), 1), heat_colour(100.0 * i / (bar.height() - 1)));
+  p.setPen(Qt::black);
+  p.setBrush(Qt::NoBrush);
+  p.drawRect(bar);
+  p.setFont(font(15));
+  for (int v = 0; v <= 100; v += 20) {
+    const double y = bar.bottom() - v / 100.0 * bar.height();
+    p.drawLine(QPointF(bar.right(), y), QPointF(bar.right() + 5, y));
+    p.drawText(QRectF(bar.right() + 8, y - 10, 50, 20), Qt::AlignLeft | Qt::AlignVCenter, QString::number(v));
+  }
+  p.save();
+  p.translate(bar.right() + 60, bar.center().y());
+  p.rotate(-90);
+  p.drawText(QRectF(-200, -12, 400, 24), Qt::AlignCenter, "positions (% of busiest cell)");
+  p.restore();
+  f.save(file);
+}
+
+void speeds(const TestData& t, const fs::path& file) {
+  std::vector<double> time, mean, lo, hi, sd_lo, sd_hi;
+  // At most ~1000 points across 1000 pixels: consecutive times merged (mean of the means and sds, min, max).
+  const std::size_t k = t.speeds.size() / 1000 + 1;
+  std::vector<TestData::Speeds> merged;
+  for (std::size_t i = 0; i < t.speeds.size(); i += k) {
+    TestData::Speeds m{0, 0, 0, 1e300, -1e300};
+    const std::size_t end = std::min(t.speeds.size(), i + k);
+    for (std::size_t j = i; j < end; ++j) {
+      const auto& s = t.speeds[j];
+      m.time += s.time, m.mean += s.mean, m.sd += s.sd, m.min = std::min(m.min, s.min), m.max = std::max(m.max, s.max);
+    }
+    const double n = static_cast<double>(end - i);
+    m.time /= n, m.mean /= n, m.sd /= n;
+    merged.push_back(m);
+  }
+  for (const auto& s : merged)
+    time.push_back(s.time), mean.push_back(s.mean), lo.push_back(s.min), hi.push_back(s.max),
+        sd_lo.push_back(std::max(s.min, s.mean - s.sd)), sd_hi.push_back(std::min(s.max, s.mean + s.sd));
+  Figure f(QString::fromStdString(t.name) + ": drone speeds", plot_width, plot_height);
+  const auto [t0, t1] = range_of(time);
+  f.x_axis("simulated time (s)", t0, t1);
+  f.y_axis("speed (m/s)", 0, range_of(hi).second);
+  QColor wide = palette(0), narrow = palette(0);
+  wide.setAlpha(45), narrow.setAlpha(90);
+  f.legend({{LegendEntry::line, palette(0), "mean"}, {LegendEntry::band, narrow, "mean ± 1 sd"}, {LegendEntry::band, wide, "min – max"}});
+  f.begin();
+  draw_band(f, time, lo, hi, wide);
+  draw_band(f, time, sd_lo, sd_hi, narrow);
+  draw_line(f, time, mean, palette(0).darker(130));
+  f.save(file);
+}
+
+}  // namespace
+
+Rect test_area(const fs::path& folder) { return read_test(folder, true).area; }
+
+void draw_test_plots(const fs::path& folder) {
+  const TestData t = read_test(folder, true);
+  const fs::path dir = folder / "plots";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(name_of(dir) + ": cannot create folder (" + ec.message() + ")");
+  time_chart(t, t.found, "targets found", "targets found (%)", std::pair{0.0, 100.0}, dir / "found.png");
+  if (std::any_of(t.nn.begin(), t.nn.end(), [](double v) { return !std::isnan(v); }))
+    time_chart(t, t.nn, "distance to the nearest drone", "mean nearest-neighbour distance (m)", std::nullopt, dir / "nn_distance.png");
+  if (t.has_coverage) time_chart(t, t.coverage, "area covered", "coverage (%)", std::pair{0.0, 100.0}, dir / "coverage.png");
+  if (!t.paths.empty()) {
+    trajectories(t, dir / "trajectories.png");
+
+    heat_map(t, dir / "heatmap.png");
+
+    speeds(t, dir / "speeds.png");
+
+  }
+}
+
+// ---- Queue plots.
+namespace {
+
+struct QueueRow {
+  std::string name, variant, drones;
+  double size, found;  // drones as a number; found: %
+};
+
+std::vector<std::string> in_order(const std::vector<QueueRow>& rows, std::string QueueRow::*key) {
+  std::vector<std::string> out;
+  for (const auto& r : rows)
+    if (std::find(out.begin(), out.end(), r.*key) == out.end()) out.push_back(r.*key);
+  return out;
+}
+
+std::vector<std::string> sizes_of(const std::vector<QueueRow>& rows) {
+  std::map<double, std::string> by_size;
+  for (const auto& r : rows) by_size.emplace(r.size, r.drones);
+  std::vector<std::string> sizes;
+  for (const auto& [n, text] : by_size) sizes.push_back(text);
+  return sizes;
+}
+
+void box_plot(const std::vector<QueueRow>& rows, const fs::path& file) {
+  const auto variants = in_order(rows, &QueueRow::variant);
+  const auto sizes = sizes_of(rows);
+  std::vector<QString> names;
+  for (const auto& s : sizes) names.push_back(QString::fromStdString(s));
+  Figure f("Targets found per behavior and swarm size", plot_width, plot_height);
+  f.x_categories("swarm size (drones)", names);
+  double lo = 100, hi = 0;
+  for (const auto& r : rows) lo = std::min(lo, r.found), hi = std::max(hi, r.found);
+  f.y_axis("targets found at the end (%)", std::max(0.0, lo - 5), std::min(100.0, hi + 5));
+  std::vector<LegendEntry> legend;
+  for (std::size_t v = 0; v < variants.size(); ++v) legend.push_back({LegendEntry::box, palette(v), QString::fromStdString(variants[v])});
+  legend.push_back({LegendEntry::ring, Qt::black, "outlier (beyond 1.5 IQR)"});
+  f.legend(legend);
+  QPainter& p = f.begin();
+  const double slot = 0.8 / static_cast<double>(variants.size());  // of a category's width
+  const double half = slot * 0.35 * f.plot_area().width() / static_cast<double>(sizes.size());
+  for (std::size_t s = 0; s < sizes.size(); ++s)
+    for (std::size_t v = 0; v < variants.size(); ++v) {
+      std::vector<double> values;
+      for (const auto& r : rows)
+        if (r.drones == sizes[s] && r.variant == variants[v]) values.push_back(r.found);
+      if (values.empty()) continue;
+      const BoxStats b = box_stats(values);
+      const double cx = static_cast<double>(s) - 0.4 + slot * (static_cast<double>(v) + 0.5);
+      const double x = f.at(cx, 0).x();
+      const QColor c = palette(v);
+      p.setPen(QPen(c.darker(160), 1.8));
+      p.drawLine(QPointF(x, f.at(0, b.low).y()), QPointF(x, f.at(0, b.q1).y()));
+      p.drawLine(QPointF(x, f.at(0, b.q3).y()), QPointF(x, f.at(0, b.high).y()));
+      p.drawLine(QPointF(x - half / 2, f.at(0, b.low).y()), QPointF(x + half / 2, f.at(0, b.low).y()));
+      p.drawLine(QPointF(x - half / 2, f.at(0, b.high).y()), QPointF(x + half / 2, f.at(0, b.high).y()));
+      p.setBrush(c);
+      p.drawRect(QRectF(QPointF(x - half, f.at(0, b.q3).y()), QPointF(x + half, f.at(0, b.q1).y())));
+      p.setPen(QPen(Qt::black, 3));
+      p.drawLine(QPointF(x - half, f.at(0, b.median).y()), QPointF(x + half, f.at(0, b.median).y()));
+      p.setPen(QPen(c.darker(160), 1.8));
+      p.setBrush(Qt::NoBrush);
+      for (double o : b.outliers) p.drawEllipse(QPointF(x, f.at(0, o).y()), 4.5, 4.5);
+    }
+  f.save(file);
+}
+
+// Mean found (%) over time per variant with a 95 % t-interval over the repeats, for one swarm size.
+void over_time(const fs::path& out, const std::vector<QueueRow>& rows, const std::string& size, const fs::path& file) {
+  const auto variants = in_order(rows, &QueueRow::variant);
+  struct Line { std::vector<double> time, mean, lo, hi; };
+  std::vector<std::pair<std::size_t, Line>> lines;
+  double t0 = 1e300, t1 = -1e300;
+  for (std::size_t v = 0; v < variants.size(); ++v) {
+    std::map<double, std::vector<double>> at;  // time → found (%) of each repeat
+    for (const auto& r : rows) {
+      if (r.drones != size || r.variant != variants[v]) continue;
+      CsvReader in(out / r.name / "summary.csv");
+      const std::size_t c_time = in.column("time"), c_found = in.column("fraction_found");
+      while (in.next()) at[in.number(c_time)].push_back(in.number(c_found) * 100);
+    }
+    if (at.empty()) continue;
+    Line l;
+    for (const auto& [time, values] : at) {
+      const double n = static_cast<double>(values.size());
+      const double mean = std::accumulate(values.begin(), values.end(), 0.0) / n;
+      double ss = 0;
+      for (double x : values) ss += (x - mean) * (x - mean);
+      const double half = values.size() > 1 ? t_half_width(values.size(), std::sqrt(ss / (n - 1))) : 0;
+      l.time.push_back(time), l.mean.push_back(mean), l.lo.push_back(std::max(0.0, mean - half)), l.hi.push_back(std::min(100.0, mean + half));
+      t0 = std::min(t0, time), t1 = std::max(t1, time);
+    }
+    lines.emplace_back(v, std::move(l));
+  }
+  if (lines.empty()) return;
+  Figure f("Targets found over time, " + QString::fromStdString(size) + " drones (mean, 95 % CI over repeats)", plot_width, plot_height);
+  f.x_axis("simulated time (s)", t0, t1);
+  f.y_axis("targets found (%)", 0, 100);
+  std::vector<LegendEntry> legend;
+  for (const auto& [v, l] : lines) legend.push_back({LegendEntry::line, palette(v), QString::fromStdString(variants[v])});
+  legend.push_back({LegendEntry::band, QColor(0, 0, 0, 40), "95 % confidence interval"});
+  f.legend(legend);
+  f.begin();
+  for (const auto& [v, l] : lines) {
+    QColor band = palette(v);
+    band.setAlpha(55);
+    draw_band(f, l.time, l.lo, l.hi, band);
+  }
+  for (const auto& [v, l] : lines) draw_line(f, l.time, l.mean, palette(v));
+  f.save(file);
+}
+
+// A forest plot of comparison.csv: one row per pair of variants, mean difference and its 95 % interval.
+void forest(const fs::path& csv, const fs::path& file) {
+  CsvReader in(csv);
+  const std::size_t c_a = in.column("variant_a"), c_b = in.column("variant_b"), c_n = in.column("n"), c_mean = in.column("mean_diff"),
+                    c_lo = in.column("ci_low"), c_hi = in.column("ci_high"), c_win = in.column("win_rate_a"),
+                    c_drones = in.column("drones"), c_metric = in.column("metric");
+  struct Row { QString label, note; std::optional<double> mean, lo, hi; };
+  std::vector<Row> rows;
+  std::string metric;
+  while (in.next()) {
+    metric = std::string(in[c_metric]);
+    const double scale = metric.starts_with("fraction") ? 100 : 1;
+    auto scaled = [&](std::size_t c) { auto v = in.optional_number(c); return v ? std::optional(*v * scale) : v; };
+    const auto win = in.optional_number(c_win);
+    rows.push_back({QString::fromStdString(std::string(in[c_a]) + " − " + std::string(in[c_b]) + ", " + std::string(in[c_drones]) + " drones"),
+                    "n = " + QString::fromUtf8(in[c_n].data(), static_cast<qsizetype>(in[c_n].size())) +
+                        (win ? ", A better in " + QString::number(*win * 100, 'f', 0) + " %" : QString()),
+                    scaled(c_mean), scaled(c_lo), scaled(c_hi)});
+  }
+  if (rows.empty()) return;
+  double lo = 0, hi = 0;
+  for (const auto& r : rows)
+    for (const auto& v : {r.mean, r.lo, r.hi})
+      if (v) lo = std::min(lo, *v), hi = std::max(hi, *v);
+  std::vector<QString> labels;
+  for (const auto& r : rows) labels.push_back(r.label);
+  const bool percent = metric.starts_with("fraction");
+  const double pad = 0.05 * std::max(hi - lo, 1e-9);  // keeps 0 off the border
+  lo -= pad, hi += pad;
+  Figure f("Paired differences A − B in " + QString::fromStdString(metric == "fraction_found" ? "targets found" : metric) +
+               " (mean, 95 % CI)",
+           plot_width, comparison_plot_height(rows.size()));
+  f.x_axis(percent ? "difference A − B (percentage points)" : "difference A − B (" + QString::fromStdString(metric) + ")", lo, hi);
+  f.y_categories(labels);
+  f.reserve_right(200);
+  QPainter& p = f.begin();
+  p.setPen(QPen(Qt::black, 1.5, Qt::DashLine));
+  p.drawLine(QPointF(f.at(0, 0).x(), f.plot_area().top()), QPointF(f.at(0, 0).x(), f.plot_area().bottom()));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    const double y = static_cast<double>(i);
+    const QColor c = palette(0).darker(120);
+    if (r.lo && r.hi) {
+      p.setPen(QPen(c, 2.5));
+      p.drawLine(f.at(*r.lo, y), f.at(*r.hi, y));
+      p.drawLine(f.at(*r.lo, y) + QPointF(0, -7), f.at(*r.lo, y) + QPointF(0, 7));
+      p.drawLine(f.at(*r.hi, y) + QPointF(0, -7), f.at(*r.hi, y) + QPointF(0, 7));
+    }
+    if (r.mean) {
+      p.setPen(Qt::NoPen);
+      p.setBrush(c);
+      p.drawRect(QRectF(f.at(*r.mean, y) - QPointF(6, 6), QSizeF(12, 12)));
+    }
+  }
+  p.setClipping(false);
+  p.setPen(Qt::black);
+  p.setFont(font(15));
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    p.drawText(QRectF(f.plot_area().right() + 12, f.at(0, static_cast<double>(i)).y() - 11, 200, 22), Qt::AlignLeft | Qt::AlignVCenter, rows[i].note);
+  f.save(file);
+}
+
+}  // namespace
+
+void draw_queue_plots(const fs::path& out) {
+  CsvReader in(out / "summary.csv");
+  const std::size_t c_name = in.column("name"), c_status = in.column("status"), c_variant = in.column("variant"),
+                    c_drones = in.column("drones"), c_found = in.column("fraction_found");
+  std::vector<QueueRow> rows;
+  while (in.next())
+    if (in[c_status] == "ok")
+      rows.push_back({std::string(in[c_name]), std::string(in[c_variant]), std::string(in[c_drones]), in.number(c_drones), in.number(c_found) * 100});
+  const fs::path dir = out / "plots";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError(name_of(dir) + ": cannot create folder (" + ec.message() + ")");
+  if (rows.empty()) return;
+  box_plot(rows, dir / "found_boxplot.png");
+  for (const auto& size : sizes_of(rows)) over_time(out, rows, size, dir / ("found_over_time_" + size + "_drones.png"));
+  if (is_file(out / "comparison.csv")) forest(out / "comparison.csv", dir / "comparison.png");
+}
+
+}  // namespace salsa::plots

@@ -1,0 +1,279 @@
+// Plots and the paired comparison: `salsa plot` on real runs and on a hand-written queue draws every
+// PNG (valid, the expected size, not blank), the data behind them matches the CSV files, and
+// comparison.csv matches a hand-computed t-interval.
+#include <QImage>
+
+#include <cmath>
+#include <set>
+
+#include "common.hpp"
+#include "salsa/core/comparison.hpp"
+#include "salsa/core/test_spec.hpp"
+#include "salsa/plots/results.hpp"
+
+using namespace salsa_test;
+
+namespace {
+
+/// What a user looking at a PNG relies on: it loads, has the size asked for, and shows something
+/// (several colours, a fair share of non-white pixels).
+void check_png(const QString& file, int width, int height) {
+  QVERIFY2(QFileInfo::exists(file), qPrintable(file + " missing"));
+  QCOMPARE(read_file(file).left(8), QByteArray("\x89PNG\r\n\x1a\n", 8));
+  const QImage image(file);
+  QVERIFY2(!image.isNull(), qPrintable(file + " does not load"));
+  QCOMPARE(image.width(), width);
+  QCOMPARE(image.height(), height);
+  std::set<QRgb> colours;
+  long ink = 0;
+  for (int y = 0; y < image.height(); y += 2)
+    for (int x = 0; x < image.width(); x += 2) {
+      const QRgb c = image.pixel(x, y);
+      colours.insert(c);
+      ink += c != qRgb(255, 255, 255);
+    }
+  QVERIFY2(colours.size() >= 8, qPrintable(file + ": " + QString::number(colours.size()) + " colours"));
+  QVERIFY2(ink > image.width() * image.height() / 4 / 100, qPrintable(file + ": almost blank"));
+}
+
+/// A CSV file's rows as fields (salsa's test files hold no quoted fields).
+QList<QStringList> csv_rows(const QString& file) {
+  QList<QStringList> rows;
+  for (const QString& line : non_empty_lines(QString::fromUtf8(read_file(file)))) rows << line.split(',');
+  return rows;
+}
+
+}  // namespace
+
+class TestPlots : public QObject {
+  Q_OBJECT
+  QTemporaryDir dir_;
+
+  QString path(const QString& name) const { return dir_.filePath(name); }
+
+  // Runs one test into OUT and draws its plots; returns the test folder.
+  QString run_and_plot(const QByteArray& test, const QStringList& extra = {}) {
+    write_file(path("test.json"), test);
+    const CliResult run = run_salsa(QStringList{"run", path("test.json"), "--out", path("out")} + extra);
+    if (run.exit_code != 0) qWarning("%s", describe(run).constData());
+    const CliResult plot = run_salsa({"plot", path("out/t")});
+    if (plot.exit_code != 0) qWarning("%s", describe(plot).constData());
+    return path("out/t");
+  }
+
+ private Q_SLOTS:
+  void init() { QDir(path("out")).removeRecursively(); }
+
+  void test_plots_data() {
+    QTest::addColumn<QByteArray>("test");
+    QTest::addColumn<bool>("map_file");
+    QTest::newRow("generated forest") << QByteArray(R"({"name": "t", "behavior": "random_walk", "drones": 12,
+        "map": {"name": "forest", "params": {"size": 200}}, "targets": {"kind": "tree", "count": 40},
+        "time": 20, "seed": 5})") << false;
+    QTest::newRow("map file") << ("{\"name\": \"t\", \"behavior\": \"flocking\", \"drones\": 8, \"map\": \"" +
+                                  q(source_dir() / "examples/maps/warehouse.json").toUtf8() +
+                                  "\", \"targets\": {\"kind\": \"tree\", \"count\": 30}, \"time\": 20, \"seed\": 2}")
+                              << true;
+  }
+
+  // Every per-test PNG, and the data drawn matches the CSV files.
+  void test_plots() {
+    QFETCH(QByteArray, test);
+    QFETCH(bool, map_file);
+    const QString t = run_and_plot(test);
+    for (const char* png : {"found.png", "trajectories.png", "speeds.png", "nn_distance.png", "heatmap.png"})
+      check_png(t + "/plots/" + png, salsa::plots::plot_width, salsa::plots::plot_height);
+    QCOMPARE(QFileInfo::exists(t + "/plots/coverage.png"), read_file(t + "/summary.csv").split('\n')[0].contains("coverage"));
+
+    // found.png ends at summary.csv's last fraction_found: the line's pixels next to the right border are
+    // at that height (plot area 95 … 1170 × 70 … 715 px, y from 0 to 100 %, no legend).
+    const auto summary = csv_rows(t + "/summary.csv");
+    const double last = summary.last()[2].toDouble() * 100;
+    const QImage found(t + "/plots/found.png");
+    double sum = 0;
+    int hits = 0;
+    for (int y = 70; y <= 715; ++y)
+      if (const QColor c = found.pixelColor(1166, y); c.blue() > c.red() + 40) sum += y, ++hits;
+    QVERIFY2(hits > 0, "no line at the right end of found.png");
+    QVERIFY2(std::abs(sum / hits - (715 - last * 6.45)) < 4, qPrintable(QString::number(sum / hits) + " vs " + QString::number(last)));
+
+    // The area: the map file's bounds when there is one, else around every position.
+    const salsa::plots::Rect area = salsa::plots::test_area(t.toStdString());
+    if (map_file) {
+      QCOMPARE(area.x0, 0.0);
+      QCOMPARE(area.y0, 0.0);
+      QCOMPARE(area.x1, 300.0);
+      QCOMPARE(area.y1, 200.0);
+    }
+
+    // The heat map's hottest cell is the cell holding the most rows of drones.csv.
+    std::vector<std::pair<double, double>> positions;
+    const auto drones = csv_rows(t + "/drones.csv");
+    for (qsizetype i = 1; i < drones.size(); ++i) positions.emplace_back(drones[i][2].toDouble(), drones[i][3].toDouble());
+    const auto grid = salsa::plots::bin_positions(positions, area, 60);
+    std::map<int, int> count;
+    for (auto [x, y] : positions) {
+      QVERIFY2(x >= area.x0 && x < area.x1 && y >= area.y0 && y < area.y1, "a drone outside the plotted area");
+      ++count[int(std::floor((y - area.y0) / grid.cell)) * grid.columns + int(std::floor((x - area.x0) / grid.cell))];
+    }
+    const auto busiest = std::max_element(count.begin(), count.end(), [](auto a, auto b) { return a.second < b.second; });
+    QCOMPARE(grid.values[std::size_t(busiest->first)], 100.0);
+    QCOMPARE(int(std::count(grid.values.begin(), grid.values.end(), 100.0)),
+             int(std::count_if(count.begin(), count.end(), [&](auto c) { return c.second == busiest->second; })));
+  }
+
+  // Without drones.csv the plots that need it are skipped, the others drawn.
+  void no_drones_csv() {
+    const QString t = run_and_plot(R"({"name": "t", "behavior": "random_walk", "drones": 5, "map": {"name": "empty"},
+        "targets": {"kind": "tree", "count": 10}, "time": 5, "seed": 1})", {"--no-drones-csv"});
+    check_png(t + "/plots/found.png", salsa::plots::plot_width, salsa::plots::plot_height);
+    check_png(t + "/plots/nn_distance.png", salsa::plots::plot_width, salsa::plots::plot_height);
+    for (const char* png : {"trajectories.png", "speeds.png", "heatmap.png"}) QVERIFY(!QFileInfo::exists(t + "/plots/" + png));
+  }
+
+  // The coverage plot is drawn when summary.csv has the column, skipped without an error otherwise.
+  void coverage_column() {
+    write_file(path("out/c/config.json"), R"({"name": "c"})");
+    write_file(path("out/c/summary.csv"), "time,targets_found,fraction_found,mean_nn_distance,coverage\n0,0,0,,0.1\n1,1,0.5,,0.4\n");
+    // map.json (the map as a map file) gives the area and the obstacles.
+    write_file(path("out/c/map.json"), R"({"bounds": {"min": [-10, 0], "max": [40, 30]}, "obstacles": [[[0, 0], [5, 0], [5, 5]]]})");
+    const salsa::plots::Rect area = salsa::plots::test_area(path("out/c").toStdString());
+    QCOMPARE(area.x0, -10.0);
+    QCOMPARE(area.y1, 30.0);
+    const CliResult r = run_salsa({"plot", path("out/c")});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    check_png(path("out/c/plots/coverage.png"), salsa::plots::plot_width, salsa::plots::plot_height);
+    QVERIFY(!QFileInfo::exists(path("out/c/plots/nn_distance.png")));  // one drone: no distances
+  }
+
+  void binning() {
+    // 10 m × 5 m in cells of 5 m: two cells side by side; a position outside is left out.
+    const auto g = salsa::plots::bin_positions({{1, 1}, {2, 2}, {7, 1}, {11, 1}}, {0, 0, 10, 5}, 2);
+    QCOMPARE(g.columns, 2);
+    QCOMPARE(g.rows, 1);
+    QCOMPARE(g.cell, 5.0);
+    QCOMPARE(g.values, (std::vector<double>{100, 50}));
+    // A taller area gets more rows: 4 m × 6 m in cells of 2 m is 2 × 3; row 0 at the bottom.
+    const auto tall = salsa::plots::bin_positions({{3, 5}, {3, 5.5}, {0.5, 0.5}}, {0, 0, 4, 6}, 2);
+    QCOMPARE(tall.rows, 3);
+    QCOMPARE(tall.values, (std::vector<double>{50, 0, 0, 0, 0, 100}));
+    QCOMPARE(salsa::plots::bin_positions({}, {0, 0, 1, 1}, 4).values, std::vector<double>(16, 0.0));
+  }
+
+  void ticks_data() {
+    QTest::addColumn<double>("lo");
+    QTest::addColumn<double>("hi");
+    QTest::addColumn<std::vector<double>>("ticks");
+    QTest::newRow("37.275") << 0.0 << 37.275 << std::vector<double>{0, 10, 20, 30, 40};
+    QTest::newRow("percent") << 0.0 << 100.0 << std::vector<double>{0, 20, 40, 60, 80, 100};
+    QTest::newRow("negative") << -3.0 << 7.0 << std::vector<double>{-4, -2, 0, 2, 4, 6, 8};
+    QTest::newRow("small") << 0.013 << 0.087 << std::vector<double>{0, 0.02, 0.04, 0.06, 0.08, 0.1};
+    QTest::newRow("one value") << 3.0 << 3.0 << std::vector<double>{2.4, 2.6, 2.8, 3, 3.2, 3.4, 3.6};
+  }
+
+  void ticks() {
+    QFETCH(double, lo);
+    QFETCH(double, hi);
+    QFETCH(std::vector<double>, ticks);
+    const auto got = salsa::plots::nice_ticks(lo, hi);
+    QCOMPARE(got.size(), ticks.size());
+    for (std::size_t i = 0; i < got.size(); ++i) QVERIFY2(std::abs(got[i] - ticks[i]) < 1e-12, qPrintable(QString::number(got[i])));
+  }
+
+  void box() {
+    // 1 … 9 and 100: quartiles by linear interpolation 3.25, 5.5, 7.75; IQR 4.5, so 100 is beyond
+    // 7.75 + 6.75 and the upper whisker ends at 9.
+    const auto b = salsa::plots::box_stats({100, 9, 8, 7, 6, 5, 4, 3, 2, 1});
+    QCOMPARE(b.q1, 3.25);
+      QCOMPARE(b.median, 5.5);
+      QCOMPARE(b.q3, 7.75);
+    QCOMPARE(b.low, 1.0);
+      QCOMPARE(b.high, 9.0);
+    QCOMPARE(b.outliers, std::vector<double>{100});
+  }
+
+  // Two variants on five paired seeds, worked out by hand:
+  //   A = 0.5 0.6 0.7 0.4 0.8, B = 0.4 0.6 0.5 0.5 0.6, A − B = 0.1 0 0.2 −0.1 0.2
+  //   mean 0.08; sample sd √(0.068 / 4) = 0.130384; t_{0.975,4} = 2.776 → 0.08 ± 2.776 · 0.130384 / √5
+  //   = [−0.081868, 0.241868]; A better in 3 pairs, tied in 1: win rate 3.5 / 5 = 0.7.
+  // Left out: a failed test, a seed only A has; variant C pairs with A once (no interval).
+  void comparison() {
+    const QString out = path("cmp");
+    write_file(out + "/summary.csv",
+               "name,status,error,cell,variant,behavior,repeat,seed,drones,targets,target,map,time,fraction_found\n"
+               "a1,ok,,c1,A,a,0,11,10,50,tree,forest,60,0.5\n"
+               "b1,ok,,c1,B,b,0,11,10,50,tree,forest,60,0.4\n"
+               "a2,ok,,c1,A,a,1,12,10,50,tree,forest,60,0.6\n"
+               "b2,ok,,c1,B,b,1,12,10,50,tree,forest,60,0.6\n"
+               "a3,ok,,c1,A,a,2,13,10,50,tree,forest,60,0.7\n"
+               "b3,ok,,c1,B,b,2,13,10,50,tree,forest,60,0.5\n"
+               "a4,ok,,c1,A,a,3,14,10,50,tree,forest,60,0.4\n"
+               "b4,ok,,c1,B,b,3,14,10,50,tree,forest,60,0.5\n"
+               "a5,ok,,c1,A,a,4,15,10,50,tree,forest,60,0.8\n"
+               "b5,ok,,c1,B,b,4,15,10,50,tree,forest,60,0.6\n"
+               "b6,failed,\"boom, at 3 s\",c1,B,b,5,16,10,50,tree,forest,60,\n"
+               "a6,ok,,c1,A,a,5,16,10,50,tree,forest,60,0.9\n"
+               "a7,ok,,c1,A,a,6,17,10,50,tree,forest,60,0.3\n"
+               "c1,ok,,c1,\"C(x=1, y=2)\",c,0,11,10,50,tree,forest,60,0.25\n"
+               "d1,ok,,c2,A,a,0,21,20,50,tree,forest,60,0.5\n");
+    salsa::write_comparison(out.toStdString());
+    const QStringList lines = non_empty_lines(QString::fromUtf8(read_file(out + "/comparison.csv")));
+    QCOMPARE(lines.value(0), QString("cell,drones,targets,target,map,time,metric,variant_a,variant_b,n,mean_a,mean_b,"
+                                     "mean_diff,ci_low,ci_high,win_rate_a"));
+    QCOMPARE(lines.size(), 4);  // c1: A–B, A–C, B–C; c2 has one variant
+    auto field = [&](int line, int column) { return lines[line].split(',')[column]; };
+    QCOMPARE(lines[1].split(',').mid(0, 10).join(','), QString("c1,10,50,tree,forest,60,fraction_found,A,B,5"));
+    QCOMPARE(field(1, 10).toDouble(), 0.6);
+    QCOMPARE(field(1, 11).toDouble(), 0.52);
+    QVERIFY(std::abs(field(1, 12).toDouble() - 0.08) < 1e-9);
+    QVERIFY2(std::abs(field(1, 13).toDouble() - -0.081868) < 2e-4, qPrintable(lines[1]));
+    QVERIFY2(std::abs(field(1, 14).toDouble() - 0.241868) < 2e-4, qPrintable(lines[1]));
+    QCOMPARE(field(1, 15).toDouble(), 0.7);
+    // One pair: the mean is the difference, the interval empty.
+    QCOMPARE(lines[2], QString("c1,10,50,tree,forest,60,fraction_found,A,\"C(x=1, y=2)\",1,0.5,0.25,0.25,,,1"));
+    QCOMPARE(lines[3], QString("c1,10,50,tree,forest,60,fraction_found,B,\"C(x=1, y=2)\",1,0.4,0.25,0.15,,,1"));
+    // Rewritten from the same file, byte for byte.
+    const QByteArray first = read_file(out + "/comparison.csv");
+    salsa::write_comparison(out.toStdString());
+    QCOMPARE(read_file(out + "/comparison.csv"), first);
+    // Another metric by name; one that is not a column is refused in one line naming the file.
+    QVERIFY_THROWS_EXCEPTION(salsa::InputError, salsa::write_comparison(out.toStdString(), "coverage"));
+  }
+
+  // Queue plots from a hand-written summary.csv and test folders holding only summary.csv.
+  void queue_plots() {
+    const QString out = path("queue");
+    QByteArray summary = "name,status,error,cell,variant,behavior,repeat,seed,drones,targets,target,map,time,fraction_found\n";
+    int k = 0;
+    for (const char* variant : {"flocking", "random_walk(step=2)"})
+      for (int drones : {5, 20})
+        for (int repeat = 0; repeat < 6; ++repeat, ++k) {
+          const double end = (drones == 5 ? 0.3 : 0.6) + (variant[0] == 'f' ? 0.1 : 0.0) + 0.02 * repeat + (repeat == 5 ? 0.3 : 0);
+          const QByteArray name = "t" + QByteArray::number(k);
+          summary += name + ",ok,,c" + QByteArray::number(drones) + ",\"" + variant + "\",x," + QByteArray::number(repeat) + "," +
+                     QByteArray::number(repeat + 1) + "," + QByteArray::number(drones) + ",50,tree,forest,10," + QByteArray::number(end) + "\n";
+          QByteArray rows = "time,targets_found,fraction_found\n";
+          for (int s = 0; s <= 10; ++s) rows += QByteArray::number(s) + ",0," + QByteArray::number(end * s / 10) + "\n";
+          write_file(out + "/" + name + "/summary.csv", rows);
+        }
+    summary += "t99,failed,boom,c5,flocking,x,6,7,5,50,tree,forest,10,\n";
+    write_file(out + "/summary.csv", summary);
+    const CliResult r = run_salsa({"plot", out});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QCOMPARE(non_empty_lines(QString::fromUtf8(read_file(out + "/comparison.csv"))).size(), 3);
+    for (const char* png : {"found_boxplot.png", "found_over_time_5_drones.png", "found_over_time_20_drones.png"})
+      check_png(out + "/plots/" + png, salsa::plots::plot_width, salsa::plots::plot_height);
+    check_png(out + "/plots/comparison.png", salsa::plots::plot_width, salsa::plots::comparison_plot_height(2));
+  }
+
+  // The single-file mode stays: a summary.csv column over time into --out.
+  void column_chart() {
+    write_file(path("s/summary.csv"), "time,targets_found\n0,0\n1,3\n2,7\n");
+    const CliResult r = run_salsa({"plot", path("s/summary.csv"), "--out", path("s/found.png")});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    check_png(path("s/found.png"), 960, 600);
+  }
+};
+
+QTEST_GUILESS_MAIN(TestPlots)
+#include "test_plots.moc"
