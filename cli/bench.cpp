@@ -67,6 +67,7 @@ int cmd_bench(int argc, char** argv) {
   po::options_description o("bench options");
   o.add_options()("help,h", "show this help")("workload", po::value<std::string>(), "table1 or scale")(
       "cells", po::value<std::string>(), "table1 cells DRONESxTARGETS, comma-separated (default: the 12 cells of Table I)")(
+      "behavior", po::value<std::string>()->default_value("flocking"), "table1: the behavior (flocking with the paper's parameters, others with their defaults)")(
       "sizes", po::value<std::string>()->default_value("1000,10000,100000"), "scale: drone counts")(
       "seeds", po::value<int>(), "seeds 1..N per cell (default: 5 for table1, 1 for scale)")(
       "threads", po::value<int>()->default_value(0), "decide threads (0: all cores)")(
@@ -152,6 +153,7 @@ int cmd_bench(int argc, char** argv) {
       w.targets = cell.targets;
       w.seed = static_cast<std::uint64_t>(seed);
       w.threads = threads;
+      w.behavior = vm["behavior"].as<std::string>();
       bench::reset_peak_rss();
       const auto t0 = std::chrono::steady_clock::now();
       SimulationSetup setup = bench::table1(host, w);

@@ -16,14 +16,16 @@ SimulationSetup table1(const PluginHost& host, const Workload& w) {
   s.spawn_mode = w.spawn_mode;
   s.drone = builtin_drone_configs().front();  // "small"
   s.drones = w.drones;
-  const auto& flocking = host.behavior("flocking");
-  ParameterValues params(flocking.factory.parameters);
-  params.set("separation_distance", 250);
-  params.set("alignment_weight", 1.6);
-  params.set("cohesion_weight", 1.0);
-  params.set("separation_weight", 3.0);
-  params.set("obstacle_avoidance_weight", 4.0);
-  s.behavior = PluginHost::create(flocking, params);
+  const auto& behavior = host.behavior(w.behavior);
+  ParameterValues params(behavior.factory.parameters);
+  if (w.behavior == "flocking") {
+    params.set("separation_distance", 250);
+    params.set("alignment_weight", 1.6);
+    params.set("cohesion_weight", 1.0);
+    params.set("separation_weight", 3.0);
+    params.set("obstacle_avoidance_weight", 4.0);
+  }
+  s.behavior = PluginHost::create(behavior, params);
   const auto& tree = host.target_kind("tree");
   ParameterValues tree_params(tree.factory.parameters);
   tree_params.set("radius", 5);

@@ -2,6 +2,7 @@
 // Benchmark workloads (../shared/workloads/table1.md) and the bare-Box2D floor they are compared with.
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 #include "salsa/core/plugin_host.hpp"
 #include "salsa/core/simulation.hpp"
@@ -16,9 +17,10 @@ struct Workload {
   SpawnMode spawn_mode = SpawnMode::disc;
   std::uint64_t seed = 1;
   int threads = 0;
+  std::string behavior = "flocking";     ///< flocking with the paper's parameters, any other with its defaults
 };
 
-/// Table I: flocking with the paper's parameters, "small" drones, trees of radius 5 m, summary every
+/// Table I: flocking with the paper's parameters (or `w.behavior` with its defaults), "small" drones, trees of radius 5 m, summary every
 /// 50 steps. Needs the flocking, tree and detect_targets plugins.
 SimulationSetup table1(const PluginHost& host, const Workload& w);
 
