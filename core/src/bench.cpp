@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <fstream>
 #include <string>
 
@@ -63,7 +64,7 @@ void Floor::record(const Simulation& sim) {
   }
 }
 
-double Floor::replay_seconds(const SimulationSetup& setup) const {
+double Floor::replay_seconds(const SimulationSetup& setup, bool cpu) const {
   // The same drones in the same places as salsa spawned them: take them from a Simulation without
   // targets, then step a world of our own.
   SimulationSetup copy = setup;
@@ -77,7 +78,7 @@ double Floor::replay_seconds(const SimulationSetup& setup) const {
   for (std::size_t i = 0; i < positions.size(); ++i)
     world.add_drone(static_cast<std::uint32_t>(i), positions[i], {}, setup.drone);
   const std::size_t steps = drones_ ? commands_.size() / (2 * drones_) : 0;
-  const auto start = std::chrono::steady_clock::now();
+  const double start = seconds_now(cpu);
   const float* v = commands_.data();
   for (std::size_t k = 0; k < steps; ++k) {
     for (b2Body* body : world.bodies) {
@@ -86,7 +87,12 @@ double Floor::replay_seconds(const SimulationSetup& setup) const {
     }
     world.step(setup.dt, setup.velocity_iterations, setup.position_iterations);
   }
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return seconds_now(cpu) - start;
+}
+
+double seconds_now(bool cpu) {
+  if (timespec t; cpu && clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) == 0) return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 std::size_t peak_rss_bytes() {

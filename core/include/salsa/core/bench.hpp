@@ -38,14 +38,18 @@ class Floor {
   Floor(std::size_t drones, std::size_t steps);
   /// Call after each step of the run.
   void record(const Simulation& sim);
-  /// Wall seconds to replay the recorded steps.
-  double replay_seconds(const SimulationSetup& setup) const;
+  /// Seconds to replay the recorded steps (wall clock, or this process's CPU clock with `cpu`).
+  double replay_seconds(const SimulationSetup& setup, bool cpu = false) const;
   std::size_t bytes() const { return commands_.capacity() * sizeof(float); }
 
  private:
   std::size_t drones_;
   std::vector<float> commands_;
 };
+
+/// Seconds on the wall clock, or with `cpu` on this process's CPU clock: on a shared machine the CPU
+/// clock leaves out the time other processes had the core (single-threaded runs only).
+double seconds_now(bool cpu);
 
 /// Peak resident memory of this process since the last reset (bytes); reset works on Linux ≥ 4.0.
 std::size_t peak_rss_bytes();
