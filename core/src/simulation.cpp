@@ -563,12 +563,15 @@ class Actions final : public ContactActions {
 void Simulation::dispatch_sightings() {
   const double sensed_at = sensed_time_;
   Actions actions(targets_.states, targets_.found, sensed_at);
-  for (std::uint32_t i = 0; i < seen_.size(); ++i)
+  for (std::uint32_t i = 0; i < seen_.size(); ++i) {
+    // Targets lie scattered in memory: ask for a drone's all at once rather than miss on each in turn.
+    for (const auto& [t, d] : seen_[i]) __builtin_prefetch(&targets_.states[t], 1);
     for (const auto& [t, d] : seen_[i]) {
       ++targets_.states[t].observations;
       const ContactEvent e{ContactKind::target_in_view, i, t, targets_.states[t].position, sensed_at};
       for (const auto& handler : setup_.contact_handlers) handler->on_contact(e, actions);
     }
+  }
 }
 
 void Simulation::dispatch_contacts() {
