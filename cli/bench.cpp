@@ -121,6 +121,12 @@ int cmd_bench(int argc, char** argv) {
   if (vm.count("plugin-dir"))
     for (const auto& d : vm["plugin-dir"].as<std::vector<std::string>>()) extra.emplace_back(d);
   host.load(PluginHost::default_search_path(extra));
+  const std::string behavior = vm["behavior"].as<std::string>();
+  try {
+    host.behavior(behavior);
+  } catch (const UnknownPlugin& e) {
+    throw InputError(std::string("--behavior: ") + e.what());
+  }
 
   const int used_threads = threads > 0 ? threads : tbb::info::default_concurrency();
   std::cout << "salsa " << salsa_version() << " bench " << workload << ": " << std::thread::hardware_concurrency()
@@ -155,7 +161,7 @@ int cmd_bench(int argc, char** argv) {
       w.targets = cell.targets;
       w.seed = static_cast<std::uint64_t>(seed);
       w.threads = threads;
-      w.behavior = vm["behavior"].as<std::string>();
+      w.behavior = behavior;
       bench::reset_peak_rss();
       const auto t0 = std::chrono::steady_clock::now();
       SimulationSetup setup = bench::table1(host, w);
