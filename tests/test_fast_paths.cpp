@@ -32,8 +32,10 @@ class Recorder final : public salsa::Behavior {
   };
   std::vector<Seen> seen;
   Vec2 steering;  // what every drone returns
+  salsa::Senses senses_declared;  // what it tells the core it reads
 
   void reset(std::size_t drones) override { seen.assign(drones, {}); }
+  salsa::Senses senses() const override { return senses_declared; }
   Vec2 decide(const salsa::Perception& me, salsa::Rng&) override {
     Seen& s = seen[me.id];
     s.position = me.position;
@@ -272,6 +274,54 @@ class TestFastPaths : public QObject {
     qInfo("checked %zu neighbour pairs, %zu ray hits, %zu targets in view, %zu targets found", neighbour_pairs, hits,
           seen_targets, found);
     if (drones > 2) QVERIFY(neighbour_pairs > 0 && hits > 0 && seen_targets > 0);
+  }
+
+  void senses_limit_perception_data() {
+    QTest::addColumn<bool>("neighbours");
+    QTest::addColumn<bool>("targets");
+    QTest::newRow("everything") << true << true;
+    QTest::newRow("neighbours only") << true << false;
+    QTest::newRow("targets only") << false << true;
+    QTest::newRow("obstacles only") << false << false;
+  }
+  /// A behavior gets only what it declared it senses, every drone its own state and obstacle hits; and
+  /// the core's own detection (observations, who found what and when) does not depend on it.
+  void senses_limit_perception() {
+    QFETCH(bool, neighbours);
+    QFETCH(bool, targets);
+    auto run = [this](salsa::Senses senses) {
+      auto recorder = std::make_shared<Recorder>();
+      recorder->senses_declared = senses;
+      salsa::SimulationSetup setup;
+      setup.map = random_map(5, 300, 6);
+      setup.drones = 30;
+      setup.behavior = recorder;
+      setup.target_kind = trees();
+      setup.targets = 2000;
+      setup.contact_handlers = {detect_targets()};
+      setup.seed = 3;
+      auto sim = std::make_unique<salsa::Simulation>(setup);
+      for (int step = 0; step < 10; ++step) sim->step();
+      return std::pair(recorder, std::move(sim));
+    };
+    const auto [all, all_sim] = run({});
+    const auto [some, some_sim] = run({.neighbours = neighbours, .targets = targets});
+    std::size_t neighbour_lists = 0, target_lists = 0;
+    for (std::size_t i = 0; i < all->seen.size(); ++i) {
+      const Recorder::Seen &a = all->seen[i], &b = some->seen[i];
+      QCOMPARE(b.position, a.position);
+      QCOMPARE(b.obstacles.size(), a.obstacles.size());
+      QCOMPARE(b.neighbours.size(), neighbours ? a.neighbours.size() : 0);
+      QCOMPARE(b.targets.size(), targets ? a.targets.size() : 0);
+      neighbour_lists += !a.neighbours.empty();
+      target_lists += !a.targets.empty();
+    }
+    QVERIFY(neighbour_lists > 0 && target_lists > 0);  // there was something to leave out
+    for (std::size_t t = 0; t < all_sim->targets().size(); ++t) {
+      QCOMPARE(some_sim->targets()[t].observations, all_sim->targets()[t].observations);
+      QCOMPARE(some_sim->targets()[t].found_by, all_sim->targets()[t].found_by);
+      QCOMPARE(some_sim->targets()[t].found_time, all_sim->targets()[t].found_time);
+    }
   }
 
   void nearest_neighbour_distances_match_brute_force_data() {

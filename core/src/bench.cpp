@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <fstream>
 #include <string>
 
@@ -16,14 +17,16 @@ SimulationSetup table1(const PluginHost& host, const Workload& w) {
   s.spawn_mode = w.spawn_mode;
   s.drone = builtin_drone_configs().front();  // "small"
   s.drones = w.drones;
-  const auto& flocking = host.behavior("flocking");
-  ParameterValues params(flocking.factory.parameters);
-  params.set("separation_distance", 250);
-  params.set("alignment_weight", 1.6);
-  params.set("cohesion_weight", 1.0);
-  params.set("separation_weight", 3.0);
-  params.set("obstacle_avoidance_weight", 4.0);
-  s.behavior = PluginHost::create(flocking, params);
+  const auto& behavior = host.behavior(w.behavior);
+  ParameterValues params(behavior.factory.parameters);
+  if (w.behavior == "flocking") {
+    params.set("separation_distance", 250);
+    params.set("alignment_weight", 1.6);
+    params.set("cohesion_weight", 1.0);
+    params.set("separation_weight", 3.0);
+    params.set("obstacle_avoidance_weight", 4.0);
+  }
+  s.behavior = PluginHost::create(behavior, params);
   const auto& tree = host.target_kind("tree");
   ParameterValues tree_params(tree.factory.parameters);
   tree_params.set("radius", 5);
@@ -61,7 +64,7 @@ void Floor::record(const Simulation& sim) {
   }
 }
 
-double Floor::replay_seconds(const SimulationSetup& setup) const {
+double Floor::replay_seconds(const SimulationSetup& setup, bool cpu) const {
   // The same drones in the same places as salsa spawned them: take them from a Simulation without
   // targets, then step a world of our own.
   SimulationSetup copy = setup;
@@ -75,7 +78,7 @@ double Floor::replay_seconds(const SimulationSetup& setup) const {
   for (std::size_t i = 0; i < positions.size(); ++i)
     world.add_drone(static_cast<std::uint32_t>(i), positions[i], {}, setup.drone);
   const std::size_t steps = drones_ ? commands_.size() / (2 * drones_) : 0;
-  const auto start = std::chrono::steady_clock::now();
+  const double start = seconds_now(cpu);
   const float* v = commands_.data();
   for (std::size_t k = 0; k < steps; ++k) {
     for (b2Body* body : world.bodies) {
@@ -84,7 +87,12 @@ double Floor::replay_seconds(const SimulationSetup& setup) const {
     }
     world.step(setup.dt, setup.velocity_iterations, setup.position_iterations);
   }
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return seconds_now(cpu) - start;
+}
+
+double seconds_now(bool cpu) {
+  if (timespec t; cpu && clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) == 0) return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 std::size_t peak_rss_bytes() {

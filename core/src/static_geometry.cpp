@@ -58,11 +58,17 @@ StaticGeometry::StaticGeometry(const MapData& map, double cell_size) : bounds_(m
   origin_ = b.min - Vec2{cell_, cell_};
   cols_ = static_cast<int>(b.width() / cell_) + 3;
   rows_ = static_cast<int>(b.height() / cell_) + 3;
-  cells_.assign(static_cast<std::size_t>(cols_) * rows_, {});
-  for (std::uint32_t i = 0; i < segments_.size(); ++i) insert(i);
+  // Each cell's ids, ascending, in one array (counting sort): a query reads a row of cells as one range.
+  cell_start_.assign(static_cast<std::size_t>(cols_) * rows_ + 1, 0);
+  for (std::uint32_t i = 0; i < segments_.size(); ++i) cells_of(i, [&](std::size_t c) { ++cell_start_[c + 1]; });
+  for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
+  cell_ids_.resize(cell_start_.back());
+  std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::uint32_t i = 0; i < segments_.size(); ++i) cells_of(i, [&](std::size_t c) { cell_ids_[fill[c]++] = i; });
 }
 
-void StaticGeometry::insert(std::uint32_t id) {
+template <class Fn>
+void StaticGeometry::cells_of(std::uint32_t id, Fn&& fn) const {
   // The cells of the segment's bounding box that it really passes (within the cell's circumcircle).
   // Row by row, only the columns near the part of the segment inside the row's band are looked at, so a
   // long diagonal costs its length in cells, not its bounding box's area.
@@ -84,19 +90,21 @@ void StaticGeometry::insert(std::uint32_t id) {
     const double xa = s.a.x + d.x * t0, xb = s.a.x + d.x * t1;
     for (int x = std::max(x_lo, col(std::min(xa, xb) - margin)), last = std::min(x_hi, col(std::max(xa, xb) + margin)); x <= last; ++x) {
       const Vec2 centre = origin_ + Vec2{x * cell_, y * cell_} + Vec2{cell_ / 2, cell_ / 2};
-      if (segment_distance(centre, s) <= reach) cells_[static_cast<std::size_t>(y) * cols_ + x].push_back(id);
+      if (segment_distance(centre, s) <= reach) fn(static_cast<std::size_t>(y) * cols_ + x);
     }
   }
 }
 
 void StaticGeometry::candidates(Vec2 p, double range, std::vector<std::uint32_t>& out) const {
   out.clear();
-  if (cells_.empty()) return;
+  if (cell_start_.empty()) return;
   const int x0 = col(p.x - range), x1 = col(p.x + range), y0 = row(p.y - range), y1 = row(p.y + range);
-  for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x)
-      for (std::uint32_t id : cells_[static_cast<std::size_t>(y) * cols_ + x])
-        if (out.size() > 32 || std::find(out.begin(), out.end(), id) == out.end()) out.push_back(id);
+  for (int y = y0; y <= y1; ++y) {
+    const std::size_t first = static_cast<std::size_t>(y) * cols_;
+    for (std::uint32_t k = cell_start_[first + x0], end = cell_start_[first + x1 + 1]; k < end; ++k)
+      if (const std::uint32_t id = cell_ids_[k]; out.size() > 32 || std::find(out.begin(), out.end(), id) == out.end())
+        out.push_back(id);
+  }
   if (out.size() > 32) {  // many segments: dedupe by sorting instead
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());

@@ -79,6 +79,8 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Walk> {
     return steer + obstacle_weight_ * salsa::avoid_near_obstacles(me);
   }
 
+  salsa::Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only
+
  protected:
   void configure() override {
     point_speed_ = param("point_speed");

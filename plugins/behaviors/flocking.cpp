@@ -22,6 +22,8 @@ class Flocking final : public salsa::Behavior {
            cohesion_weight_ * boids.cohesion + obstacle_weight_ * salsa::avoid_obstacles(me);
   }
 
+  salsa::Senses senses() const override { return {.neighbours = true, .targets = false}; }
+
  protected:
   void configure() override {  // decide is hot: no name lookups there
     separation_distance_ = param("separation_distance");

@@ -59,6 +59,7 @@ class PheromoneAvoidance final : public salsa::Behavior {
     return salsa::steer_along(me, best) + obstacle_weight_ * salsa::avoid_near_obstacles(me);
   }
 
+  salsa::Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only
   void reset(std::size_t) override { cells_.clear(); }  // a fresh run starts with a clean field
 
  protected:

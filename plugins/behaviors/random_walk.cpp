@@ -42,6 +42,8 @@ class RandomWalk final : public salsa::BehaviorWithMemory<Walk> {
            obstacle_weight_ * salsa::avoid_near_obstacles(me);
   }
 
+  salsa::Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only
+
  protected:
   void configure() override {
     min_duration_ = param("min_duration");

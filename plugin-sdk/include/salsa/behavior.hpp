@@ -11,6 +11,14 @@
 
 namespace salsa {
 
+/// What a behavior reads of its Perception. The core gathers only these; the others stay empty spans
+/// (the drone's own fields and its obstacle hits are always there). Declaring less is only a saving:
+/// a behavior that reads a list it did not declare finds it empty.
+struct Senses {
+  bool neighbours = true;  ///< Perception::neighbours
+  bool targets = true;     ///< Perception::targets
+};
+
 class Behavior : public Configurable {
  public:
   /// Shared state (a pheromone field, partitions) is updated here, once per step before any `decide`.
@@ -20,6 +28,8 @@ class Behavior : public Configurable {
   virtual Vec2 decide(const Perception& me, Rng& rng) = 0;
   /// Drones were (re)spawned: `drones` drones with ids 0..drones-1 and fresh memory.
   virtual void reset(std::size_t drones) { (void)drones; }
+  /// What `decide` reads (default: everything). Asked once per step, after `prepare`.
+  virtual Senses senses() const { return {}; }
 };
 
 /// A behavior with per-drone memory `Memory`, one slot per drone, owned and sized by the core through

@@ -2,6 +2,7 @@
 // Benchmark workloads (../shared/workloads/table1.md) and the bare-Box2D floor they are compared with.
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 #include "salsa/core/plugin_host.hpp"
 #include "salsa/core/simulation.hpp"
@@ -16,9 +17,10 @@ struct Workload {
   SpawnMode spawn_mode = SpawnMode::disc;
   std::uint64_t seed = 1;
   int threads = 0;
+  std::string behavior = "flocking";     ///< flocking with the paper's parameters, any other with its defaults
 };
 
-/// Table I: flocking with the paper's parameters, "small" drones, trees of radius 5 m, summary every
+/// Table I: flocking with the paper's parameters (or `w.behavior` with its defaults), "small" drones, trees of radius 5 m, summary every
 /// 50 steps. Needs the flocking, tree and detect_targets plugins.
 SimulationSetup table1(const PluginHost& host, const Workload& w);
 
@@ -36,14 +38,18 @@ class Floor {
   Floor(std::size_t drones, std::size_t steps);
   /// Call after each step of the run.
   void record(const Simulation& sim);
-  /// Wall seconds to replay the recorded steps.
-  double replay_seconds(const SimulationSetup& setup) const;
+  /// Seconds to replay the recorded steps (wall clock, or this process's CPU clock with `cpu`).
+  double replay_seconds(const SimulationSetup& setup, bool cpu = false) const;
   std::size_t bytes() const { return commands_.capacity() * sizeof(float); }
 
  private:
   std::size_t drones_;
   std::vector<float> commands_;
 };
+
+/// Seconds on the wall clock, or with `cpu` on this process's CPU clock: on a shared machine the CPU
+/// clock leaves out the time other processes had the core (single-threaded runs only).
+double seconds_now(bool cpu);
 
 /// Peak resident memory of this process since the last reset (bytes); reset works on Linux ≥ 4.0.
 std::size_t peak_rss_bytes();

@@ -185,7 +185,7 @@ class Simulation final : public WorldView {
                         Vec2 spawn, Rng& spawn_rng);
   static Targets make_targets(std::vector<Vec2> positions, const DroneConfig& drone, const TargetKind* kind);
   void install(World&& world) noexcept;
-  Perception perceive(std::uint32_t id, Scratch& scratch) const;
+  Perception perceive(std::uint32_t id, Senses senses, Scratch& scratch) const;
   void read_back();
   void timed(Phase phase, const auto& fn);
 

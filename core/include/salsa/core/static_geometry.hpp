@@ -39,7 +39,9 @@ class StaticGeometry {
                                       std::span<const std::uint32_t> ids) const;
 
  private:
-  void insert(std::uint32_t id);
+  /// fn(cell index) for each cell segment `id` passes.
+  template <class Fn>
+  void cells_of(std::uint32_t id, Fn&& fn) const;
   int col(double x) const { return cell_coord(x - origin_.x, cols_); }
   int row(double y) const { return cell_coord(y - origin_.y, rows_); }
   int cell_coord(double offset, int cells) const {  // clamped in double: far or NaN points cannot overflow the int
@@ -54,7 +56,8 @@ class StaticGeometry {
   double cell_ = 1;
   Vec2 origin_;
   int cols_ = 0, rows_ = 0;
-  std::vector<std::vector<std::uint32_t>> cells_;
+  std::vector<std::uint32_t> cell_start_;  ///< cell c's ids are cell_ids_[cell_start_[c] .. cell_start_[c + 1])
+  std::vector<std::uint32_t> cell_ids_;
 };
 
 /// Distance along the ray p + t·d (t ≥ 0, |d| = 1) to segment s, if it crosses it within `range`.
