@@ -4,6 +4,7 @@
 #include <QtTest>
 
 #include <cmath>
+#include <limits>
 #include <set>
 #include <unordered_set>
 
@@ -81,6 +82,67 @@ class TestBehaviors : public QObject {
     const Vec2 a = flocking->decide(me, rng);
     QVERIFY2(std::abs(a.x - x) < 1e-12 && std::abs(a.y - y) < 1e-12,
              qPrintable(QString("got (%1, %2), expected (%3, %4)").arg(a.x, 0, 'g', 17).arg(a.y, 0, 'g', 17).arg(x).arg(y)));
+  }
+
+  // One whole step of one drone through the core, against table1.md's formulas written out here from
+  // the workload's text (no SDK helper): each term clamped to max force, the weighted sum applied as
+  // is (so the velocity may change by up to 9.6 × max force in one step), then only the speed clamped.
+  // Six drones spawn in a disc 20–45 m from the west wall, so drone 0 has neighbours and wall hits.
+  void flocking_step_is_the_table1_update_data() {
+    QTest::addColumn<int>("seed");
+    for (int seed : {1, 2, 3, 4, 5, 6}) QTest::newRow(qPrintable(QString("seed %1").arg(seed))) << seed;
+  }
+  void flocking_step_is_the_table1_update() {
+    QFETCH(int, seed);
+    auto sim = simulation(QString(R"({"behavior": "flocking", "drones": 6, "map": {"name": "empty", "params": {"size": 2000}},
+                                      "spawn": {"point": [32, 1000], "radius": 12}, "decision_lag": 0, "seed": %1})")
+                              .arg(seed));
+    const std::vector<Vec2> p(sim->drone_positions().begin(), sim->drone_positions().end());
+    const std::vector<Vec2> v(sim->drone_velocities().begin(), sim->drone_velocities().end());
+    const double max_speed = 10, max_force = 0.3, size = 2000;  // the "small" drone, the 2 km map
+    auto unit = [](Vec2 a) { const double l = std::hypot(a.x, a.y); return l > 0 ? Vec2{a.x / l, a.y / l} : Vec2{}; };
+    auto clamp = [](Vec2 a, double m) { const double l = std::hypot(a.x, a.y); return l > m ? Vec2{a.x * m / l, a.y * m / l} : a; };
+    auto steer = [&](Vec2 direction) { return clamp(unit(direction) * max_speed - v[0], max_force); };
+
+    // Alignment, cohesion and separation over the drones within 134 m (all of them: the disc is 24 m wide).
+    Vec2 velocities, positions, away;
+    int count = 0;
+    for (std::size_t j = 1; j < p.size(); ++j) {
+      const double d = std::hypot(p[j].x - p[0].x, p[j].y - p[0].y);
+      if (d >= 134) continue;
+      ++count, velocities += v[j], positions += p[j];
+      if (d > 0 && d < 250) away += unit(p[0] - p[j]) / d;
+    }
+    QCOMPARE(count, 5);
+    const Vec2 alignment = steer(velocities / count), cohesion = steer(positions / count - p[0]),
+               separation = away.is_zero() ? Vec2{} : steer(away / count);
+    // Obstacle avoidance: 8 rays of 50.2 m at 0°, 45°, ..., 315° against the four walls of the square.
+    Vec2 hits;
+    int hit_count = 0;
+    for (int k = 0; k < 8; ++k) {
+      const Vec2 u{std::cos(k * salsa::pi / 4), std::sin(k * salsa::pi / 4)};
+      double t = std::numeric_limits<double>::infinity();
+      if (u.x < -1e-9) t = std::min(t, p[0].x / -u.x);
+      if (u.x > 1e-9) t = std::min(t, (size - p[0].x) / u.x);
+      if (u.y < -1e-9) t = std::min(t, p[0].y / -u.y);
+      if (u.y > 1e-9) t = std::min(t, (size - p[0].y) / u.y);
+      if (t > 0 && t <= 50.2) hits += unit(p[0] - (p[0] + u * t)) / t, ++hit_count;
+    }
+    QVERIFY2(hit_count >= 1, "drone 0 must see the wall for this test to mean anything");
+    const Vec2 avoidance = steer(hits / hit_count);
+    const Vec2 a = 1.6 * alignment + 3.0 * separation + 1.0 * cohesion + 4.0 * avoidance;
+    const Vec2 sum = v[0] + a;
+    const double speed = std::min(std::hypot(sum.x, sum.y), max_speed);
+    const Vec2 expected = unit(sum) * speed;
+
+    sim->step();
+    const Vec2 commanded = sim->commanded_velocities()[0];  // what act handed to the body
+    qInfo("|a| = %.3f (%.1f × max force), speed %.3f -> %.3f m/s, %d wall hits", a.length(), a.length() / max_force,
+          v[0].length(), speed, hit_count);
+    QVERIFY2(a.length() > 2 * max_force, "the step must exceed max force for this test to tell the clamps apart");
+    QVERIFY2(salsa::distance(commanded, expected) < 1e-9,
+             qPrintable(QString("commanded (%1, %2), table1 gives (%3, %4)").arg(commanded.x, 0, 'g', 12).arg(commanded.y, 0, 'g', 12)
+                            .arg(expected.x, 0, 'g', 12).arg(expected.y, 0, 'g', 12)));
   }
 
   // Table I's separation distance (250 m) exceeds the detection range (134 m): every neighbour repels,

@@ -510,14 +510,16 @@ void Simulation::decide() {
   });
 }
 
-// Act: clamp to max force and max speed, hand the velocity to Box2D.
+// Act: add the steering to the velocity as it is, clamp the speed to max speed, hand the velocity to
+// Box2D. Max force bounds each steering term (the SDK's helpers clamp to it), not a behavior's weighted
+// sum of terms: table1's flocking applies 1.6 + 3 + 1 + 4 = 9.6 × max force at most.
 void Simulation::act() {
-  const DroneConfig& cfg = setup_.drone;
+  const double max_speed = setup_.drone.max_speed;
   for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
     const Vec2 a = drones_.steering[i];
     if (!std::isfinite(a.x) || !std::isfinite(a.y))
       throw std::runtime_error("decide returned a non-finite steering " + point(a) + " for drone " + std::to_string(i));
-    const Vec2 v = (drones_.velocities[i] + a.clamped(cfg.max_force)).clamped(cfg.max_speed);
+    const Vec2 v = (drones_.velocities[i] + a).clamped(max_speed);
     drones_.commanded[i] = v;
     physics_->bodies[i]->SetLinearVelocity(to_b2(v));
   }
