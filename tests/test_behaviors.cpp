@@ -234,6 +234,36 @@ class TestBehaviors : public QObject {
              qPrintable(QString("%1 vs %2").arg(pheromone).arg(random)));
   }
 
+  // The forest's default obstacle count scales with the area: the same obstacles per km² at every size
+  // (12 clusters on 500 m as always, 192 on 2 km), and an explicit cluster count is used as given.
+  void forest_obstacles_scale_with_area_data() {
+    QTest::addColumn<double>("size");
+    QTest::addColumn<int>("clusters");  // 0: the default
+    QTest::addColumn<double>("per_km2_low");
+    QTest::addColumn<double>("per_km2_high");
+    QTest::newRow("500 m") << 500.0 << 0 << 150.0 << 200.0;
+    QTest::newRow("1 km") << 1000.0 << 0 << 150.0 << 200.0;
+    QTest::newRow("2 km") << 2000.0 << 0 << 150.0 << 200.0;
+    QTest::newRow("4 km") << 4000.0 << 0 << 150.0 << 200.0;
+    QTest::newRow("2 km, 12 clusters given") << 2000.0 << 12 << 0.0 << 12.0;  // at most 48 obstacles
+  }
+  void forest_obstacles_scale_with_area() {
+    QFETCH(double, size);
+    QFETCH(int, clusters);
+    QFETCH(double, per_km2_low);
+    QFETCH(double, per_km2_high);
+    const auto& entry = host_->map("forest");
+    salsa::ParameterValues params(entry.factory.parameters);
+    params.set("size", size);
+    if (clusters) params.set("clusters", clusters);
+    const auto forest = salsa::PluginHost::create(entry, params);
+    salsa::Rng rng(4);
+    const salsa::MapData map = forest->generate("", rng);
+    const double per_km2 = static_cast<double>(map.obstacles.size()) / (size * size / 1e6);
+    qInfo("%.0f m: %zu obstacles, %.1f per km²", size, map.obstacles.size(), per_km2);
+    QVERIFY2(per_km2 >= per_km2_low && per_km2 <= per_km2_high, qPrintable(QString::number(per_km2)));
+  }
+
   // Every step, every drone: inside the bounds and outside every obstacle polygon. "blind" switches
   // the behavior's obstacle avoidance off, so drones fly into obstacles and walls all the time and the
   // physics alone must keep them out.
