@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <set>
 #include <unordered_set>
 
@@ -30,6 +31,52 @@ double mean_nearest_neighbour(const salsa::Simulation& sim) {
   for (double d : sim.nearest_neighbour_distances()) sum += d;
   return sum / static_cast<double>(sim.drone_count());
 }
+
+/// Area coverage: which part of the free map (5 m cells whose centre is clear of obstacles) has been
+/// within camera range of some drone, sampled every 0.1 s (a drone moves at most 1 m in between).
+class Coverage {
+ public:
+  explicit Coverage(const salsa::Simulation& sim) : b_(sim.bounds()), range_(sim.drone_config().camera_range) {
+    cols_ = static_cast<int>(std::ceil(b_.width() / kCell)), rows_ = static_cast<int>(std::ceil(b_.height() / kCell));
+    state_.assign(static_cast<std::size_t>(cols_) * rows_, 0);
+    for (int y = 0; y < rows_; ++y)
+      for (int x = 0; x < cols_; ++x)
+        if (sim.geometry().is_free(centre(x, y), 0)) at(x, y) = 1;
+  }
+  /// Runs the simulation until `time` s, marking what the cameras see.
+  void run_until(salsa::Simulation& sim, double time) {
+    while (sim.time() < time - 1e-9) {
+      sim.run_steps(6);
+      for (Vec2 p : sim.drone_positions()) {
+        const int x0 = std::max(0, cell(p.x - range_, b_.min.x)), x1 = std::min(cols_ - 1, cell(p.x + range_, b_.min.x));
+        const int y0 = std::max(0, cell(p.y - range_, b_.min.y)), y1 = std::min(rows_ - 1, cell(p.y + range_, b_.min.y));
+        for (int y = y0; y <= y1; ++y)
+          for (int x = x0; x <= x1; ++x)
+            if (at(x, y) == 1 && salsa::distance(p, centre(x, y)) <= range_) at(x, y) = 2;
+      }
+    }
+  }
+  /// Covered fraction of the free cells whose centre lies in `r` (the whole map by default).
+  double fraction(std::optional<salsa::Rect> r = {}) const {
+    std::size_t free = 0, covered = 0;
+    for (int y = 0; y < rows_; ++y)
+      for (int x = 0; x < cols_; ++x)
+        if (at(x, y) && (!r || r->contains(centre(x, y)))) ++free, covered += at(x, y) == 2;
+    return free ? static_cast<double>(covered) / static_cast<double>(free) : 1.0;
+  }
+
+ private:
+  static constexpr double kCell = 5;
+  Vec2 centre(int x, int y) const { return {b_.min.x + (x + 0.5) * kCell, b_.min.y + (y + 0.5) * kCell}; }
+  static int cell(double v, double min) { return static_cast<int>(std::floor((v - min) / kCell)); }
+  char& at(int x, int y) { return state_[static_cast<std::size_t>(y) * cols_ + x]; }
+  char at(int x, int y) const { return state_[static_cast<std::size_t>(y) * cols_ + x]; }
+
+  salsa::Rect b_;
+  double range_;
+  int cols_ = 0, rows_ = 0;
+  std::vector<char> state_;  // per cell: 0 blocked, 1 free, 2 free and seen
+};
 
 }  // namespace
 
@@ -202,6 +249,38 @@ class TestBehaviors : public QObject {
     std::set<int> quadrants;
     for (Vec2 p : sim->drone_positions()) quadrants.insert((p.x > size / 2) + 2 * (p.y > size / 2));
     QCOMPARE(quadrants.size(), std::size_t(4));
+  }
+
+  // Each drone sweeps the region it was given, and the regions tile the free map: 30 drones on the
+  // 2 km map (the issue's case) cover nearly all of it, every 500 m block included, empty or forest
+  // (the default forest at 2 km: 192 clusters). Measured 91.0 % / 99.1 % at 600 / 900 s on the empty map,
+  // 80–87 % / 90–97 % in the forest (seeds 1–3); a disc around each point reached 42 % / 48 % and 24–33 %.
+  void dynamic_space_partitioning_covers_the_free_map_data() {
+    QTest::addColumn<QString>("map");
+    QTest::addColumn<double>("at_600_s");
+    QTest::addColumn<double>("at_900_s");
+    QTest::addColumn<double>("every_block");
+    QTest::newRow("empty 2 km") << R"({"name": "empty", "params": {"size": 2000}})" << 0.85 << 0.97 << 0.9;
+    QTest::newRow("forest 2 km") << R"({"name": "forest", "params": {"size": 2000}})" << 0.72 << 0.85 << 0.6;
+  }
+  void dynamic_space_partitioning_covers_the_free_map() {
+    QFETCH(QString, map);
+    QFETCH(double, at_600_s);
+    QFETCH(double, at_900_s);
+    QFETCH(double, every_block);
+    auto sim = simulation(QString(R"({"behavior": "dynamic_space_partitioning", "drones": 30, "map": %1, "seed": 1})").arg(map));
+    Coverage coverage(*sim);
+    coverage.run_until(*sim, 600);
+    const double early = coverage.fraction();
+    coverage.run_until(*sim, 900);
+    const double late = coverage.fraction();
+    double worst = 1;
+    for (double x = 0; x < 2000; x += 500)
+      for (double y = 0; y < 2000; y += 500) worst = std::min(worst, coverage.fraction(salsa::Rect{{x, y}, {x + 500, y + 500}}));
+    qInfo("coverage %.1f %% at 600 s, %.1f %% at 900 s; least covered 500 m block %.1f %%", 100 * early, 100 * late, 100 * worst);
+    QVERIFY2(early >= at_600_s, qPrintable(QString::number(early)));
+    QVERIFY2(late >= at_900_s, qPrintable(QString::number(late)));
+    QVERIFY2(worst >= every_block, qPrintable(QString::number(worst)));
   }
 
   void pheromone_avoidance_covers_more_than_random_walk_data() {
