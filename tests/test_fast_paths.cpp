@@ -190,7 +190,7 @@ class TestFastPaths : public QObject {
     QCOMPARE(n, std::size_t(drones));
 
     // Brute-force observation counts: each step counts the targets in view of the positions the drones
-    // sensed from (those at the start of the step), and a target is found at that time.
+    // sensed from (those at the start of the step), and a target is found when that step ends.
     std::vector<std::uint64_t> observations(sim.targets().size(), 0);
     std::vector<double> first_seen(sim.targets().size(), -1);
     std::vector<std::int64_t> first_by(sim.targets().size(), -1);
@@ -200,7 +200,7 @@ class TestFastPaths : public QObject {
         for (std::size_t t = 0; t < sim.targets().size(); ++t)
           if (salsa::distance(pos[i], sim.targets()[t].position) < reach) {
             ++observations[t];
-            if (first_by[t] < 0) first_seen[t] = sim.time(), first_by[t] = static_cast<std::int64_t>(i);
+            if (first_by[t] < 0) first_seen[t] = sim.time() + sim.dt(), first_by[t] = static_cast<std::int64_t>(i);
           }
     };
 

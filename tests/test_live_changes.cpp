@@ -134,7 +134,7 @@ class TestLiveChanges : public QObject {
 
   /// Two simulations of the same test, one of which will see a refused change.
   std::pair<std::unique_ptr<Simulation>, std::unique_ptr<Simulation>> twins() {
-    const std::string json = R"({"behavior": "random_walk", "drones": 12, "map": {"name": "forest", "params": {"size": 300}},
+    const std::string json = R"({"behavior": "random_walk", "drones": 12, "map": {"name": "forest", "params": {"size": 300, "clusters": 12}},
                                  "targets": {"kind": "tree", "count": 300}, "seed": 5})";
     auto setup = [&] {
       SimulationSetup s = make_setup(parse_test(json, "twin", *host_), *host_, 1);

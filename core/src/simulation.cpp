@@ -449,7 +449,6 @@ void Simulation::sense() {
   drone_grid_.build(drones_.positions, cfg.detection_range / 2);  // 5×5 cells of R/2 cover less than 3×3 of R
   const std::size_t rays = drones_.ray_directions.size();
   seen_.resize(drones_.positions.size());
-  sensed_time_ = time();
   const TargetKind* kind = targets_.states.empty() ? nullptr : setup_.target_kind.get();
   const double reach = kind ? cfg.camera_range + kind->radius() : 0;
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
@@ -515,14 +514,16 @@ void Simulation::decide() {
   });
 }
 
-// Act: clamp to max force and max speed, hand the velocity to Box2D.
+// Act: add the steering to the velocity as it is, clamp the speed to max speed, hand the velocity to
+// Box2D. Max force bounds each steering term (the SDK's helpers clamp to it), not a behavior's weighted
+// sum of terms: table1's flocking applies 1.6 + 3 + 1 + 4 = 9.6 × max force at most.
 void Simulation::act() {
-  const DroneConfig& cfg = setup_.drone;
+  const double max_speed = setup_.drone.max_speed;
   for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
     const Vec2 a = drones_.steering[i];
     if (!std::isfinite(a.x) || !std::isfinite(a.y))
       throw std::runtime_error("decide returned a non-finite steering " + point(a) + " for drone " + std::to_string(i));
-    const Vec2 v = (drones_.velocities[i] + a.clamped(cfg.max_force)).clamped(cfg.max_speed);
+    const Vec2 v = (drones_.velocities[i] + a).clamped(max_speed);
     drones_.commanded[i] = v;
     physics_->bodies[i]->SetLinearVelocity(to_b2(v));
   }
@@ -560,15 +561,17 @@ class Actions final : public ContactActions {
 
 // Detect: events to the contact handlers, serially and in a fixed order: first the targets each drone
 // had in view when it sensed (by drone), then the contacts Box2D began in its step (in its order).
+// Every event of a step carries the time the step ends, the time of the first row that can count it:
+// what was in view on the snapshot at t is found at t + dt, so a row never misses a found target.
 void Simulation::dispatch_sightings() {
-  const double sensed_at = sensed_time_;
-  Actions actions(targets_.states, targets_.found, sensed_at);
+  const double step_end = static_cast<double>(steps_ + 1) * setup_.dt;  // time() once this step is counted
+  Actions actions(targets_.states, targets_.found, step_end);
   for (std::uint32_t i = 0; i < seen_.size(); ++i) {
     // Targets lie scattered in memory: ask for a drone's all at once rather than miss on each in turn.
     for (const auto& [t, d] : seen_[i]) __builtin_prefetch(&targets_.states[t], 1);
     for (const auto& [t, d] : seen_[i]) {
       ++targets_.states[t].observations;
-      const ContactEvent e{ContactKind::target_in_view, i, t, targets_.states[t].position, sensed_at};
+      const ContactEvent e{ContactKind::target_in_view, i, t, targets_.states[t].position, step_end};
       for (const auto& handler : setup_.contact_handlers) handler->on_contact(e, actions);
     }
   }

@@ -1,29 +1,37 @@
 // Dynamic space partitioning: one virtual point per drone; the points repel each other until they
-// spread evenly over the area (spacing about sqrt(area / drones)), and each drone flies to its point
-// and random-walks around it, so the area is shared out among the drones.
+// spread evenly over the area (spacing about sqrt(area / drones)). The free ground, in square cells,
+// is shared out among the points by a breadth-first flood from all of them at once (a Voronoi
+// partition whose distances go around obstacles), and each drone sweeps its own region: it flies to
+// the nearest cell of it that nobody has visited, and once all are visited, to the one visited
+// longest ago. So the regions tile the free map and every region has a drone covering it.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <salsa/sdk.hpp>
 
 namespace {
 
-struct Walk {
-  double heading = 0;    // rad
-  double time_left = 0;  // s until the next heading change while around the point
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+struct Sweep {
+  std::uint32_t goal = kNone;      // cell flown to
+  double since = 0;                // s: when it was chosen (a visit after that ends it)
+  double deadline = 0;             // s: past it the goal counts as unreachable
+  std::uint32_t given_up = kNone;  // cell found unreachable, for prepare to mark visited
 };
 
-class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Walk> {
+class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Sweep> {
  public:
   static salsa::Parameters declare() {
     return {
         {"point_speed", 8.0, 0.1, 100.0, "m/s", "top speed of the virtual points while they spread"},
         {"cutoff", 1.5, 0.5, 3.0, "", "points repel within this multiple of the equilibrium spacing"},
-        {"arrival_fraction", 0.3, 0.01, 1.0, "",
-         "within this fraction of the spacing a drone wanders around its point"},
-        {"turn_interval", 3.0, 0.1, 60.0, "s", "mean time between heading changes around the point"},
+        {"cell_size", 20.0, 1.0, 1000.0, "m",
+         "side of a coverage cell; a drone at its centre sees all of it up to camera range × 1.41"},
+        {"repartition_interval", 1.0, 0.0, 60.0, "s", "time between re-floods of the regions (0: every step)"},
         {"obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"},
     };
   }
@@ -31,16 +39,86 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Walk> {
   void reset(std::size_t drones) override {
     BehaviorWithMemory::reset(drones);
     points_.clear();  // re-seeded at the drones' positions by the next prepare
+    cells_.clear();
   }
 
   void prepare(const salsa::WorldView& world) override {
     const auto drones = world.drone_positions();
-    if (points_.size() != drones.size()) points_.assign(drones.begin(), drones.end());
+    if (points_.size() != drones.size()) points_.assign(drones.begin(), drones.end()), next_flood_ = 0;
+    if (cells_.empty() || world.bounds() != bounds_ || cell_size_ != built_cell_size_) build(world);
     if (points_.empty()) return;
-    const salsa::Rect b = world.bounds();
-    spacing_ = std::sqrt(b.area() / static_cast<double>(points_.size()));
-    const double cutoff = cutoff_ * spacing_, step = point_speed_ * world.dt();
-    const double margin = std::min({spacing_ / 2, b.width() / 2, b.height() / 2});
+    spread(world);
+    // Visits: the cell under a drone close to its centre; cells a drone could not reach count too.
+    const double t = world.time(), arrive2 = kArrival * kArrival * cell_ * cell_;
+    for (std::uint32_t i = 0; i < drones.size(); ++i) {
+      const std::uint32_t c = index(drones[i]);
+      if (salsa::distance_squared(drones[i], centre(c)) <= arrive2) cells_[c].visited = t;
+      if (i < memory().size() && memory()[i].given_up != kNone) cells_[memory()[i].given_up].visited = t;
+    }
+    if (t >= next_flood_) flood(), next_flood_ = t + repartition_interval_;
+  }
+
+  salsa::Vec2 decide(const salsa::Perception& me, Sweep& s, salsa::Rng&) override {
+    salsa::Vec2 steer;
+    if (me.id < points_.size()) {
+      if (s.given_up != kNone) s = {};
+      const bool stale = s.goal == kNone || cells_[s.goal].owner != me.id || cells_[s.goal].visited > s.since;
+      if (stale) choose_goal(me, s);
+      if (me.time > s.deadline && s.goal != kNone) s.given_up = s.goal;
+      steer = salsa::seek(me, s.goal != kNone ? centre(s.goal) : points_[me.id]);
+    }
+    return steer + obstacle_weight_ * salsa::avoid_near_obstacles(me, kAvoidFade);
+  }
+
+  salsa::Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only
+
+ protected:
+  void configure() override {
+    point_speed_ = param("point_speed");
+    cutoff_ = param("cutoff");
+    cell_size_ = param("cell_size");
+    repartition_interval_ = param("repartition_interval");
+    obstacle_weight_ = param("obstacle_avoidance_weight");
+  }
+
+ private:
+  struct Cell {
+    double visited = -1;        // s, last visit; -1: never
+    std::uint32_t owner = kNone;  // point (= drone) whose region it is; kNone: blocked or unreachable
+    bool free = false;          // centre clear of obstacles by kClearance
+  };
+  static constexpr double kClearance = 5;    // m between a cell's centre and obstacles for it to be a goal
+  static constexpr double kArrival = 0.4;    // a drone within this fraction of a cell of its centre visits it
+  static constexpr double kAvoidFade = 0.25;  // obstacle avoidance starts at a quarter of obstacle range
+  static constexpr double kMaxCells = 1 << 22;
+
+  void build(const salsa::WorldView& world) {
+    bounds_ = world.bounds();
+    built_cell_size_ = cell_size_;
+    cell_ = std::max(cell_size_, std::sqrt(bounds_.area() / kMaxCells));
+    cols_ = std::max(1, static_cast<int>(std::ceil(bounds_.width() / cell_)));
+    rows_ = std::max(1, static_cast<int>(std::ceil(bounds_.height() / cell_)));
+    cells_.assign(static_cast<std::size_t>(cols_) * rows_, Cell{});
+    for (std::uint32_t c = 0; c < cells_.size(); ++c) cells_[c].free = world.is_free(centre(c), kClearance);
+    next_flood_ = 0;
+  }
+  std::uint32_t index(salsa::Vec2 p) const {
+    const int x = std::clamp(static_cast<int>((p.x - bounds_.min.x) / cell_), 0, cols_ - 1);
+    const int y = std::clamp(static_cast<int>((p.y - bounds_.min.y) / cell_), 0, rows_ - 1);
+    return static_cast<std::uint32_t>(y * cols_ + x);
+  }
+  salsa::Vec2 centre(std::uint32_t c) const {  // inside the bounds even for a clipped last column or row
+    const double x = bounds_.min.x + (c % cols_ + 0.5) * cell_, y = bounds_.min.y + (c / cols_ + 0.5) * cell_;
+    return {std::min(x, bounds_.max.x - cell_ / 4), std::min(y, bounds_.max.y - cell_ / 4)};
+  }
+
+  // The points repel each other within the cutoff (a grid: O(points)) and stay inside the bounds;
+  // they are virtual, so obstacles do not stop them.
+  void spread(const salsa::WorldView& world) {
+    const salsa::Rect b = bounds_;
+    const double spacing = std::sqrt(b.area() / static_cast<double>(points_.size()));
+    const double cutoff = cutoff_ * spacing, step = point_speed_ * world.dt();
+    const double margin = std::min({cell_ / 2, b.width() / 2, b.height() / 2});
     grid_.build(points_, cutoff);
     next_.resize(points_.size());
     for (std::uint32_t i = 0; i < points_.size(); ++i) {  // from old positions only: order-independent
@@ -51,55 +129,62 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Walk> {
         const double d = std::sqrt(d2);  // coincident points part along a fixed per-point direction
         push += (d > 0 ? (p - q) / d : salsa::Vec2::polar(1, 2.39996 * i)) * (1 - d / cutoff);
       });
-      salsa::Vec2 m = p + push.clamped(1) * step;
-      m = {std::clamp(m.x, b.min.x + margin, b.max.x - margin),
-           std::clamp(m.y, b.min.y + margin, b.max.y - margin)};
-      if (!world.is_free(m, kClearance) && world.is_free(p, kClearance)) {  // slide along obstacles, or stay
-        const salsa::Vec2 along_x{m.x, p.y}, along_y{p.x, m.y};
-        m = world.is_free(along_x, kClearance) ? along_x : world.is_free(along_y, kClearance) ? along_y : p;
-      }
-      next_[i] = m;
+      const salsa::Vec2 m = p + push.clamped(1) * step;
+      next_[i] = {std::clamp(m.x, b.min.x + margin, b.max.x - margin), std::clamp(m.y, b.min.y + margin, b.max.y - margin)};
     }
     points_.swap(next_);
   }
 
-  salsa::Vec2 decide(const salsa::Perception& me, Walk& w, salsa::Rng& rng) override {
-    salsa::Vec2 steer;
-    if (me.id < points_.size()) {
-      const salsa::Vec2 point = points_[me.id];
-      const double arrival = arrival_fraction_ * spacing_;
-      if (salsa::distance_squared(me.position, point) > arrival * arrival) {
-        steer = salsa::seek(me, point);
-        w.time_left = 0;  // pick a fresh heading on arrival
-      } else {
-        if ((w.time_left -= me.dt) <= 0) w = {rng.angle(), rng.uniform(0.5, 1.5) * turn_interval_};
-        steer = salsa::steer_towards(me, salsa::Vec2::polar(me.max_speed, w.heading));
-      }
+  // Regions: a breadth-first flood over free cells (8 neighbours) from every point's cell at once, in
+  // point order, so each free cell goes to the point fewest cell steps away around obstacles. O(cells).
+  void flood() {
+    for (Cell& c : cells_) c.owner = kNone;
+    queue_.clear();
+    for (std::uint32_t i = 0; i < points_.size(); ++i)
+      if (Cell& c = cells_[index(points_[i])]; c.owner == kNone) c.owner = i, queue_.push_back(index(points_[i]));
+    for (std::size_t head = 0; head < queue_.size(); ++head) {
+      const std::uint32_t c = queue_[head];
+      const int x = static_cast<int>(c % cols_), y = static_cast<int>(c / cols_);
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          if (x + dx < 0 || x + dx >= cols_ || y + dy < 0 || y + dy >= rows_) continue;
+          const auto n = static_cast<std::uint32_t>((y + dy) * cols_ + x + dx);
+          if (cells_[n].free && cells_[n].owner == kNone) cells_[n].owner = cells_[c].owner, queue_.push_back(n);
+        }
     }
-    return steer + obstacle_weight_ * salsa::avoid_near_obstacles(me);
   }
 
-  salsa::Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only
-
- protected:
-  void configure() override {
-    point_speed_ = param("point_speed");
-    cutoff_ = param("cutoff");
-    arrival_fraction_ = param("arrival_fraction");
-    turn_interval_ = param("turn_interval");
-    obstacle_weight_ = param("obstacle_avoidance_weight");
+  // The nearest never-visited free cell of the drone's region, else the one visited longest ago. The
+  // region lies within reach of its point; scanning that square costs about the region's size.
+  void choose_goal(const salsa::Perception& me, Sweep& s) const {
+    const std::uint32_t home = index(points_[me.id]);
+    const int reach = static_cast<int>(std::ceil(cutoff_ * std::sqrt(bounds_.area() / static_cast<double>(points_.size())) / cell_)) + 1;
+    const int hx = static_cast<int>(home % cols_), hy = static_cast<int>(home / cols_);
+    double best = std::numeric_limits<double>::infinity();
+    s.goal = kNone;
+    for (int y = std::max(0, hy - reach); y <= std::min(rows_ - 1, hy + reach); ++y)
+      for (int x = std::max(0, hx - reach); x <= std::min(cols_ - 1, hx + reach); ++x) {
+        const auto c = static_cast<std::uint32_t>(y * cols_ + x);
+        if (cells_[c].owner != me.id || !cells_[c].free) continue;
+        // Never visited first (by distance), then by age of the last visit.
+        const double score = cells_[c].visited < 0 ? salsa::distance(me.position, centre(c)) - 1e9 : cells_[c].visited;
+        if (score < best) best = score, s.goal = c;
+      }
+    s.since = me.time;
+    if (s.goal != kNone) s.deadline = me.time + 2 * salsa::distance(me.position, centre(s.goal)) / me.max_speed + 10;
   }
 
- private:
-  static constexpr double kClearance = 3;  // m kept between a point and obstacles: a drone fits there
-
-  double point_speed_ = 0, cutoff_ = 0, arrival_fraction_ = 0, turn_interval_ = 0, obstacle_weight_ = 0;
-  double spacing_ = 0;  // m, equilibrium spacing sqrt(area / drones), set in prepare
+  double point_speed_ = 0, cutoff_ = 0, cell_size_ = 0, repartition_interval_ = 0, obstacle_weight_ = 0;
   std::vector<salsa::Vec2> points_, next_;
   salsa::PointGrid grid_;
+  salsa::Rect bounds_;
+  double cell_ = 0, built_cell_size_ = 0, next_flood_ = 0;
+  int cols_ = 0, rows_ = 0;
+  std::vector<Cell> cells_;
+  std::vector<std::uint32_t> queue_;
 };
 
 }  // namespace
 
 SALSA_BEHAVIOR(DynamicSpacePartitioning, "dynamic_space_partitioning",
-               "Shares the area out by mutually repelling virtual points, one per drone")
+               "Shares the free area out among the drones by spreading virtual points; each sweeps its region")

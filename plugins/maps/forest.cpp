@@ -1,6 +1,7 @@
 // Forest: clusters of convex obstacles (rocks, buildings) scattered over a square, with a clear disc
 // around the spawn point. Obstacles lie inside the bounds and never overlap: their bounding circles
-// are kept `gap` apart (and from the walls) so drones can pass between them.
+// are kept `gap` apart (and from the walls) so drones can pass between them. The cluster count scales
+// with the area by default (48 per km²: 12 on 500 m, 192 on 2 km), so every size looks alike.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -16,7 +17,8 @@ class ForestMap final : public salsa::MapGenerator {
   static salsa::Parameters declare() {
     return {
         {"size", 500.0, 50.0, 1e5, "m", "side of the square"},
-        {"clusters", 12, 0, 1000, "", "number of obstacle clusters", 1},
+        {"clusters", 0, 0, kMaxClusters, "", "number of obstacle clusters; 0: cluster_density × area", 1},
+        {"cluster_density", 48.0, 0.0, 10000.0, "1/km^2", "clusters per square kilometre when clusters is 0"},
         {"obstacles_per_cluster", 4, 1, 100, "", "obstacles tried per cluster (fewer if they do not fit)", 1},
         {"min_obstacle_size", 8.0, 1.0, 1000.0, "m", "smallest obstacle diameter"},
         {"max_obstacle_size", 25.0, 1.0, 1000.0, "m", "largest obstacle diameter"},
@@ -59,7 +61,8 @@ class ForestMap final : public salsa::MapGenerator {
       return true;
     };
 
-    const auto clusters = static_cast<int>(param("clusters"));
+    const double scaled = std::min(param("cluster_density") * size * size / 1e6, double(kMaxClusters));
+    const auto clusters = static_cast<int>(param("clusters") > 0 ? param("clusters") : std::round(scaled));
     const auto per_cluster = static_cast<int>(param("obstacles_per_cluster"));
     for (int k = 0; k < clusters; ++k) {
       const salsa::Vec2 centre = rng.in_rect(map.bounds);
@@ -77,6 +80,8 @@ class ForestMap final : public salsa::MapGenerator {
   }
 
  private:
+  static constexpr int kMaxClusters = 20000;  // bounds generation: at most 20,000 × 100 × 20 placement attempts
+
   // 3–8 vertices at increasing angles on a squashed, rotated circle of radius r: convex and CCW
   // (an affine map with positive determinant keeps both), and inside the bounding circle.
   static salsa::Polyline polygon(salsa::Vec2 c, double r, salsa::Rng& rng) {

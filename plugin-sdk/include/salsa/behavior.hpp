@@ -23,8 +23,9 @@ class Behavior : public Configurable {
  public:
   /// Shared state (a pheromone field, partitions) is updated here, once per step before any `decide`.
   virtual void prepare(const WorldView&) {}
-  /// Desired steering for one drone: a velocity change for this step (m/s). The core clamps it to the
-  /// drone's max force, adds it to the velocity and clamps the speed to max speed.
+  /// Desired steering for one drone: a velocity change for this step (m/s). The core adds it to the
+  /// velocity as it is and clamps the speed to max speed. Max force bounds each steering term (the
+  /// helpers below clamp to it); a weighted sum of terms may exceed it, as the paper's flocking does.
   virtual Vec2 decide(const Perception& me, Rng& rng) = 0;
   /// Drones were (re)spawned: `drones` drones with ids 0..drones-1 and fresh memory.
   virtual void reset(std::size_t drones) { (void)drones; }
@@ -49,6 +50,8 @@ class BehaviorWithMemory : public Behavior {
 };
 
 // ---- Steering helpers (Reynolds' steering, as the SALSA paper's Behavior class offers) ----
+// Each returns one steering term of length at most max force: clamp(desired − velocity, max force).
+// A behavior weights and sums them; the core does not clamp the sum.
 
 /// Steering that turns the velocity towards `desired` (m/s), at most max force.
 inline Vec2 steer_towards(const Perception& me, Vec2 desired) {

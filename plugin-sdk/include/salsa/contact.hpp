@@ -19,7 +19,7 @@ struct ContactEvent {
   std::uint32_t drone;
   std::uint32_t other;
   Vec2 position;  ///< m: the target's or the contact's position
-  double time;    ///< s
+  double time;    ///< s: when the step the event happened in ends (what was in view at its start counts then)
 };
 
 /// What a handler may change.

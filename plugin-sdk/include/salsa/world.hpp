@@ -51,7 +51,7 @@ struct Perception {
   Vec2 position;           ///< m
   Vec2 velocity;           ///< m/s
   double max_speed = 0;    ///< m/s
-  double max_force = 0;    ///< largest velocity change per step, m/s (the paper's convention)
+  double max_force = 0;    ///< largest velocity change of one steering term per step, m/s (the paper's convention)
   double radius = 0;       ///< m
   double mass = 0;         ///< kg
   double camera_range = 0;     ///< m

@@ -11,7 +11,7 @@ struct DroneConfig {
   double obstacle_range = 50.2;   ///< m: length of the obstacle rays
   double detection_range = 134;   ///< m: other drones within this range are neighbours
   double max_speed = 10;          ///< m/s
-  double max_force = 0.3;         ///< largest velocity change per step, m/s (the paper's convention)
+  double max_force = 0.3;         ///< largest velocity change of one steering term per step, m/s (the paper's convention)
   double radius = 1;              ///< m
   double mass = 1.5;              ///< kg
   int obstacle_rays = 8;          ///< rays evenly spread over 360°

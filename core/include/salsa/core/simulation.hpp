@@ -95,7 +95,7 @@ inline constexpr std::array<const char*, 6> phase_names{"sense", "decide", "act"
 
 struct TargetState {
   Vec2 position;
-  double found_time = std::numeric_limits<double>::quiet_NaN();  ///< s; NaN until found
+  double found_time = std::numeric_limits<double>::quiet_NaN();  ///< s, end of the step it was seen in; NaN until found
   std::int64_t found_by = -1;                                    ///< drone id, -1 until found
   std::uint64_t observations = 0;  ///< drone-steps during which it was in some drone's view
   bool found() const { return found_by >= 0; }
@@ -199,7 +199,6 @@ class Simulation final : public WorldView {
   PointGrid drone_grid_;
   Targets targets_;
   std::vector<std::vector<std::pair<std::uint32_t, double>>> seen_;  ///< per drone: (target, distance) in view
-  double sensed_time_ = 0;  ///< s: when `seen_` was sensed
 
   std::vector<Observer*> observers_;
   Rng spawn_rng_;
