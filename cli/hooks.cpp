@@ -1,0 +1,17 @@
+// The steps other parts of salsa take after a test or a queue is written, wired in one place.
+#include "queue_run.hpp"
+
+namespace salsa::cli {
+
+Hooks& hooks() {
+  static Hooks h = [] {
+    Hooks wired;
+    // TODO(issue 7, at merge): wired.draw_test_plots = plots::draw_test_plots;
+    //   wired.draw_queue_plots = plots::draw_queue_plots;
+    //   wired.write_comparison = [](const std::filesystem::path& out) { write_comparison(out); };
+    return wired;
+  }();
+  return h;
+}
+
+}  // namespace salsa::cli
