@@ -408,12 +408,12 @@ int cmd_run(int argc, char** argv) {
       std::vector<TestSpec> checked;
       for (std::size_t k : mine) checked.push_back(tests[k]);
       if (world) checked = tests;
+      std::vector<std::string> command{"salsa"};
+      command.insert(command.end(), argv, argv + argc);
+      const QueueRecord record = queue_record(tests, host, command);
+      if (!child) check_queue_folder(options.out, record, options.resume, options.force);
       check_outputs(checked, host, options);
-      if (!child) {
-        std::vector<std::string> command{"salsa"};
-        command.insert(command.end(), argv, argv + argc);
-        claim_queue_folder(options.out, queue_record(tests, host, command), options.resume, options.force);
-      }
+      if (!child) claim_queue_folder(options.out, record, options.resume, options.force);
       ok = true;
     } catch (...) {
       if (world) world->agree(false);

@@ -224,32 +224,54 @@ QueueRecord queue_record(const std::vector<TestSpec>& tests, const PluginHost& h
   return r;
 }
 
-void claim_queue_folder(const fs::path& out, const QueueRecord& record, bool resume, bool force) {
+namespace {
+
+json record_json(const QueueRecord& record) {
+  return {{"tests", record.tests}, {"configs_hash", record.configs_hash}, {"command", record.command}};
+}
+
+/// Whether OUT/queue.json exists, and then whether it records the same queue.
+std::optional<bool> same_queue(const fs::path& file, const json& record, std::optional<json>& there) {
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(file, ec))) return std::nullopt;
+  there = read_json(file);
+  return there && there->is_object() && there->value("tests", json()) == record["tests"] &&
+         there->value("configs_hash", json()) == record["configs_hash"];
+}
+
+}  // namespace
+
+void check_queue_folder(const fs::path& out, const QueueRecord& record, bool resume, bool force) {
   const fs::path file = out / "queue.json";
-  json text = {{"tests", record.tests}, {"configs_hash", record.configs_hash}, {"command", record.command}};
+  const json text = record_json(record);
+  std::optional<json> there;
+  const auto same = same_queue(file, text, there);
+  if (!same || *same || resume || force) return;
+  std::string what = "holds the results of another queue";
+  if (!there || !there->is_object() || !there->contains("tests")) what = "is not a queue record salsa wrote";
+  else if (there->value("tests", json()) == text["tests"]) what = "holds the same tests with other settings (another seed, time, parameter...)";
+  throw InputError(file.string() + ": " + what + " (allowed: another --out folder; --resume to keep its finished tests that match, --force to replace them)");
+}
+
+void claim_queue_folder(const fs::path& out, const QueueRecord& record, bool resume, bool force) {
+  check_queue_folder(out, record, resume, force);
+  const fs::path file = out / "queue.json";
+  const json text = record_json(record);
   for (int attempt = 0; attempt < 2; ++attempt) {
-    std::error_code ec;
-    if (fs::exists(fs::symlink_status(file, ec))) {
-      const auto there = read_json(file);
-      const bool same = there && there->is_object() && there->value("tests", json()) == text["tests"] &&
-                        there->value("configs_hash", json()) == text["configs_hash"];
-      if (same) return;
-      if (!resume && !force) {
-        std::string what = "holds the results of another queue";
-        if (!there || !there->is_object() || !there->contains("tests")) what = "is not a queue record salsa wrote";
-        else if (there->value("tests", json()) == text["tests"]) what = "holds the same tests with other settings (another seed, time, parameter...)";
-        throw InputError(file.string() + ": " + what + " (allowed: another --out folder; --resume to keep its finished tests that match, --force to replace them)");
-      }
-      replace_file(file, text.dump(2) + "\n");
+    std::optional<json> there;
+    if (const auto same = same_queue(file, text, there)) {
+      if (!*same) replace_file(file, text.dump(2) + "\n");  // --resume or --force: this queue now
       return;
     }
     // Absent: written under a temporary name and linked into place, so one of several shards wins.
     const fs::path tmp = file.string() + "." + std::to_string(::getpid()) + ".tmp";
     replace_file(tmp, text.dump(2) + "\n");
     const int linked = ::link(tmp.c_str(), file.c_str());
+    const int error = errno;
+    std::error_code ec;
     fs::remove(tmp, ec);
     if (linked == 0) return;
-    if (errno != EEXIST) throw WriteError(file.string() + ": cannot write (" + std::strerror(errno) + ")");
+    if (error != EEXIST) throw WriteError(file.string() + ": cannot write (" + std::strerror(error) + ")");
   }
 }
 

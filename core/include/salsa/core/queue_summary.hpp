@@ -20,10 +20,12 @@ struct QueueRecord {
 
 QueueRecord queue_record(const std::vector<TestSpec>& tests, const PluginHost& host, std::vector<std::string> command);
 
-/// Checks OUT/queue.json against `record` and writes it when absent: a folder holding another queue's
-/// results is refused (InputError, one line) unless `resume` or `force`, which then record this queue.
-/// Shards of one queue may call this at once: the first one to write the file wins, and the same
-/// queue is never refused.
+/// Refuses (InputError, one line) an OUT whose queue.json records another queue (other test names, or
+/// other configs), unless `resume` or `force`. Writes nothing.
+void check_queue_folder(const std::filesystem::path& out, const QueueRecord& record, bool resume, bool force);
+
+/// check_queue_folder, then writes OUT/queue.json when absent or (with --resume or --force) when it
+/// records another queue. Shards of one queue may call this at once: the first to write it wins.
 void claim_queue_folder(const std::filesystem::path& out, const QueueRecord& record, bool resume, bool force);
 
 /// Writes OUT/summary.csv from the test folders alone: the tests listed in OUT/queue.json in its order
