@@ -433,8 +433,9 @@ int cmd_run(int argc, char** argv) {
   if (vm.count("isolate"))
     run.isolated = [&](const TestSpec& t) { return run_isolated(t, host, argc, argv); };
   std::unique_ptr<cli::Dispatch> dispatch = world ? world->dispatch(tests.size()) : std::make_unique<cli::ListDispatch>(mine);
-  int status = cli::run_queue(tests, host, options, run, *dispatch);
-  if (child) return status;
+  const cli::QueueResult result = cli::run_queue(tests, host, options, run, *dispatch);
+  int status = result.status;
+  if (child || result.write_failed) return status;  // a full disk: nothing more written
   if (world && root && world->others_failed() > 0 && status == 0) status = 1;
   if (status != 0 && status != 1) return status;  // stopped: the summary waits for the rest
   if (!root) return status;

@@ -147,7 +147,7 @@ std::string finished_line(const TestSpec& test, const fs::path& folder, double w
   return text + folder.string();
 }
 
-int run_queue(const std::vector<TestSpec>& tests, const PluginHost& host, const RunOptions& options,
+QueueResult run_queue(const std::vector<TestSpec>& tests, const PluginHost& host, const RunOptions& options,
               const QueueRunOptions& run, Dispatch& dispatch) {
   std::vector<std::unique_ptr<Slot>> slots;
   for (std::size_t i = 0; i < std::max<std::size_t>(run.jobs, 1); ++i) slots.push_back(std::make_unique<Slot>());
@@ -304,9 +304,9 @@ int run_queue(const std::vector<TestSpec>& tests, const PluginHost& host, const 
     } else {
       std::cerr << "salsa: " << signal_name(sig) << ": stopped before the next test (run again with --resume for the rest)" << std::endl;
     }
-    return 128 + (sig ? sig : SIGINT);
+    return {128 + (sig ? sig : SIGINT), write_failed};
   }
-  return failed ? 1 : 0;
+  return {failed ? 1 : 0, write_failed};
 }
 
 }  // namespace salsa::cli

@@ -60,10 +60,14 @@ struct QueueRunOptions {
   std::function<std::pair<int, std::string>(const TestSpec&)> isolated;
 };
 
-/// Runs the tests the dispatch hands out; returns the exit status (0, 1 when a test failed, 128 + the
-/// signal when interrupted). Failures are printed on stderr (one line each); an interruption gets one
-/// line naming every test it stopped.
-int run_queue(const std::vector<TestSpec>& tests, const PluginHost& host, const RunOptions& options,
+struct QueueResult {
+  int status = 0;             ///< 0, 1 when a test failed, 128 + the signal when interrupted
+  bool write_failed = false;  ///< a write failed (a full disk?): no test was started after it
+};
+
+/// Runs the tests the dispatch hands out. Failures are printed on stderr (one line each); an
+/// interruption gets one line naming every test it stopped.
+QueueResult run_queue(const std::vector<TestSpec>& tests, const PluginHost& host, const RunOptions& options,
               const QueueRunOptions& run, Dispatch& dispatch);
 
 /// The "[i/n] name: ..." line's end for a finished test folder (from its files): "2.00 s simulated in
