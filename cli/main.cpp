@@ -408,12 +408,15 @@ int cmd_run(int argc, char** argv) {
       std::vector<TestSpec> checked;
       for (std::size_t k : mine) checked.push_back(tests[k]);
       if (world) checked = tests;
-      std::vector<std::string> command{"salsa"};
-      command.insert(command.end(), argv, argv + argc);
-      const QueueRecord record = queue_record(tests, host, command);
-      if (!child) check_queue_folder(options.out, record, options.resume, options.force);
+      std::optional<QueueRecord> record;  // an --isolate child's run has recorded its queue already
+      if (!child) {
+        std::vector<std::string> command{"salsa"};
+        command.insert(command.end(), argv, argv + argc);
+        record = queue_record(tests, host, command);
+        check_queue_folder(options.out, *record, options.resume, options.force);
+      }
       check_outputs(checked, host, options);
-      if (!child) claim_queue_folder(options.out, record, options.resume, options.force);
+      if (record) claim_queue_folder(options.out, *record, options.resume, options.force);
       ok = true;
     } catch (...) {
       if (world) world->agree(false);

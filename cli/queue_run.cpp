@@ -202,7 +202,7 @@ QueueResult run_queue(const std::vector<TestSpec>& tests, const PluginHost& host
   std::size_t running = 0, done = 0, failed = 0;
   double simulated = 0, remaining = 0;  // s simulated here so far; s left of the tests handed out
   bool exhausted = false, write_failed = false;
-  std::vector<std::string> stopped;   // one part per interrupted test
+  std::vector<std::pair<std::size_t, std::string>> stopped;  // (queue index, where it stopped)
   std::optional<std::size_t> next_up;  // handed out but not started (stop asked meanwhile)
   for (;;) {
     // Start tests while a slot is free, unless a stop was asked or a write failed.
@@ -222,7 +222,26 @@ QueueResult run_queue(const std::vector<TestSpec>& tests, const PluginHost& host
       ++running;
       slot.thread = std::thread(work, std::ref(slot));
     }
+    // Progress: finished tests plus the running ones' steps.
+    double now = simulated, left = 0;
+    for (const auto& s : slots)
+      if (s->busy) {
+        const TestSpec& t = tests[s->index];
+        const double in = static_cast<double>(s->steps.load(std::memory_order_relaxed)) * t.dt;
+        now += in, left += t.time - in;
+      }
+    remaining = left;
+    if (run.expected > done + failed + running) {  // the tests not started, estimated from the mean so far
+      const std::size_t started = done + failed + running;
+      double mean = 0;
+      for (const auto& s : slots)
+        if (s->busy) mean += tests[s->index].time;
+      mean = started ? (simulated + mean) / static_cast<double>(started) : tests.empty() ? 0 : tests.front().time;
+      remaining += mean * static_cast<double>(run.expected - started);
+    }
+    progress.draw(done, failed, running, now, remaining);
     dispatch.serve();
+    if (running == 0 && (exhausted || stop_signal() || write_failed) && dispatch.all_done()) break;
     std::deque<Event> ended;
     {
       std::unique_lock lock(mutex);
@@ -261,41 +280,23 @@ QueueResult run_queue(const std::vector<TestSpec>& tests, const PluginHost& host
           std::cerr << "salsa: " << e.message << std::endl;
           break;
         case Event::interrupted:
-          stopped.push_back(e.message);
+          stopped.emplace_back(slot.index, e.message);
           break;
       }
     }
-    // Progress: finished tests plus the running ones' steps.
-    double now = simulated, left = 0;
-    for (const auto& s : slots)
-      if (s->busy) {
-        const TestSpec& t = tests[s->index];
-        const double in = static_cast<double>(s->steps.load(std::memory_order_relaxed)) * t.dt;
-        now += in, left += t.time - in;
-      }
-    remaining = left;
-    if (run.expected > done + failed + running) {  // the tests not started, estimated from the mean so far
-      const std::size_t started = done + failed + running;
-      double mean = 0;
-      for (const auto& s : slots)
-        if (s->busy) mean += tests[s->index].time;
-      mean = started ? (simulated + mean) / static_cast<double>(started) : tests.empty() ? 0 : tests.front().time;
-      remaining += mean * static_cast<double>(run.expected - started);
-    }
-    progress.draw(done, failed, running, now, remaining);
-    if (running == 0 && (exhausted || stop_signal() || write_failed) && dispatch.all_done()) break;
   }
   progress.end();
   dispatch.finished(failed);
 
   if (const int sig = stop_signal(); !stopped.empty() || (sig && (!exhausted || next_up))) {
+    std::sort(stopped.begin(), stopped.end());
     if (stopped.size() == 1) {
-      std::cerr << "salsa: " << stopped.front() << std::endl;
+      std::cerr << "salsa: " << stopped.front().second << std::endl;
     } else if (!stopped.empty()) {
       // One line for all of them: "SIGINT: stopped test 'a' (...) at t = 3 s; test 'b' ... (run again ...)".
       std::string line = signal_name(sig) + ": stopped " + std::to_string(stopped.size()) + " tests: ";
       for (std::size_t i = 0; i < stopped.size(); ++i) {
-        std::string part = stopped[i];
+        std::string part = stopped[i].second;
         if (const auto colon = part.find(": stopped "); colon != std::string::npos) part = part.substr(colon + 10);
         if (const auto tail = part.find(" (run again"); tail != std::string::npos) part = part.substr(0, tail);
         line += (i ? " | " : "") + part;
