@@ -177,8 +177,8 @@ class TestQueueRun : public QObject {
     QFETCH(double, at);
     QFETCH(bool, isolate);
     QTemporaryDir dir;
-    // Six tests of a second or so each on one thread, two at a time.
-    write(dir.filePath("q.json"), small_queue(6, 20, 100));
+    // Six tests of about a second each on one thread, two at a time.
+    write(dir.filePath("q.json"), small_queue(6, 40, 100));
     QElapsedTimer clock;
     clock.start();
     CliResult r = run_salsa({"run", "q.json", "--out", "reference", "--jobs", "2", "-q"}, dir.path());
@@ -204,6 +204,16 @@ class TestQueueRun : public QObject {
       } else if (run.exitCode() != 0) {  // 0: it had finished already
         QVERIFY2(run.exitCode() == 128 + sig && non_empty_lines(err).size() == 1 && err.contains("--resume"), qPrintable(err));
       }
+    }
+    // The queue's state so far: every test ok or missing (an interrupted test is not a failed one).
+    r = run_salsa({"summarize", "out", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const auto rows = csv_rows(dir.filePath("out/summary.csv"));
+    QCOMPARE(rows.size(), 7);
+    for (int k = 1; k <= 6; ++k) {
+      QCOMPARE(rows[k][0], QString("t%1").arg(k - 1));
+      QVERIFY2(rows[k][1] == "ok" || rows[k][1] == "missing", qPrintable(rows[k].join(',')));
+      QCOMPARE(rows[k][1] == "ok", QFileInfo::exists(dir.filePath(QString("out/t%1/config.json").arg(k - 1))));
     }
     r = run_salsa({"run", "q.json", "--out", "out", "--jobs", "2", "--resume", "-q"}, dir.path());
     QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
