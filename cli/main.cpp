@@ -258,14 +258,17 @@ std::vector<TestSpec> load_all(const po::variables_map& vm, const PluginHost& ho
   return all;
 }
 
-/// --isolate: runs one test in a new process (this executable, the same arguments, --only NAME) and
-/// waits for it, passing SIGINT/SIGTERM on. Returns its wait status and what it wrote on stderr (the
+/// --isolate: runs one test in a new process (this executable, the same arguments, --only NAME and
+/// the decide threads `threads` when not "", as this run decided them) and waits for it, passing
+/// SIGINT/SIGTERM on. Returns its wait status and what it wrote on stderr (the
 /// caller prints it); a child that dies without a word gets a line of ours.
-std::pair<int, std::string> run_isolated(const TestSpec& test, const PluginHost& host, int argc, char** argv) {
+std::pair<int, std::string> run_isolated(const TestSpec& test, const PluginHost& host, int argc, char** argv,
+                                         const std::string& threads) {
   std::vector<std::string> args{"salsa", "run"};
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) != "--isolate") args.emplace_back(argv[i]);
   args.insert(args.end(), {"--only", test.name});
+  if (!threads.empty()) args.insert(args.end(), {"--threads", threads});
   std::vector<char*> cargs;
   for (auto& a : args) cargs.push_back(a.data());
   cargs.push_back(nullptr);
@@ -434,7 +437,9 @@ int cmd_run(int argc, char** argv) {
   run.terminal = !world && ::isatty(STDOUT_FILENO);
   run.expected = world ? (root ? tests.size() : 0) : mine.size();
   if (vm.count("isolate"))
-    run.isolated = [&](const TestSpec& t) { return run_isolated(t, host, argc, argv); };
+    run.isolated = [&, threads = vm["threads"].defaulted() ? std::to_string(options.threads) : ""](const TestSpec& t) {
+      return run_isolated(t, host, argc, argv, threads);
+    };
   std::unique_ptr<cli::Dispatch> dispatch = world ? world->dispatch(tests.size()) : std::make_unique<cli::ListDispatch>(mine);
   const cli::QueueResult result = cli::run_queue(tests, host, options, run, *dispatch);
   int status = result.status;
