@@ -279,6 +279,16 @@ class TestQueueRun : public QObject {
     r = run_salsa({"summarize", "out", "-q"}, dir.path());
     QVERIFY2(r.exit_code == 0, describe(r));
     QCOMPARE(read_file(dir.filePath("out/summary.csv")), written);
+    // outcome.csv's final values (written by the run when metrics are on) join the row; a column
+    // named like an input is prefixed.
+    write(dir.filePath("out/plain/outcome.csv"), "targets,targets_found,fraction_found,coverage\n3,1,0.333333,0.5\n");
+    r = run_salsa({"summarize", "out", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const auto with_outcome = csv_rows(dir.filePath("out/summary.csv"));
+    const QStringList h = with_outcome[0];
+    QCOMPARE(h.mid(h.size() - 5), (QStringList{"outcome.targets", "targets_found", "fraction_found", "coverage", "wall_seconds"}));
+    QCOMPARE(with_outcome[1].mid(h.size() - 5, 4), (QStringList{"3", "1", "0.333333", "0.5"}));
+    QCOMPARE(with_outcome[2].mid(h.size() - 5, 4), (QStringList{"", "", "", ""}));
   }
 
   void shards_cover_the_queue_once() {

@@ -355,8 +355,12 @@ void write_queue_summary(const fs::path& out, const PluginHost* host) {
   auto header = [&](const std::string& c) { text += (text.empty() ? "" : ",") + csv_field(c); };
   for (const auto& c : fixed_columns) header(c);
   for (const auto& c : input_columns) header(c);
-  for (const auto& c : outcome_columns)
-    header(std::find(input_columns.begin(), input_columns.end(), c) == input_columns.end() ? c : "outcome." + c);
+  // outcome.csv's columns keep their names, but for one an input column has already (e.g. targets).
+  for (const auto& c : outcome_columns) {
+    const bool taken = std::find(fixed_columns.begin(), fixed_columns.end(), c) != fixed_columns.end() ||
+                       std::find(input_columns.begin(), input_columns.end(), c) != input_columns.end();
+    header(taken ? "outcome." + c : c);
+  }
   header("wall_seconds");
   text += "\n";
   for (const auto& r : rows) {
