@@ -22,11 +22,16 @@
 #include <unordered_map>
 #include <sstream>
 
+#include <oneapi/tbb/info.h>
+
 #include "salsa/core/plugin_host.hpp"
 #include "salsa/core/queue.hpp"
+#include "salsa/core/queue_summary.hpp"
 #include "salsa/core/runner.hpp"
 #include "salsa/core/test_spec.hpp"
 #include "commands.hpp"
+#include "mpi.hpp"
+#include "queue_run.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -38,6 +43,7 @@ const char* usage = R"(usage: salsa <command> [options]
 
 commands:
   run FILE...        run tests (a test, a list of tests, or a queue with a sweep) and write their data
+  summarize OUT      write OUT/summary.csv (one row per test), comparison and plots from a queue's output folder
   validate FILE...   check test, queue and map files without running them
   queue expand FILE  print the tests a queue expands to (count, then one line each)
   plugins            list the plugins found, the folders searched and the files refused
@@ -178,11 +184,14 @@ po::options_description run_options() {
       "yes,y", "allow a queue of more than 10,000 tests")(
       "time", po::value<std::string>(), "simulated seconds per test (overrides the files)")(
       "log-interval", po::value<std::string>(), "seconds between logged rows (overrides the files)")(
-      "threads", po::value<std::string>()->default_value("0"), "threads for each simulation's decide phase (0: all cores)")(
+      "threads", po::value<std::string>()->default_value("0"), "threads for each simulation's decide phase (0: all cores; default 1 when tests run side by side)")(
       "no-drones-csv", "do not write drones.csv (it is the largest file)")(
       "resume", "skip tests whose output folder holds the identical finished test")(
       "force", "replace the output folders salsa wrote for these tests")(
-      "isolate", "run each test in its own process: a crashing plugin fails that test only");
+      "isolate", "run each test in its own process: a crashing plugin fails that test only")(
+      "jobs,j", po::value<std::string>(), "tests run at once (default: all cores; 1 per rank under mpirun)")(
+      "shard", po::value<std::string>(), "run only share i of n of the queue (test k when k % n == i), e.g. 0/4; default from a Slurm job array")(
+      "no-plots", "do not draw the per-test and queue plots");
   return o;
 }
 
@@ -251,22 +260,17 @@ std::vector<TestSpec> load_all(const po::variables_map& vm, const PluginHost& ho
   return all;
 }
 
-/// Whether a run was stopped by SIGINT/SIGTERM: prints the note and gives the exit status (0: go on).
-int stopped_before(const std::string& what) {
-  const int sig = stop_signal();
-  if (!sig) return 0;
-  std::cerr << "salsa: " << signal_name(sig) << ": stopped before " << what << " (run again with --resume for the rest)\n";
-  return 128 + sig;
-}
-
-/// --isolate: runs one test in a new process (this executable, the same arguments, --only NAME) and
-/// waits for it, passing SIGINT/SIGTERM on. Its stderr goes through this process, so a child that
-/// dies without a word still gets its line. Returns the child's wait status.
-int run_isolated(const TestSpec& test, const PluginHost& host, int argc, char** argv) {
+/// --isolate: runs one test in a new process (this executable, the same arguments, --only NAME and
+/// the decide threads `threads` when not "", as this run decided them) and waits for it, passing
+/// SIGINT/SIGTERM on. Returns its wait status and what it wrote on stderr (the
+/// caller prints it); a child that dies without a word gets a line of ours.
+std::pair<int, std::string> run_isolated(const TestSpec& test, const PluginHost& host, int argc, char** argv,
+                                         const std::string& threads) {
   std::vector<std::string> args{"salsa", "run"};
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) != "--isolate") args.emplace_back(argv[i]);
   args.insert(args.end(), {"--only", test.name});
+  if (!threads.empty()) args.insert(args.end(), {"--threads", threads});
   std::vector<char*> cargs;
   for (auto& a : args) cargs.push_back(a.data());
   cargs.push_back(nullptr);
@@ -288,9 +292,9 @@ int run_isolated(const TestSpec& test, const PluginHost& host, int argc, char** 
   ::close(pipe_fds[1]);
   if (spawned != 0) {
     ::close(pipe_fds[0]);
-    throw std::runtime_error("test '" + test.name + "': cannot start its process (" + std::strerror(spawned) + ")");
+    throw TestFailure("test '" + test.name + "': cannot start its process (" + std::strerror(spawned) + ")");
   }
-  bool said_something = false;
+  std::string said;
   int passed_on = 0;  // the stop signal handed to the child
   char buffer[4096];
   for (;;) {
@@ -303,8 +307,7 @@ int run_isolated(const TestSpec& test, const PluginHost& host, int argc, char** 
     const ssize_t n = ::read(pipe_fds[0], buffer, sizeof buffer);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) break;
-    said_something = true;
-    std::cerr.write(buffer, n).flush();
+    said.append(buffer, static_cast<std::size_t>(n));
   }
   ::close(pipe_fds[0]);
   int status = 0;
@@ -312,11 +315,56 @@ int run_isolated(const TestSpec& test, const PluginHost& host, int argc, char** 
   }
   // A child that died of the stop signal we handed it (before its own handlers were in place) was
   // interrupted, not crashed: the line that says where the run stopped is ours to print.
-  if (WIFSIGNALED(status) && !said_something && WTERMSIG(status) != passed_on)
-    std::cerr << "salsa: test '" << test.name << "' (" << test.source << ") died of " << signal_name(WTERMSIG(status))
-              << " in its own process (--isolate); behavior '" << test.behavior.name << "' ("
-              << host.behavior(test.behavior.name).plugin().file.string() << ")\n";
-  return status;
+  if (WIFSIGNALED(status) && said.find_first_not_of(" \n") == std::string::npos && WTERMSIG(status) != passed_on)
+    said = "salsa: test '" + test.name + "' (" + test.source + ") died of " + signal_name(WTERMSIG(status)) +
+           " in its own process (--isolate); behavior '" + test.behavior.name + "' (" +
+           host.behavior(test.behavior.name).plugin().file.string() + ")\n";
+  else if (WIFSIGNALED(status) && WTERMSIG(status) == passed_on && said.find_first_not_of(" \n") == std::string::npos)
+    said = "salsa: " + signal_name(passed_on) + ": stopped test '" + test.name + "' (" + test.source +
+           ") before it began (run again with --resume to redo it)\n";
+  return {status, said};
+}
+
+/// --shard i/n, or from a Slurm job array (SLURM_ARRAY_TASK_ID, _MIN, _STEP and _COUNT); {0, 1}: the
+/// whole queue.
+std::pair<std::size_t, std::size_t> shard_option(const po::variables_map& vm) {
+  const std::string allowed = " (allowed: i/n with n in [1, 1000000] and i in [0, n - 1], e.g. 0/4)";
+  if (vm.count("shard")) {
+    const std::string text = vm["shard"].as<std::string>();
+    const auto slash = text.find('/');
+    std::size_t i = 0, n = 0;
+    const char* mid = text.data() + (slash == std::string::npos ? text.size() : slash);
+    const auto a = std::from_chars(text.data(), mid, i);
+    const auto b = slash == std::string::npos ? std::from_chars_result{mid, std::errc::invalid_argument}
+                                               : std::from_chars(mid + 1, text.data() + text.size(), n);
+    if (slash == 0 || a.ec != std::errc() || a.ptr != mid || b.ec != std::errc() || b.ptr != text.data() + text.size() || n < 1 ||
+        n > 1000000 || i >= n)
+      throw InputError("--shard: \"" + text + "\" is not a shard of the queue" + allowed);
+    return {i, n};
+  }
+  auto env = [](const char* name) -> std::optional<long long> {
+    const char* v = std::getenv(name);
+    if (!v || !*v) return std::nullopt;
+    long long x = 0;
+    const auto [end, ec] = std::from_chars(v, v + std::strlen(v), x);
+    if (ec != std::errc() || *end) throw InputError(std::string(name) + ": \"" + v + "\" is not a whole number (set by Slurm; or give --shard i/n)");
+    return x;
+  };
+  const auto id = env("SLURM_ARRAY_TASK_ID"), count = env("SLURM_ARRAY_TASK_COUNT");
+  if (!id || !count) return {0, 1};
+  const long long min = env("SLURM_ARRAY_TASK_MIN").value_or(0), step = env("SLURM_ARRAY_TASK_STEP").value_or(1);
+  const long long i = step > 0 ? (*id - min) / step : -1;
+  if (*count < 1 || i < 0 || i >= *count)
+    throw InputError("SLURM_ARRAY_TASK_ID: " + std::to_string(*id) + " is not in the job array (min " + std::to_string(min) + ", step " +
+                     std::to_string(step) + ", count " + std::to_string(*count) + "; or give --shard i/n)");
+  return {static_cast<std::size_t>(i), static_cast<std::size_t>(*count)};
+}
+
+/// The queue folder's summary, comparison and plots, from its test folders alone.
+void finish_queue(const fs::path& out, const PluginHost& host, bool plots) {
+  write_queue_summary(out, &host);
+  if (cli::hooks().write_comparison) cli::hooks().write_comparison(out);
+  if (plots && cli::hooks().draw_queue_plots) cli::hooks().draw_queue_plots(out);
 }
 
 int cmd_run(int argc, char** argv) {
@@ -326,57 +374,107 @@ int cmd_run(int argc, char** argv) {
   const bool child = vm.count("only");  // one test of an --isolate run
   install_signal_handlers();
   if (child) ::prctl(PR_SET_PDEATHSIG, SIGTERM);  // its run was killed: stop cleanly, not run on alone
+  if (vm.count("isolate") && child) throw InputError("--isolate: not with --only");
+  // Several ranks of mpirun: MPI hands out the tests (the child of an --isolate run is one test only).
+  const bool mpi = !child && cli::under_mpirun();
+  if (mpi && !cli::mpi_built())
+    throw InputError("salsa runs under mpirun but was built without MPI: install libopenmpi-dev (Debian) and rebuild, or run without mpirun");
+  if (mpi && vm.count("shard")) throw InputError("--shard: not under mpirun (MPI hands out the tests)");
   RunOptions options;
   options.out = vm["out"].as<std::string>();
   options.force = vm.count("force");
   options.resume = vm.count("resume");
   options.threads = static_cast<int>(whole_option(vm, "threads", 1024, "; 0 means all cores"));
   options.drones_csv = !vm.count("no-drones-csv");
-  if (vm.count("isolate") && child) throw InputError("--isolate: not with --only");
+  std::size_t jobs = vm.count("jobs") ? whole_option(vm, "jobs", 1024, "; 0 means all cores") : mpi ? 1 : 0;
+  if (jobs == 0) jobs = static_cast<std::size_t>(std::max(1, tbb::info::default_concurrency()));
+  const auto [shard, shards] = mpi || child ? std::pair<std::size_t, std::size_t>{0, 1} : shard_option(vm);
   PluginHost host;
   load_plugins(host, vm, !child);
   const auto tests = load_all(vm, host);
   // Every test valid before the first one runs; tests that will take hours are said so up front.
   for (const auto& t : tests) warn_workload(t, make_setup(t, host), quiet || child);
-  // An --isolate child checks the output of its own test only: the others may be done by now.
-  std::vector<TestSpec> mine = tests;
-  if (child) {
-    std::erase_if(mine, [&](const TestSpec& t) { return t.name != vm["only"].as<std::string>(); });
-    if (mine.empty()) throw InputError("--only: no test named \"" + vm["only"].as<std::string>() + "\"");
-  }
-  check_outputs(mine, host, options);
-  bool failed = false;
-  for (std::size_t i = 0; i < tests.size(); ++i) {
-    const TestSpec& test = tests[i];
-    if (child && test.name != vm["only"].as<std::string>()) continue;
-    if (const int status = stopped_before("test '" + test.name + "'")) return status;
-    std::ostringstream line;
-    line << "[" << i + 1 << "/" << tests.size() << "] " << test.name << ": ";
-    if (vm.count("isolate") && !already_done(test, host, options)) {
-      const int status = run_isolated(test, host, argc, argv);
-      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 1;
-      if (stop_signal() && (code == 130 || code == 143)) return 128 + stop_signal();  // it said so itself
-      failed = failed || status != 0;
-      continue;  // the child printed its line
-    }
+  // This process's share: one test (--isolate child), a shard (test k when k % n == i), or all.
+  std::vector<std::size_t> mine;
+  for (std::size_t k = 0; k < tests.size(); ++k)
+    if (child ? tests[k].name == vm["only"].as<std::string>() : k % shards == shard) mine.push_back(k);
+  if (child && mine.empty()) throw InputError("--only: no test named \"" + vm["only"].as<std::string>() + "\"");
+  jobs = std::max<std::size_t>(1, std::min(jobs, mpi ? jobs : mine.size()));
+  // Tests side by side each get one thread, unless --threads says otherwise: more would oversubscribe.
+  if (jobs > 1 && vm["threads"].defaulted()) options.threads = 1;
+
+  std::optional<cli::MpiRun> world;
+  if (mpi) world.emplace();
+  const bool root = !world || world->rank() == 0;
+  // The checks of the output folder: by rank 0 only under MPI (the others wait for its verdict).
+  if (root) {
+    bool ok = false;
     try {
-      const RunResult r = run_test(test, host, options);
-      if (r.skipped) line << "already complete, skipped";
-      else
-        line << std::fixed << std::setprecision(2) << test.time << " s simulated in " << r.wall_seconds << " s, " << r.found
-             << "/" << r.targets << " targets found -> " << r.folder.string();
-    } catch (const TestFailure& e) {
-      std::cerr << "salsa: " << e.what() << std::endl;
-      failed = true;
-      continue;  // the other tests go on
-    } catch (const Interrupted& e) {
-      std::cerr << "salsa: " << e.what() << std::endl;
-      return 128 + e.signal;
+      std::vector<TestSpec> checked;
+      for (std::size_t k : mine) checked.push_back(tests[k]);
+      if (world) checked = tests;
+      std::optional<QueueRecord> record;  // an --isolate child's run has recorded its queue already
+      if (!child) {
+        std::vector<std::string> command{"salsa"};
+        command.insert(command.end(), argv, argv + argc);
+        record = queue_record(tests, host, command);
+        check_queue_folder(options.out, *record, options.resume, options.force);
+      }
+      check_outputs(checked, host, options);
+      if (record) claim_queue_folder(options.out, *record, options.resume, options.force);
+      ok = true;
+    } catch (...) {
+      if (world) world->agree(false);
+      throw;
     }
-    if (!quiet) std::cout << line.str() << std::endl;
+    if (world) world->agree(ok);
+  } else if (!world->agree(false)) {
+    return 2;  // rank 0 said why
   }
-  if (!quiet && !child) std::cout << "results in " << options.out.string() << std::endl;
-  return failed ? 1 : 0;
+
+  cli::QueueRunOptions run;
+  run.jobs = jobs;
+  run.quiet = quiet || child;
+  run.plots = !vm.count("no-plots") && !child;
+  run.terminal = !world && ::isatty(STDOUT_FILENO);
+  run.expected = world ? (root ? tests.size() : 0) : mine.size();
+  if (vm.count("isolate"))
+    run.isolated = [&, threads = vm["threads"].defaulted() ? std::to_string(options.threads) : ""](const TestSpec& t) {
+      return run_isolated(t, host, argc, argv, threads);
+    };
+  std::unique_ptr<cli::Dispatch> dispatch = world ? world->dispatch(tests.size()) : std::make_unique<cli::ListDispatch>(mine);
+  const cli::QueueResult result = cli::run_queue(tests, host, options, run, *dispatch);
+  int status = result.status;
+  if (child || result.write_failed) return status;  // a full disk: nothing more written
+  if (world && root && world->others_failed() > 0 && status == 0) status = 1;
+  if (status != 0 && status != 1) return status;  // stopped: the summary waits for the rest
+  if (!root) return status;
+  if (shards > 1) {
+    if (!quiet)
+      std::cout << "shard " << shard << "/" << shards << " done; once every shard is done, 'salsa summarize " << options.out.string()
+                << "' writes the queue summary" << std::endl;
+    return status;
+  }
+  finish_queue(options.out, host, run.plots);
+  if (!quiet) std::cout << "results in " << options.out.string() << std::endl;
+  return status;
+}
+
+int cmd_summarize(int argc, char** argv) {
+  po::options_description o("summarize options");
+  o.add_options()("out", po::value<std::string>(), "a queue's output folder (what 'salsa run --out' wrote)")(
+      "no-plots", "do not draw the queue plots");
+  po::variables_map vm;
+  if (!parse(argc, argv, "summarize", "OUT [options]", o, vm, "out")) return 0;
+  if (!vm.count("out")) throw InputError("summarize: missing OUT (the folder 'salsa run --out OUT' wrote)");
+  const fs::path out = vm["out"].as<std::string>();
+  std::error_code ec;
+  if (!fs::is_directory(out, ec)) throw InputError("summarize: " + out.string() + " is not a folder (allowed: the folder 'salsa run --out' wrote)");
+  PluginHost host;
+  load_plugins(host, vm, false);
+  finish_queue(out, host, !vm.count("no-plots"));
+  if (!vm.count("quiet")) std::cout << "wrote " << (out / "summary.csv").string() << std::endl;
+  return 0;
 }
 
 int cmd_validate(int argc, char** argv) {
@@ -455,13 +553,14 @@ int main(int argc, char** argv) {
   }
   try {
     if (command == "run") return cmd_run(argc - 1, argv + 1);
+    if (command == "summarize") return cmd_summarize(argc - 1, argv + 1);
     if (command == "validate") return cmd_validate(argc - 1, argv + 1);
     if (command == "queue") return cmd_queue(argc - 1, argv + 1);
     if (command == "plugins") return cmd_plugins(argc - 1, argv + 1);
     if (command == "describe") return cmd_describe(argc - 1, argv + 1);
     if (command == "bench") return cmd_bench(argc - 1, argv + 1);
     if (command == "plot") return cmd_plot(argc - 1, argv + 1);
-    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, validate, queue, plugins, describe, bench, plot)\n";
+    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, summarize, validate, queue, plugins, describe, bench, plot)\n";
     return 2;
   } catch (const po::error& e) {
     std::cerr << "salsa " << command << ": " << e.what() << " (see 'salsa " << command << " --help')\n";

@@ -54,6 +54,24 @@ inline QMap<QString, QByteArray> snapshot(const QString& dir) {
   return out;
 }
 
+/// A snapshot of a run's results: what must be byte-identical between two runs of the same tests.
+/// Leaves out what records the run rather than the results: every timing.json (wall time), the queue
+/// folder's queue.json (the command) and summary.csv's wall_seconds column.
+inline QMap<QString, QByteArray> results_snapshot(const QString& dir) {
+  auto files = snapshot(dir);
+  for (auto it = files.begin(); it != files.end();) {
+    if (it.key() == "timing.json" || it.key().endsWith("/timing.json") || it.key() == "queue.json") it = files.erase(it);
+    else ++it;
+  }
+  if (files.contains("summary.csv")) {
+    QByteArrayList lines = files["summary.csv"].split('\n');
+    for (auto& line : lines)
+      if (const auto comma = line.lastIndexOf(','); comma >= 0) line.truncate(comma);  // wall_seconds is last
+    files["summary.csv"] = lines.join('\n');
+  }
+  return files;
+}
+
 inline QStringList non_empty_lines(const QString& text) {
   QStringList out;
   for (const QString& line : text.split('\n'))

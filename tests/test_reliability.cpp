@@ -206,7 +206,7 @@ class TestReliability : public QObject {
     // From another working folder, as a user rerunning an old result would.
     r = run_salsa({"run", dir.filePath("one/x/config.json"), "--out", dir.filePath("two")}, QDir::tempPath());
     QVERIFY2(r.exit_code == 0, describe(r));
-    QCOMPARE(snapshot(dir.filePath("two/x")), snapshot(dir.filePath("one/x")));
+    QCOMPARE(results_snapshot(dir.filePath("two/x")), results_snapshot(dir.filePath("one/x")));
   }
 
   void resume_refuses_a_different_test() {
@@ -330,7 +330,7 @@ class TestReliability : public QObject {
     const CliResult plain = run_salsa({"run", "plain.json", "--out", "plain"}, dir.path());
     QVERIFY2(plain.exit_code == 0, describe(plain));
     for (const char* name : {"before", "after"})
-      QCOMPARE(snapshot(dir.filePath(QString("plain/") + name)), snapshot(dir.filePath(QString("out/") + name)));
+      QCOMPARE(results_snapshot(dir.filePath(QString("plain/") + name)), results_snapshot(dir.filePath(QString("out/") + name)));
   }
 
   // ---- Interruptions: stop cleanly, resume to byte-identical results.
@@ -378,7 +378,7 @@ class TestReliability : public QObject {
     check_whole_rows(dir.filePath("out"));
     const CliResult r = run_salsa({"run", "queue.json", "--out", "out", "--threads", "1", "--resume", "-q"}, dir.path());
     QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
-    QCOMPARE(snapshot(dir.filePath("out")), snapshot(reference()));
+    QCOMPARE(results_snapshot(dir.filePath("out")), results_snapshot(reference()));
   }
 
   void full_disk_is_named_and_resumes_identically() {
@@ -405,7 +405,7 @@ class TestReliability : public QObject {
     QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
     r = run_salsa({"run", "q.json", "--out", "roomy", "--threads", "1", "-q"}, dir.path());
     QVERIFY2(r.exit_code == 0, describe(r));
-    QCOMPARE(snapshot(disk + "/out"), snapshot(dir.filePath("roomy")));
+    QCOMPARE(results_snapshot(disk + "/out"), results_snapshot(dir.filePath("roomy")));
   }
 };
 

@@ -241,13 +241,18 @@ std::string refusal(const TestSpec& test, const std::string& config, const RunOp
 std::atomic<int> stop_requested{0};
 std::atomic<bool> handlers_installed{false};
 
+// One note per test running in this process (tests may run side by side, --jobs): a slot is taken by
+// the thread that runs the test, and the handlers find the faulting thread's slot by its thread id.
 struct RunningNote {
   std::string head;  // "salsa: test 'x' (x.json) "
   std::string tail;  // " of 600; plugins: behavior 'b' (file), ...\n"
-  std::atomic<bool> active{false};
+  std::atomic<bool> taken{false};   // owned by a running test
+  std::atomic<bool> active{false};  // head and tail are ready
+  std::atomic<pid_t> thread{0};     // the thread stepping the test
   std::atomic<std::uint64_t> step{0};
 };
-RunningNote note;
+constexpr std::size_t max_notes = 1024;  // the most tests that run at once (--jobs at most 1024)
+RunningNote notes[max_notes];
 
 void write_all(const char* text, std::size_t size) {
   while (size > 0) {
@@ -275,26 +280,51 @@ const char* signal_text(int sig) {
   }
 }
 
-/// "<head><event><detail> at step <n><tail>", async-signal-safe.
-void write_note(const char* event, const char* detail = "") {
+void write_number(std::uint64_t n) {
+  char digits[24];
+  std::size_t i = sizeof digits;
+  do digits[--i] = static_cast<char>('0' + n % 10); while ((n /= 10) > 0);
+  write_all(digits + i, sizeof digits - i);
+}
+
+/// "<head><event><detail> at step <n><tail>", async-signal-safe. `running` > 1 says the faulting
+/// thread was not one stepping a test, so every running test is named.
+void write_note(const RunningNote& note, const char* event, const char* detail, std::size_t running) {
   write_all(note.head.data(), note.head.size());
   write_all(event);
   write_all(detail);
+  if (running > 1) {
+    write_all(" (one of ");
+    write_number(running);
+    write_all(" tests running)");
+  }
   write_all(" at step ");
-  char digits[24];
-  std::size_t i = sizeof digits;
-  std::uint64_t n = note.step.load(std::memory_order_relaxed);
-  do digits[--i] = static_cast<char>('0' + n % 10); while ((n /= 10) > 0);
-  write_all(digits + i, sizeof digits - i);
+  write_number(note.step.load(std::memory_order_relaxed));
   write_all(note.tail.data(), note.tail.size());
+}
+
+/// Writes the note of the test run by the calling thread, or else of every running test; returns
+/// how many were written.
+std::size_t write_notes(const char* event, const char* detail) {
+  const pid_t self = ::gettid();
+  std::size_t running = 0;
+  for (const auto& n : notes)
+    if (n.active.load(std::memory_order_acquire)) {
+      if (n.thread.load(std::memory_order_relaxed) == self) {
+        write_note(n, event, detail, 1);
+        return 1;
+      }
+      ++running;
+    }
+  for (const auto& n : notes)
+    if (n.active.load(std::memory_order_acquire)) write_note(n, event, detail, running);
+  return running;
 }
 
 extern "C" void on_fatal_signal(int sig) {
   const int saved = errno;
   const char* name = signal_text(sig);
-  if (note.active.load(std::memory_order_acquire)) {
-    write_note("died of ", name ? name : "a fatal signal");
-  } else {
+  if (write_notes("died of ", name ? name : "a fatal signal") == 0) {
     write_all("salsa: died of ");
     write_all(name ? name : "a fatal signal");
     write_all("\n");
@@ -313,19 +343,25 @@ extern "C" void on_stop_signal(int sig) {
 }
 
 extern "C" void on_exit_mid_test() {
-  if (!note.active.load(std::memory_order_acquire)) return;
-  write_note("ended by a call to exit() in plugin code");
-  ::_exit(1);
+  if (write_notes("ended by a call to exit() in plugin code", "") > 0) ::_exit(1);
 }
 
-/// Prepares the note for `test` (on the stepping thread, before the test's plugins run).
-void prepare_note(const TestSpec& test, const PluginHost& host, const fs::path& work) {
-  if (!handlers_installed.load()) return;
+/// Takes a note slot for `test` and prepares it (on the stepping thread, before the test's plugins
+/// run); nullptr without signal handlers. Released by NoteGuard.
+RunningNote* prepare_note(const TestSpec& test, const PluginHost& host, const fs::path& work) {
+  if (!handlers_installed.load()) return nullptr;
   static std::once_flag exit_hooks;  // registered after the plugins are loaded, so they run first at exit
   std::call_once(exit_hooks, [] {
     std::atexit(on_exit_mid_test);
     std::at_quick_exit(on_exit_mid_test);
   });
+  RunningNote* note = nullptr;
+  for (auto& n : notes)
+    if (bool free = false; n.taken.compare_exchange_strong(free, true)) {
+      note = &n;
+      break;
+    }
+  if (!note) return nullptr;  // more tests at once than slots: the crash line names no test
   auto plugin = [](const char* kind, const std::string& name, const auto& entry) {
     return std::string(kind) + " '" + name + "' (" + entry.plugin().file.string() + ")";
   };
@@ -333,19 +369,25 @@ void prepare_note(const TestSpec& test, const PluginHost& host, const fs::path& 
                         plugin("map", test.map.name, host.map(test.map.name));
   if (test.targets > 0) plugins += ", " + plugin("target kind", test.target.name, host.target_kind(test.target.name));
   for (const auto& h : test.contact_handlers) plugins += ", " + plugin("contact handler", h, host.contact_handler(h));
-  note.active.store(false, std::memory_order_release);
-  note.head = "salsa: test '" + test.name + "' (" + test.source + ") ";
+  note->head = "salsa: test '" + test.name + "' (" + test.source + ") ";
   // One line, whatever the names hold.
-  note.tail = " of " + std::to_string(test.steps()) + "; plugins: " + plugins + "; rows so far in " + work.string();
-  for (char& c : note.tail)
+  note->tail = " of " + std::to_string(test.steps()) + "; plugins: " + plugins + "; rows so far in " + work.string();
+  for (char& c : note->tail)
     if (c == '\n' || c == '\r') c = ' ';
-  note.tail += "\n";
-  note.step.store(0, std::memory_order_relaxed);
-  note.active.store(true, std::memory_order_release);
+  note->tail += "\n";
+  note->step.store(0, std::memory_order_relaxed);
+  note->thread.store(::gettid(), std::memory_order_relaxed);
+  note->active.store(true, std::memory_order_release);
+  return note;
 }
 
 struct NoteGuard {
-  ~NoteGuard() { note.active.store(false, std::memory_order_release); }
+  RunningNote* note = nullptr;
+  ~NoteGuard() {
+    if (!note) return;
+    note->active.store(false, std::memory_order_release);
+    note->taken.store(false, std::memory_order_release);
+  }
 };
 
 /// What config.json holds. A map file's path is made absolute: a relative one would resolve against
@@ -407,6 +449,20 @@ void check_outputs(const std::vector<TestSpec>& tests, const PluginHost& host, c
   if (ec) throw InputError("--out: " + out.string() + ": cannot create folder (" + ec.message() + ")");
 }
 
+std::string test_config(const TestSpec& test, const PluginHost& host) { return config_of(test, host); }
+
+void record_failure(const fs::path& out, const std::string& name, const std::string& line) {
+  const fs::path work = partial_folder(out, name);
+  if (!salsa_wrote(work)) return;
+  std::string text = line;
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  try {
+    write_file(work / "error.txt", text + "\n");
+  } catch (const WriteError&) {  // a full disk: the failure is still reported on stderr
+  }
+}
+
 bool already_done(const TestSpec& test, const PluginHost& host, const RunOptions& options) {
   const fs::path folder = options.out / test.name;
   return options.resume && name_problem(test.name).empty() && exists_at_all(folder / "config.json") &&
@@ -433,8 +489,12 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
   if (ec) throw WriteError(work.string() + ": cannot create folder (" + ec.message() + ")");
   write_file(work / folder_marker, marker_text);
 
-  NoteGuard guard;
-  prepare_note(test, host, work);
+  NoteGuard guard{prepare_note(test, host, work)};
+  // A failed test keeps its .partial folder, with error.txt saying why (one line).
+  auto failed = [&](const std::string& line) {
+    record_failure(options.out, test.name, line);
+    return TestFailure(line);
+  };
   const std::string where = "test '" + test.name + "' (" + test.source + ")";
   const std::string behavior = "behavior '" + test.behavior.name + "' (" + host.behavior(test.behavior.name).plugin().file.string() + ")";
   const auto start = std::chrono::steady_clock::now();
@@ -443,7 +503,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     try {
       sim.emplace(make_setup(test, host, options.threads));
     } catch (const std::exception& e) {
-      throw TestFailure(where + ": could not start: " + e.what());
+      throw failed(where + ": could not start: " + e.what());
     }
     SummaryObserver summary(work / "summary.csv");
     std::optional<DroneObserver> drones;
@@ -453,6 +513,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     summary.observe(*sim);  // time 0
     if (drones) drones->observe(*sim);
     const std::size_t steps = test.steps();
+    const auto stepping = std::chrono::steady_clock::now();
     try {
       for (std::size_t i = 0; i < steps; ++i) {
         if (const int sig = stop_requested.load(std::memory_order_relaxed)) {
@@ -463,14 +524,18 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
                             sig);
         }
         sim->step();
-        note.step.store(i + 1, std::memory_order_relaxed);
+        if (guard.note) guard.note->step.store(i + 1, std::memory_order_relaxed);
+        if (options.progress) options.progress->store(i + 1, std::memory_order_relaxed);
+        if (options.on_step) options.on_step(*sim);
       }
+      result.stepping_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - stepping).count();
     } catch (const Interrupted&) {
       throw;
     } catch (const WriteError& e) {
+      record_failure(options.out, test.name, where + ": " + e.what());
       throw WriteError(where + ": " + e.what());
     } catch (const std::exception& e) {
-      throw TestFailure(where + ": " + behavior + " failed at t = " + format_time(sim->time()) + " s: " + e.what() +
+      throw failed(where + ": " + behavior + " failed at t = " + format_time(sim->time()) + " s: " + e.what() +
                         " (rows so far in " + work.string() + ")");
     }
     try {
@@ -478,6 +543,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
       if (drones) drones->close();
       write_targets(work / "targets.csv", *sim);
     } catch (const WriteError& e) {
+      record_failure(options.out, test.name, where + ": " + e.what());
       throw WriteError(where + ": " + e.what());
     }
     result.steps = steps;
@@ -486,6 +552,10 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
   }
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   try {
+    std::ostringstream timing;
+    timing.precision(6);
+    timing << "{\"wall_seconds\": " << std::fixed << result.wall_seconds << ", \"steps\": " << result.steps << "}\n";
+    write_file(work / "timing.json", timing.str());
     // config.json last: its presence marks a complete test (what --resume looks for).
     write_file(work / "config.json", config);
     sync_folder(work);
@@ -494,6 +564,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     if (ec) throw WriteError(result.folder.string() + ": cannot move " + work.string() + " there (" + ec.message() + ")");
     sync_folder(options.out);
   } catch (const WriteError& e) {
+    record_failure(options.out, test.name, where + ": " + e.what());
     throw WriteError(where + ": " + e.what());
   }
   return result;

@@ -5,6 +5,7 @@
 // Output folders: a test writes to OUT/.<name>.partial/ and renames it to OUT/<name>/ when complete.
 // Both carry a marker file (folder_marker) written before anything else, and salsa removes or replaces
 // only folders that carry it: never a path computed from user text alone.
+#include <atomic>
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
@@ -26,12 +27,17 @@ struct RunOptions {
   bool resume = false;  ///< skip tests whose folder holds the identical finished test
   int threads = 0;      ///< decide threads per simulation; 0: all cores
   bool drones_csv = true;
+  /// When set, the running test's steps so far are stored here after every step (for progress).
+  std::atomic<std::size_t>* progress = nullptr;
+  /// When set, called after every step (salsa bench queue records the floor's velocities here).
+  std::function<void(const Simulation&)> on_step;
 };
 
 struct RunResult {
   std::filesystem::path folder;
   bool skipped = false;
-  double wall_seconds = 0;
+  double wall_seconds = 0;      ///< set-up, stepping and writing
+  double stepping_seconds = 0;  ///< the step loop alone
   std::size_t steps = 0;
   std::size_t targets = 0, found = 0;
 };
@@ -55,11 +61,20 @@ struct Interrupted : std::runtime_error {
 /// difference), a folder salsa did not write (--force). Creates OUT when all is well.
 void check_outputs(const std::vector<TestSpec>& tests, const PluginHost& host, const RunOptions& options);
 
+/// What the test's config.json holds (the resolved test, a map file's path made absolute).
+std::string test_config(const TestSpec& test, const PluginHost& host);
+
+/// Writes `line` to OUT/.<name>.partial/error.txt (when salsa wrote that folder): why the test
+/// failed. run_test does this itself for TestFailure and WriteError.
+void record_failure(const std::filesystem::path& out, const std::string& name, const std::string& line);
+
 /// Whether `run_test` would skip this test (--resume and its folder holds the identical test).
 bool already_done(const TestSpec& test, const PluginHost& host, const RunOptions& options);
 
 /// Runs one test into `options.out / test.name`, written in a hidden ".partial" folder first and moved
-/// into place only when complete. Throws InputError, TestFailure, WriteError or Interrupted.
+/// into place only when complete, with timing.json (wall seconds and steps). Throws InputError,
+/// TestFailure, WriteError or Interrupted; after TestFailure and WriteError the .partial folder holds
+/// error.txt. Tests may run at once on several threads (each with its own crash note).
 RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOptions& options);
 
 /// For front-ends that run tests in the foreground (the CLI), once, before the first test:

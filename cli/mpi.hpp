@@ -1,0 +1,44 @@
+#pragma once
+// Running a queue over MPI ranks (mpirun): rank 0 hands out test indices one at a time, on request,
+// so a slow test holds up only its rank; every rank runs tests (rank 0 too: its main thread answers
+// requests between its own events); rank 0 writes the queue summary when every rank has reported.
+#include <cstddef>
+#include <memory>
+
+#include "queue_run.hpp"
+
+namespace salsa::cli {
+
+/// Whether this process was started by mpirun (or srun) as one of several ranks: OMPI_COMM_WORLD_SIZE,
+/// PMI_SIZE or PMIX_SIZE above 1.
+bool under_mpirun();
+
+/// Whether this salsa was built with MPI (SALSA_WITH_MPI).
+bool mpi_built();
+
+/// MPI for one run: MPI_Init on construction, MPI_Finalize on destruction. Only the main thread
+/// calls MPI (MPI_THREAD_FUNNELED).
+class MpiRun {
+ public:
+  MpiRun();
+  ~MpiRun();
+  MpiRun(const MpiRun&) = delete;
+  MpiRun& operator=(const MpiRun&) = delete;
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  /// Rank 0's verdict (it checks the output folder) given to every rank; false on every rank when
+  /// rank 0 said no.
+  bool agree(bool ok_on_rank0);
+  /// Rank 0: hands out 0..tests-1 to itself and the others; other ranks: asks rank 0.
+  std::unique_ptr<Dispatch> dispatch(std::size_t tests);
+  /// Rank 0, after the run: how many tests failed on the other ranks.
+  std::size_t others_failed() const { return others_failed_; }
+
+ private:
+  int rank_ = 0, size_ = 1;
+  std::size_t others_failed_ = 0;
+  friend class RootDispatch;
+};
+
+}  // namespace salsa::cli

@@ -1,0 +1,381 @@
+// Running queues with the real `salsa` CLI: tests side by side (--jobs) give the same files as one at a
+// time; a failed test keeps its .partial folder with error.txt and the queue goes on; an interrupted or
+// killed parallel run resumes to byte-identical results; OUT/queue.json refuses another queue's folder;
+// OUT/summary.csv has a row per test; shards and MPI ranks each run their share exactly once.
+#include <unistd.h>
+
+#include <QElapsedTimer>
+#include <QStandardPaths>
+#include <QThread>
+
+#include <csignal>
+
+#include "common.hpp"
+
+using namespace salsa_test;
+
+namespace {
+
+void write(const QString& path, const QByteArray& text) { QVERIFY(write_file(path, text)); }
+
+/// A queue of `n` small tests, alternating behaviors and seeds.
+QByteArray small_queue(int n, double time = 5, int drones = 10) {
+  QByteArray q = "[";
+  for (int i = 0; i < n; ++i)
+    q += QStringLiteral(R"(%1{"name": "t%2", "behavior": "%3", "drones": %4, "time": %5, "targets": {"count": 5}, "seed": %2})")
+             .arg(i ? "," : "")
+             .arg(i)
+             .arg(i % 2 ? "random_walk" : "flocking")
+             .arg(drones)
+             .arg(time)
+             .toUtf8();
+  return q + "]";
+}
+
+/// summary.csv as rows of fields (no quoted commas in what these tests write, error aside).
+QList<QStringList> csv_rows(const QString& file) {
+  QList<QStringList> rows;
+  for (const QString& line : non_empty_lines(QString::fromUtf8(read_file(file)))) rows << line.split(',');
+  return rows;
+}
+
+/// Runs salsa with extra environment variables (as run_salsa otherwise).
+CliResult run_with_env(const QStringList& args, const QString& dir, const QMap<QString, QString>& vars, const QString& program = {}) {
+  static QTemporaryDir home;
+  QProcess p;
+  QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+  env.remove("SALSA_PLUGIN_PATH");
+  env.insert("HOME", home.path());
+  for (auto it = vars.begin(); it != vars.end(); ++it) env.insert(it.key(), it.value());
+  p.setProcessEnvironment(env);
+  p.setWorkingDirectory(dir);
+  p.start(program.isEmpty() ? salsa_executable() : program, args);
+  CliResult r;
+  if (!p.waitForStarted(30000)) return r;
+  p.waitForFinished(300000);
+  r.crashed = p.exitStatus() != QProcess::NormalExit;
+  r.exit_code = p.exitCode();
+  r.out = QString::fromUtf8(p.readAllStandardOutput());
+  r.err = QString::fromUtf8(p.readAllStandardError());
+  return r;
+}
+
+bool wait_for(const QString& file) {
+  for (int i = 0; i < 6000; ++i) {
+    if (QFileInfo::exists(file)) return true;
+    QThread::msleep(10);
+  }
+  return false;
+}
+
+QString crash_plugins() { return q(test_plugins_dir() / "crash"); }
+
+}  // namespace
+
+class TestQueueRun : public QObject {
+  Q_OBJECT
+
+ private Q_SLOTS:
+  void jobs_give_the_same_files_data() {
+    QTest::addColumn<QStringList>("options");
+    QTest::newRow("--jobs 2") << QStringList{"--jobs", "2"};
+    QTest::newRow("--jobs 3 --threads 2") << QStringList{"--jobs", "3", "--threads", "2"};
+    QTest::newRow("default (all cores)") << QStringList{};
+  }
+  void jobs_give_the_same_files() {
+    QFETCH(QStringList, options);
+    QTemporaryDir dir;
+    write(dir.filePath("q.json"), small_queue(8));
+    CliResult r = run_salsa({"run", "q.json", "--out", "one", "--jobs", "1", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    r = run_salsa(QStringList{"run", "q.json", "--out", "many", "-q"} + options, dir.path());
+    QVERIFY2(r.exit_code == 0 && r.out.isEmpty() && r.err.isEmpty(), describe(r));
+    const auto one = results_snapshot(dir.filePath("one")), many = results_snapshot(dir.filePath("many"));
+    QCOMPARE(one.size(), 8 * 5 + 1);  // per test .salsa-test, config.json, summary, drones, targets; summary.csv
+    QCOMPARE(many, one);
+    // timing.json: wall seconds and steps (5 s at 60 steps per second).
+    for (int i = 0; i < 8; ++i) {
+      const QByteArray timing = read_file(dir.filePath(QString("many/t%1/timing.json").arg(i)));
+      QVERIFY2(timing.startsWith("{\"wall_seconds\": ") && timing.contains("\"steps\": 300}"), timing.constData());
+    }
+  }
+
+  void progress_lines_and_quiet() {
+    QTemporaryDir dir;
+    write(dir.filePath("q.json"), small_queue(4, 2));
+    CliResult r = run_salsa({"run", "q.json", "--out", "out", "--jobs", "2"}, dir.path());
+    QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
+    const QStringList lines = non_empty_lines(r.out);
+    QCOMPARE(lines.size(), 5);  // one per test (not a terminal: no bar), then "results in out"
+    for (int i = 0; i < 4; ++i)
+      QVERIFY2(lines.filter(QRegularExpression(QString("^\\[%1/4\\] t%2: 2.00 s simulated in .* targets found -> out/t%2$").arg(i + 1).arg(i))).size() == 1,
+               describe(r));
+    QCOMPARE(lines.last(), QString("results in out"));
+  }
+
+  void failed_test_keeps_its_partial_folder_and_the_queue_goes_on() {
+    QTemporaryDir dir;
+    write(dir.filePath("q.json"), R"([
+      {"name": "before", "behavior": "flocking", "drones": 4, "time": 2, "seed": 1},
+      {"name": "boom", "behavior": {"name": "test_crash", "params": {"mode": 3}}, "drones": 4, "time": 2},
+      {"name": "after", "behavior": "flocking", "drones": 4, "time": 2, "seed": 2}])");
+    const CliResult r = run_salsa({"run", "q.json", "--out", "out", "--jobs", "2", "--plugin-dir", crash_plugins(), "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 1 && !r.crashed && non_empty_lines(r.err).size() == 1 && r.err.contains("test 'boom'"), describe(r));
+    const QStringList error = non_empty_lines(QString::fromUtf8(read_file(dir.filePath("out/.boom.partial/error.txt"))));
+    QVERIFY2(error.size() == 1 && error[0].contains("test 'boom' (q.json: [1])") && error[0].contains("crash plugin threw as asked"),
+             qPrintable(error.join('\n')));
+    const auto rows = csv_rows(dir.filePath("out/summary.csv"));
+    QCOMPARE(rows.size(), 4);
+    QCOMPARE(rows[1].mid(0, 2), (QStringList{"before", "ok"}));
+    QCOMPARE(rows[2].mid(0, 2), (QStringList{"boom", "failed"}));
+    QVERIFY(rows[2][2].contains("crash plugin threw as asked"));
+    QCOMPARE(rows[3].mid(0, 2), (QStringList{"after", "ok"}));
+    // --resume reruns only the failed test (which fails again the same way).
+    const CliResult again = run_salsa({"run", "q.json", "--out", "out", "--resume", "--plugin-dir", crash_plugins()}, dir.path());
+    QVERIFY2(again.exit_code == 1 && again.out.count("already complete, skipped") == 2, describe(again));
+  }
+
+  void crash_line_names_the_crashing_test_among_several() {
+    QTemporaryDir dir;
+    write(dir.filePath("q.json"), R"([
+      {"name": "long", "behavior": "flocking", "drones": 50, "time": 60},
+      {"name": "boom", "behavior": {"name": "test_crash", "params": {"mode": 1}}, "drones": 4, "time": 2}])");
+    const CliResult r = run_salsa({"run", "q.json", "--out", "out", "--jobs", "2", "--plugin-dir", crash_plugins()}, dir.path());
+    QVERIFY2(r.crashed && non_empty_lines(r.err).size() == 1, describe(r));
+    QVERIFY2(r.err.startsWith("salsa: test 'boom' (q.json: [1]) died of SIGSEGV (segmentation fault) at step 30 of 120"), describe(r));
+  }
+
+  void isolate_runs_side_by_side() {
+    QTemporaryDir dir;
+    write(dir.filePath("q.json"), R"([
+      {"name": "a", "behavior": "flocking", "drones": 4, "time": 2, "seed": 1},
+      {"name": "boom", "behavior": {"name": "test_crash", "params": {"mode": 1}}, "drones": 4, "time": 2},
+      {"name": "b", "behavior": "flocking", "drones": 4, "time": 2, "seed": 2},
+      {"name": "c", "behavior": "random_walk", "drones": 4, "time": 2, "seed": 3}])");
+    const CliResult r =
+        run_salsa({"run", "q.json", "--out", "out", "--isolate", "--jobs", "2", "--plugin-dir", crash_plugins(), "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 1 && !r.crashed && non_empty_lines(r.err).size() == 1 && r.err.contains("test 'boom'") &&
+                 r.err.contains("SIGSEGV"),
+             describe(r));
+    for (const char* name : {"a", "b", "c"}) QVERIFY(QFileInfo::exists(dir.filePath(QString("out/") + name + "/config.json")));
+    QVERIFY(read_file(dir.filePath("out/.boom.partial/error.txt")).contains("SIGSEGV"));
+    QCOMPARE(csv_rows(dir.filePath("out/summary.csv"))[2].mid(0, 2), (QStringList{"boom", "failed"}));
+  }
+
+  void stopped_or_killed_parallel_run_resumes_identically_data() {
+    QTest::addColumn<int>("sig");
+    QTest::addColumn<double>("at");
+    QTest::addColumn<bool>("isolate");
+    QTest::newRow("SIGINT early") << int(SIGINT) << 0.2 << false;
+    QTest::newRow("SIGTERM mid-queue") << int(SIGTERM) << 0.5 << false;
+    QTest::newRow("SIGKILL mid-queue") << int(SIGKILL) << 0.4 << false;
+    QTest::newRow("SIGKILL late") << int(SIGKILL) << 0.8 << false;
+    QTest::newRow("--isolate, SIGINT mid-queue") << int(SIGINT) << 0.5 << true;
+  }
+  void stopped_or_killed_parallel_run_resumes_identically() {
+    QFETCH(int, sig);
+    QFETCH(double, at);
+    QFETCH(bool, isolate);
+    QTemporaryDir dir;
+    // Six tests of about a second each on one thread, two at a time.
+    write(dir.filePath("q.json"), small_queue(6, 40, 100));
+    QElapsedTimer clock;
+    clock.start();
+    CliResult r = run_salsa({"run", "q.json", "--out", "reference", "--jobs", "2", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const qint64 whole_ms = clock.elapsed();
+    {
+      QStringList args{"run", "q.json", "--out", "out", "--jobs", "2", "-q"};
+      if (isolate) args << "--isolate";
+      QProcess run;
+      QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+      env.remove("SALSA_PLUGIN_PATH");
+      run.setProcessEnvironment(env);
+      run.setWorkingDirectory(dir.path());
+      run.start(salsa_executable(), args);
+      QVERIFY(run.waitForStarted(30000));
+      QVERIFY(wait_for(dir.filePath("out/.t0.partial/summary.csv")));
+      QThread::msleep(static_cast<unsigned long>(at * static_cast<double>(whole_ms)));
+      ::kill(static_cast<pid_t>(run.processId()), sig);
+      run.waitForFinished(120000);
+      const QString err = QString::fromUtf8(run.readAllStandardError());
+      if (sig == SIGKILL) {
+        QVERIFY(run.exitStatus() != QProcess::NormalExit || run.exitCode() == 0);  // 0: it had finished already
+      } else if (run.exitCode() != 0) {  // 0: it had finished already
+        QVERIFY2(run.exitCode() == 128 + sig && non_empty_lines(err).size() == 1 && err.contains("--resume"), qPrintable(err));
+      }
+    }
+    // The queue's state so far: every test ok or missing (an interrupted test is not a failed one).
+    r = run_salsa({"summarize", "out", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const auto rows = csv_rows(dir.filePath("out/summary.csv"));
+    QCOMPARE(rows.size(), 7);
+    for (int k = 1; k <= 6; ++k) {
+      QCOMPARE(rows[k][0], QString("t%1").arg(k - 1));
+      QVERIFY2(rows[k][1] == "ok" || rows[k][1] == "missing", qPrintable(rows[k].join(',')));
+      QCOMPARE(rows[k][1] == "ok", QFileInfo::exists(dir.filePath(QString("out/t%1/config.json").arg(k - 1))));
+    }
+    r = run_salsa({"run", "q.json", "--out", "out", "--jobs", "2", "--resume", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
+    QCOMPARE(results_snapshot(dir.filePath("out")), results_snapshot(dir.filePath("reference")));
+  }
+
+  void another_queue_is_refused() {
+    QTemporaryDir dir;
+    write(dir.filePath("a.json"), small_queue(2, 1));
+    write(dir.filePath("b.json"), R"([{"name": "other", "behavior": "flocking", "drones": 3, "time": 1}])");
+    CliResult r = run_salsa({"run", "a.json", "--out", "out", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const auto before = snapshot(dir.filePath("out"));
+    r = run_salsa({"run", "b.json", "--out", "out", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 2 && non_empty_lines(r.err).size() == 1 && r.err.contains("out/queue.json: holds the results of another queue"),
+             describe(r));
+    QCOMPARE(snapshot(dir.filePath("out")), before);
+    // The same queue with another seed is another queue too.
+    r = run_salsa({"run", "a.json", "--out", "out", "--seed", "9", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 2 && r.err.contains("out/queue.json: holds the same tests with other settings"), describe(r));
+    r = run_salsa({"run", "b.json", "--out", "out", "--force", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QVERIFY(read_file(dir.filePath("out/queue.json")).contains("\"other\""));
+    QCOMPARE(csv_rows(dir.filePath("out/summary.csv")).size(), 2);  // header and "other"
+  }
+
+  void summary_columns() {
+    QTemporaryDir dir;
+    write(dir.filePath("q.json"), R"([
+      {"name": "plain", "behavior": "flocking", "drones": 5, "time": 1, "targets": {"count": 3}, "seed": 4},
+      {"name": "tuned", "behavior": {"name": "flocking", "params": {"cohesion_weight": 2}}, "drones": 5, "time": 1, "targets": {"count": 3}, "seed": 4},
+      {"name": "walk", "behavior": "random_walk", "drones": 5, "time": 1, "targets": {"count": 3}, "seed": 4},
+      {"name": "more", "behavior": "flocking", "drones": 6, "time": 1, "targets": {"count": 3}, "seed": 4}])");
+    CliResult r = run_salsa({"run", "q.json", "--out", "out", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const auto rows = csv_rows(dir.filePath("out/summary.csv"));
+    QCOMPARE(rows.size(), 5);
+    const QStringList header = rows[0];
+    QCOMPARE(header.mid(0, 13), (QStringList{"name", "status", "error", "cell", "variant", "behavior", "repeat", "seed", "drones",
+                                              "targets", "target", "map", "time"}));
+    QCOMPARE(header.last(), QString("wall_seconds"));
+    for (const char* c : {"behavior.cohesion_weight", "behavior.turn_distance", "map.size", "drone.max_speed", "versions.behavior", "dt"})
+      QVERIFY2(header.contains(c), c);
+    QVERIFY(header.indexOf("behavior.cohesion_weight") < header.indexOf("map.size"));
+    QVERIFY(header.indexOf("map.size") < header.indexOf("drone.max_speed"));
+    QVERIFY(header.indexOf("drone.max_speed") < header.indexOf("versions.behavior"));
+    auto at = [&](int row, const char* column) { return rows[row][header.indexOf(column)]; };
+    QCOMPARE(at(1, "variant"), QString("flocking"));
+    QCOMPARE(at(2, "variant"), QString("flocking(cohesion_weight=2)"));
+    QCOMPARE(at(3, "variant"), QString("random_walk"));
+    QCOMPARE(at(1, "seed"), QString("4"));
+    QCOMPARE(at(1, "drones"), QString("5"));
+    QCOMPARE(at(1, "targets"), QString("3"));
+    QCOMPARE(at(1, "versions.behavior"), QString("flocking 0.1.0"));
+    // The cell: the condition apart from the behavior.
+    QVERIFY(at(1, "cell").size() == 12);
+    QCOMPARE(at(2, "cell"), at(1, "cell"));
+    QCOMPARE(at(3, "cell"), at(1, "cell"));
+    QVERIFY(at(4, "cell") != at(1, "cell"));
+    // salsa summarize writes the same file from the folders alone.
+    const QByteArray written = read_file(dir.filePath("out/summary.csv"));
+    QVERIFY(QFile::remove(dir.filePath("out/summary.csv")));
+    r = run_salsa({"summarize", "out", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QCOMPARE(read_file(dir.filePath("out/summary.csv")), written);
+    // outcome.csv's final values (written by the run when metrics are on) join the row; a column
+    // named like an input is prefixed.
+    write(dir.filePath("out/plain/outcome.csv"), "targets,targets_found,fraction_found,coverage\n3,1,0.333333,0.5\n");
+    r = run_salsa({"summarize", "out", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const auto with_outcome = csv_rows(dir.filePath("out/summary.csv"));
+    const QStringList h = with_outcome[0];
+    QCOMPARE(h.mid(h.size() - 5), (QStringList{"outcome.targets", "targets_found", "fraction_found", "coverage", "wall_seconds"}));
+    QCOMPARE(with_outcome[1].mid(h.size() - 5, 4), (QStringList{"3", "1", "0.333333", "0.5"}));
+    QCOMPARE(with_outcome[2].mid(h.size() - 5, 4), (QStringList{"", "", "", ""}));
+  }
+
+  void shards_cover_the_queue_once() {
+    QTemporaryDir dir;
+    write(dir.filePath("q.json"), small_queue(10, 1));
+    CliResult r = run_salsa({"run", "q.json", "--out", "whole", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QStringList ran;
+    for (int i = 0; i < 3; ++i) {
+      r = run_salsa({"run", "q.json", "--out", "out", "--shard", QString("%1/3").arg(i)}, dir.path());
+      QVERIFY2(r.exit_code == 0 && r.out.contains("'salsa summarize out'"), describe(r));
+      for (const QString& line : non_empty_lines(r.out))
+        if (line.startsWith('[')) ran << line.section(' ', 1, 1).chopped(1);
+      QVERIFY(!QFileInfo::exists(dir.filePath("out/summary.csv")));  // a shard is not the whole queue
+    }
+    ran.sort();
+    QStringList all;
+    for (int k = 0; k < 10; ++k) all << QString("t%1").arg(k);
+    all.sort();
+    QCOMPARE(ran, all);  // no overlap, no gap
+    r = run_salsa({"summarize", "out", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QCOMPARE(results_snapshot(dir.filePath("out")), results_snapshot(dir.filePath("whole")));
+  }
+
+  void slurm_array_picks_the_shard_data() {
+    QTest::addColumn<QString>("id");
+    QTest::addColumn<QString>("min");
+    QTest::addColumn<QStringList>("expect");
+    QTest::newRow("ids from 0") << "1" << "0" << QStringList{"t1", "t4"};
+    QTest::newRow("ids from 1") << "1" << "1" << QStringList{"t0", "t3"};
+    QTest::newRow("ids from 10") << "12" << "10" << QStringList{"t2", "t5"};
+  }
+  void slurm_array_picks_the_shard() {
+    QFETCH(QString, id);
+    QFETCH(QString, min);
+    QFETCH(QStringList, expect);
+    QTemporaryDir dir;
+    write(dir.filePath("q.json"), small_queue(6, 1));
+    const CliResult r = run_with_env({"run", "q.json", "--out", "out"}, dir.path(),
+                                     {{"SLURM_ARRAY_TASK_ID", id}, {"SLURM_ARRAY_TASK_MIN", min}, {"SLURM_ARRAY_TASK_COUNT", "3"}});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QStringList ran;
+    for (const QString& name : QDir(dir.filePath("out")).entryList(QDir::Dirs | QDir::NoDotAndDotDot)) ran << name;
+    QCOMPARE(ran, expect);
+  }
+
+  void bad_options_data() {
+    QTest::addColumn<QStringList>("args");
+    QTest::addColumn<QString>("expect");
+    QTest::newRow("jobs -1") << QStringList{"--jobs", "-1"} << "--jobs: \"-1\" is not a whole number (allowed: a whole number in [0, 1024]";
+    QTest::newRow("jobs 2000") << QStringList{"--jobs", "2000"} << "--jobs: 2000 is out of range";
+    QTest::newRow("shard 3/3") << QStringList{"--shard", "3/3"} << "--shard: \"3/3\" is not a shard of the queue (allowed: i/n";
+    QTest::newRow("shard 1") << QStringList{"--shard", "1"} << "--shard: \"1\" is not a shard";
+    QTest::newRow("shard 0/0") << QStringList{"--shard", "0/0"} << "--shard: \"0/0\" is not a shard";
+    QTest::newRow("shard /2") << QStringList{"--shard", "/2"} << "--shard: \"/2\" is not a shard";
+  }
+  void bad_options() {
+    QFETCH(QStringList, args);
+    QFETCH(QString, expect);
+    QTemporaryDir dir;
+    write(dir.filePath("t.json"), R"({"name": "x", "behavior": "flocking", "drones": 3, "time": 1})");
+    const auto before = snapshot(dir.path());
+    const CliResult r = run_salsa(QStringList{"run", "t.json"} + args, dir.path());
+    QVERIFY2(r.exit_code == 2 && non_empty_lines(r.err).size() == 1 && r.err.contains(expect), describe(r));
+    QCOMPARE(snapshot(dir.path()), before);
+  }
+
+  void mpi_ranks_run_each_test_once() {
+    const QString mpirun = QStandardPaths::findExecutable("mpirun");
+    if (mpirun.isEmpty()) QSKIP("mpirun is not installed (Debian: openmpi-bin)");
+    QTemporaryDir dir;
+    write(dir.filePath("q.json"), small_queue(12, 2));
+    CliResult r = run_salsa({"run", "q.json", "--out", "one", "--jobs", "1", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    r = run_with_env({"--allow-run-as-root", "--oversubscribe", "-n", "3", salsa_executable(), "run", "q.json", "--out", "D"}, dir.path(),
+                     {{"OMPI_MCA_rmaps_base_oversubscribe", "1"}}, mpirun);
+    if (r.err.contains("built without MPI")) QSKIP("this salsa was built without MPI");
+    QVERIFY2(r.exit_code == 0, describe(r));
+    // Each test exactly once: one progress line each, over all ranks.
+    for (int k = 0; k < 12; ++k) QVERIFY2(r.out.count(QString("] t%1: ").arg(k)) == 1, describe(r));
+    const auto rows = csv_rows(dir.filePath("D/summary.csv"));
+    QCOMPARE(rows.size(), 13);
+    for (int k = 1; k <= 12; ++k) QCOMPARE(rows[k][1], QString("ok"));
+    QCOMPARE(results_snapshot(dir.filePath("D")), results_snapshot(dir.filePath("one")));
+  }
+};
+
+QTEST_GUILESS_MAIN(TestQueueRun)
+#include "test_queue_run.moc"
