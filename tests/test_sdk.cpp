@@ -529,7 +529,7 @@ class TestSdk : public QObject {
 
   // ---------------------------------------------------------------- Registration macros
   void registration_macros_register_everything() {
-    QCOMPARE(salsa::detail::registrations().size(), std::size_t(4));
+    QCOMPARE(salsa::detail::registrations().size(), std::size_t(5));
     const salsa::PluginDescriptor* d = salsa_plugin_descriptor();
     QVERIFY(d);
     QCOMPARE(d->abi_version, salsa::abi_version);
