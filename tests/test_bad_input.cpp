@@ -180,7 +180,7 @@ class TestBadInput : public QObject {
     CliResult r = run_two_tests(test, out);
     QVERIFY2(r.exit_code == 0, describe(r));
     const auto before = snapshot(out);
-    QCOMPARE(before.size(), 10);  // 2 tests × .salsa-test, config.json, summary.csv, drones.csv, targets.csv
+    QCOMPARE(before.size(), 12);  // 2 tests × .salsa-test, config.json, summary.csv, drones.csv, targets.csv, outcome.csv
 
     r = run_salsa({"run", test, "--out", out});
     QVERIFY2(!r.crashed && r.exit_code != 0, describe(r));

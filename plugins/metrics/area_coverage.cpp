@@ -1,9 +1,8 @@
 // Area coverage: the fraction of the free map area that has been within some drone's camera range,
 // on a grid of cells (a cell is free when its centre is, and covered once its centre has been within
-// camera range of a drone). A drone's disc is stamped at the start, whenever the drone has moved one
-// cell since its last stamp, and at the end: a step costs O(drones), a stamp O(cells per disc). Cells
-// at the very rim of the swept band, a sliver cell² / (8 × range) wide (1/32 of a cell with the
-// default cell), may be missed; a logged row may lag each drone's path by less than a cell.
+// camera range of a drone). A drone's disc is stamped whenever it has moved half a cell since its last
+// stamp (and at every logged row), so a step costs O(drones) and a stamp O(cells per disc); cells at
+// the very edge of the swept band (a sliver of width (cell/2)² / (8 × range)) may be missed.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -43,12 +42,12 @@ class AreaCoverage final : public salsa::Metric {
     last_.clear();
     stamp_moved(world, 0);
   }
-  void step(const salsa::MetricView& world) override { stamp_moved(world, cell_); }
-  void observe(const salsa::MetricView&, std::span<double> values) override { values[0] = fraction(); }
-  void finish(const salsa::MetricView& world, std::span<double> values) override {
+  void step(const salsa::MetricView& world) override { stamp_moved(world, cell_ / 2); }
+  void observe(const salsa::MetricView& world, std::span<double> values) override {
     stamp_moved(world, 0);
     values[0] = fraction();
   }
+  void finish(const salsa::MetricView& world, std::span<double> values) override { observe(world, values); }
 
  private:
   static constexpr double max_cells = 1 << 26;
