@@ -17,7 +17,7 @@ namespace {
 class AreaCoverage final : public salsa::Metric {
  public:
   static salsa::Parameters declare() {
-    return {{"cell_size", 0.0, 0.0, 1000.0, "m", "grid cell edge; 0: a quarter of the camera range", 0.05}};
+    return {{"cell_size", 0.0, 0.0, 1000.0, "m", "grid cell edge; 0: a quarter of the camera range (larger if the map would need over 2^24 cells)", 0.05}};
   }
   std::vector<salsa::Column> step_columns() const override {
     return {{"coverage", "", "fraction of the free area seen so far (0 to 1)", 6}};
@@ -27,9 +27,9 @@ class AreaCoverage final : public salsa::Metric {
   void reset(const salsa::MetricView& world) override {
     const salsa::Rect b = world.bounds();
     range_ = world.drone().camera_range;
-    cell_ = param("cell_size") > 0 ? param("cell_size") : range_ / 4;
-    // At most max_cells cells (a byte each): coarser on huge maps, and a sane size for range 0.
-    cell_ = std::max({cell_, std::sqrt(b.area() / max_cells), 1e-3});
+    const double side = std::max(b.width(), b.height());
+    cell_ = param("cell_size") > 0 ? param("cell_size") : range_ > 0 ? range_ / 4 : side / 1000;
+    cell_ = std::max(cell_, std::sqrt(b.area() / max_cells));  // a byte per cell: at most 16 MB
     origin_ = b.min;
     cols_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(b.width() / cell_)));
     rows_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(b.height() / cell_)));
@@ -50,7 +50,7 @@ class AreaCoverage final : public salsa::Metric {
   void finish(const salsa::MetricView& world, std::span<double> values) override { observe(world, values); }
 
  private:
-  static constexpr double max_cells = 1 << 26;
+  static constexpr double max_cells = 1 << 24;
   static constexpr std::int64_t top_block = 64;  // cells per side of the largest block tested at once
   static constexpr double inf = std::numeric_limits<double>::infinity();
   enum : std::uint8_t { obstacle, unseen, seen };
