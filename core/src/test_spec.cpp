@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 
 #include "salsa/core/metrics.hpp"
 #include "salsa/core/names.hpp"
@@ -163,6 +164,14 @@ Vec2 point(const json& v, const Reader& r, const std::string& field) {
   return {v[0].get<double>(), v[1].get<double>()};
 }
 
+/// A plugin choice at `field`: "name" or {"name": ..., "params": {...}}; the params unchecked yet.
+std::pair<std::string, json> name_and_params(const json& v, const Reader& r, const std::string& field) {
+  if (!v.is_object()) return {r.string(v, field), json()};
+  r.only_keys(v, field, {"name", "params"});
+  if (!v.contains("name")) r.fail(field + ".name", "missing");
+  return {r.string(v["name"], field + ".name"), v.value("params", json())};
+}
+
 TestSpec parse(const json& j, const Reader& r, const PluginHost& host, std::size_t index) {
   r.only_keys(j, "", {"name", "behavior", "drone", "drone_configs", "drones", "map", "spawn", "targets",
                       "contact_handlers", "metrics", "time", "dt", "log_interval", "velocity_iterations",
@@ -177,16 +186,8 @@ TestSpec parse(const json& j, const Reader& r, const PluginHost& host, std::size
   // behavior: "name" or {"name": ..., "params": {...}}
   if (!j.contains("behavior")) r.fail("behavior", "missing (e.g. \"behavior\": \"flocking\")");
   {
-    const json& b = j["behavior"];
     json params;
-    if (b.is_object()) {
-      r.only_keys(b, "behavior", {"name", "params"});
-      if (!b.contains("name")) r.fail("behavior.name", "missing");
-      t.behavior.name = r.string(b["name"], "behavior.name");
-      params = b.value("params", json());
-    } else {
-      t.behavior.name = r.string(b, "behavior");
-    }
+    std::tie(t.behavior.name, params) = name_and_params(j["behavior"], r, "behavior");
     try {
       const auto& e = host.behavior(t.behavior.name);
       t.behavior.params = r.params(params, "behavior.params", e.factory.parameters, "behavior '" + t.behavior.name + "'");
@@ -275,14 +276,7 @@ TestSpec parse(const json& j, const Reader& r, const PluginHost& host, std::size
       const std::string field = "metrics[" + std::to_string(i) + "]";
       PluginChoice c;
       json params;
-      if (m[i].is_object()) {
-        r.only_keys(m[i], field, {"name", "params"});
-        if (!m[i].contains("name")) r.fail(field + ".name", "missing");
-        c.name = r.string(m[i]["name"], field + ".name");
-        params = m[i].value("params", json());
-      } else {
-        c.name = r.string(m[i], field);
-      }
+      std::tie(c.name, params) = name_and_params(m[i], r, field);
       try {
         c.params = r.params(params, field + ".params", host.metric(c.name).factory.parameters, "metric '" + c.name + "'");
       } catch (const UnknownPlugin& e) {
