@@ -122,6 +122,7 @@ int cmd_plugins(int argc, char** argv) {
   add("target", host.target_kinds());
   add("map", host.maps());
   add("contact handler", host.contact_handlers());
+  add("metric", host.metrics());
   std::array<std::size_t, 5> width{};
   for (const auto& r : rows)
     for (std::size_t c = 0; c < r.size(); ++c) width[c] = std::max(width[c], r[c].size());
@@ -138,9 +139,29 @@ int cmd_plugins(int argc, char** argv) {
   return 0;
 }
 
+/// A metric's columns with its default parameters (they may depend on the parameters).
+void describe_columns(const Entry<Metric>& e) {
+  std::shared_ptr<Metric> metric;
+  std::vector<Column> step, final;
+  try {
+    metric = PluginHost::create(e, ParameterValues(e.factory.parameters));
+    step = metric->step_columns();
+    final = metric->final_columns();
+  } catch (const std::exception& x) {
+    std::cout << "  columns cannot be listed: " << x.what() << "\n\n";
+    return;
+  }
+  std::cout << "  " << std::left << std::setw(28) << "COLUMN" << std::setw(20) << "FILE" << std::setw(8) << "UNIT" << "MEANING\n";
+  for (auto [file, columns] : {std::pair{"summary.csv", &step}, {"outcome.csv", &final}})
+    for (const Column& c : *columns)
+      std::cout << "  " << std::setw(28) << c.name << std::setw(20) << file << std::setw(8) << (c.unit.empty() ? "-" : c.unit)
+                << c.meaning << "\n";
+  std::cout << "\n";
+}
+
 int cmd_describe(int argc, char** argv) {
   po::options_description o("describe options");
-  o.add_options()("name", po::value<std::string>(), "plugin name (behavior, target kind, map or contact handler)");
+  o.add_options()("name", po::value<std::string>(), "plugin name (behavior, target kind, map, contact handler or metric)");
   po::variables_map vm;
   if (!parse(argc, argv, "describe", "NAME [options]", o, vm, "name")) return 0;
   if (!vm.count("name")) throw InputError("describe: missing NAME (see 'salsa plugins' for the names)");
@@ -154,6 +175,7 @@ int cmd_describe(int argc, char** argv) {
       found = true;
       std::cout << kind << " '" << name << "': " << e.factory.brief << "\n  from " << e.plugin().file.string()
                 << " (plugin " << e.plugin().name << " " << e.plugin().version << ")\n\n";
+      if constexpr (std::is_same_v<std::decay_t<decltype(e)>, Entry<Metric>>) describe_columns(e);
       if (e.factory.parameters.empty()) {
         std::cout << "  no parameters\n";
         continue;
@@ -170,6 +192,7 @@ int cmd_describe(int argc, char** argv) {
   describe("target kind", host.target_kinds());
   describe("map", host.maps());
   describe("contact handler", host.contact_handlers());
+  describe("metric", host.metrics());
   if (!found) throw InputError("describe: no plugin named '" + name + "' (see 'salsa plugins')");
   return 0;
 }

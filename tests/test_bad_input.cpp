@@ -180,8 +180,8 @@ class TestBadInput : public QObject {
     CliResult r = run_two_tests(test, out);
     QVERIFY2(r.exit_code == 0, describe(r));
     const auto before = snapshot(out);
-    // 2 tests × .salsa-test, config.json, summary.csv, drones.csv, targets.csv; the queue's summary.csv
-    QCOMPARE(results_snapshot(out).size(), 11);
+    // 2 tests × .salsa-test, config.json, summary.csv, drones.csv, targets.csv, outcome.csv; the queue's summary.csv
+    QCOMPARE(results_snapshot(out).size(), 13);
 
     r = run_salsa({"run", test, "--out", out});
     QVERIFY2(!r.crashed && r.exit_code != 0, describe(r));

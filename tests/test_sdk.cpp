@@ -84,12 +84,20 @@ class SdkHandler final : public salsa::ContactHandler {  // no declare(): no par
   void on_contact(const salsa::ContactEvent&, salsa::ContactActions&) override {}
 };
 
+class SdkMetric final : public salsa::Metric {
+ public:
+  static salsa::Parameters declare() { return {{"scale", 2.0, 0.0, 10.0, "", "factor"}}; }
+  std::vector<salsa::Column> final_columns() const override { return {{"sdk_value", "m", "scale"}}; }
+  void finish(const salsa::MetricView&, std::span<double> values) override { values[0] = param("scale"); }
+};
+
 }  // namespace
 
 SALSA_BEHAVIOR(SdkBehavior, "sdk_behavior", "behavior brief")
 SALSA_TARGET(SdkTarget, "sdk_target", "target brief")
 SALSA_MAP(SdkMap, "sdk_map", "map brief")
 SALSA_CONTACT_HANDLER(SdkHandler, "sdk_handler", "handler brief")
+SALSA_METRIC(SdkMetric, "sdk_metric", "metric brief")
 
 namespace {
 
@@ -98,10 +106,12 @@ struct Collector final : salsa::Registrar {
   std::vector<salsa::Factory<salsa::TargetKind>> targets;
   std::vector<salsa::Factory<salsa::MapGenerator>> maps;
   std::vector<salsa::Factory<salsa::ContactHandler>> handlers;
+  std::vector<salsa::Factory<salsa::Metric>> metrics;
   void add(salsa::Factory<salsa::Behavior> f) override { behaviors.push_back(std::move(f)); }
   void add(salsa::Factory<salsa::TargetKind> f) override { targets.push_back(std::move(f)); }
   void add(salsa::Factory<salsa::MapGenerator> f) override { maps.push_back(std::move(f)); }
   void add(salsa::Factory<salsa::ContactHandler> f) override { handlers.push_back(std::move(f)); }
+  void add(salsa::Factory<salsa::Metric> f) override { metrics.push_back(std::move(f)); }
 };
 
 salsa::Perception perception(Vec2 velocity, double max_force) {
@@ -519,7 +529,7 @@ class TestSdk : public QObject {
 
   // ---------------------------------------------------------------- Registration macros
   void registration_macros_register_everything() {
-    QCOMPARE(salsa::detail::registrations().size(), std::size_t(4));
+    QCOMPARE(salsa::detail::registrations().size(), std::size_t(5));
     const salsa::PluginDescriptor* d = salsa_plugin_descriptor();
     QVERIFY(d);
     QCOMPARE(d->abi_version, salsa::abi_version);
@@ -535,6 +545,7 @@ class TestSdk : public QObject {
     QCOMPARE(c.targets.size(), std::size_t(1));
     QCOMPARE(c.maps.size(), std::size_t(1));
     QCOMPARE(c.handlers.size(), std::size_t(1));
+    QCOMPARE(c.metrics.size(), std::size_t(1));
 
     const auto& b = c.behaviors[0];
     QCOMPARE(b.name, std::string("sdk_behavior"));
@@ -564,6 +575,11 @@ class TestSdk : public QObject {
     QCOMPARE(c.handlers[0].name, std::string("sdk_handler"));
     QVERIFY(c.handlers[0].parameters.empty());  // no declare(): no parameters
     QVERIFY(c.handlers[0].create()->parameters().items().empty());
+    QCOMPARE(c.metrics[0].name, std::string("sdk_metric"));
+    QCOMPARE(c.metrics[0].brief, std::string("metric brief"));
+    const auto metric = c.metrics[0].create();
+    QCOMPARE(metric->final_columns().at(0).unit, std::string("m"));
+    QVERIFY(metric->step_columns().empty());  // the default: no summary.csv columns
   }
 
   // ---------------------------------------------------------------- Steering helpers

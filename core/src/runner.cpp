@@ -17,6 +17,7 @@
 #include <optional>
 #include <sstream>
 
+#include "salsa/core/metrics.hpp"
 #include "salsa/core/names.hpp"
 
 namespace salsa {
@@ -28,11 +29,16 @@ namespace {
 
 // ---- Data files
 
-// summary.csv: one row per logged step.
+std::string header(std::string columns, const std::vector<std::string>& more) {
+  for (const auto& c : more) columns += "," + c;
+  return columns;
+}
+
+// summary.csv: one row per logged step, salsa's columns then the metrics'.
 class SummaryObserver final : public Observer {
  public:
-  explicit SummaryObserver(const fs::path& file)
-      : csv_(file, "time,targets_found,fraction_found,mean_speed,max_speed,mean_nn_distance,collisions") {}
+  SummaryObserver(const fs::path& file, MetricSet& metrics)
+      : csv_(file, header(summary_columns, metrics.step_columns())), metrics_(metrics) {}
   void observe(const Simulation& sim) override {
     double sum = 0, top = 0;
     for (Vec2 v : sim.drone_velocities()) {
@@ -51,12 +57,14 @@ class SummaryObserver final : public Observer {
     if (nn_count) csv_.field(nn_sum / static_cast<double>(nn_count), 4);
     else csv_.empty_field();
     csv_.field(sim.collisions());
+    metrics_.row(sim, csv_);
     csv_.end_row();
   }
   void close() { csv_.close(); }
 
  private:
   CsvWriter csv_;
+  MetricSet& metrics_;
 };
 
 // drones.csv: one row per logged step and drone.
@@ -369,6 +377,7 @@ RunningNote* prepare_note(const TestSpec& test, const PluginHost& host, const fs
                         plugin("map", test.map.name, host.map(test.map.name));
   if (test.targets > 0) plugins += ", " + plugin("target kind", test.target.name, host.target_kind(test.target.name));
   for (const auto& h : test.contact_handlers) plugins += ", " + plugin("contact handler", h, host.contact_handler(h));
+  for (const auto& m : test.metrics) plugins += ", " + plugin("metric", m.name, host.metric(m.name));
   note->head = "salsa: test '" + test.name + "' (" + test.source + ") ";
   // One line, whatever the names hold.
   note->tail = " of " + std::to_string(test.steps()) + "; plugins: " + plugins + "; rows so far in " + work.string();
@@ -500,17 +509,24 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
   const auto start = std::chrono::steady_clock::now();
   {
     std::optional<Simulation> sim;
+    std::optional<MetricSet> metrics;
     try {
       sim.emplace(make_setup(test, host, options.threads));
+      metrics.emplace(test, host);
     } catch (const std::exception& e) {
       throw failed(where + ": could not start: " + e.what());
     }
-    SummaryObserver summary(work / "summary.csv");
+    SummaryObserver summary(work / "summary.csv", *metrics);
     std::optional<DroneObserver> drones;
     if (options.drones_csv) drones.emplace(work / "drones.csv");
     sim->add_observer(&summary);
     if (drones) sim->add_observer(&*drones);
-    summary.observe(*sim);  // time 0
+    try {
+      metrics->start(*sim);
+      summary.observe(*sim);  // time 0
+    } catch (const MetricFailure& e) {
+      throw TestFailure(where + ": " + e.what() + " (rows so far in " + work.string() + ")");
+    }
     if (drones) drones->observe(*sim);
     const std::size_t steps = test.steps();
     const auto stepping = std::chrono::steady_clock::now();
@@ -524,6 +540,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
                             sig);
         }
         sim->step();
+        metrics->after_step(*sim);
         if (guard.note) guard.note->step.store(i + 1, std::memory_order_relaxed);
         if (options.progress) options.progress->store(i + 1, std::memory_order_relaxed);
         if (options.on_step) options.on_step(*sim);
@@ -531,6 +548,8 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
       result.stepping_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - stepping).count();
     } catch (const Interrupted&) {
       throw;
+    } catch (const MetricFailure& e) {
+      throw TestFailure(where + ": " + e.what() + " (rows so far in " + work.string() + ")");
     } catch (const WriteError& e) {
       record_failure(options.out, test.name, where + ": " + e.what());
       throw WriteError(where + ": " + e.what());
@@ -538,10 +557,17 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
       throw failed(where + ": " + behavior + " failed at t = " + format_time(sim->time()) + " s: " + e.what() +
                         " (rows so far in " + work.string() + ")");
     }
+    std::vector<std::pair<std::string, std::string>> finals;
+    try {
+      finals = metrics->finish(*sim);
+    } catch (const MetricFailure& e) {
+      throw TestFailure(where + ": " + e.what() + " (rows so far in " + work.string() + ")");
+    }
     try {
       summary.close();
       if (drones) drones->close();
       write_targets(work / "targets.csv", *sim);
+      write_file(work / "outcome.csv", outcome_csv(*sim, finals));
     } catch (const WriteError& e) {
       record_failure(options.out, test.name, where + ": " + e.what());
       throw WriteError(where + ": " + e.what());

@@ -2,7 +2,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 
+#include "salsa/core/metrics.hpp"
 #include "salsa/core/names.hpp"
 #include "salsa/core/queue.hpp"
 #include "test_reader.hpp"
@@ -88,11 +90,19 @@ Vec2 point(const json& v, const Reader& r, const std::string& field) {
   return {v[0].get<double>(), v[1].get<double>()};
 }
 
+/// A plugin choice at `field`: "name" or {"name": ..., "params": {...}}; the params unchecked yet.
+std::pair<std::string, json> name_and_params(const json& v, const Reader& r, const std::string& field) {
+  if (!v.is_object()) return {r.string(v, field), json()};
+  r.only_keys(v, field, {"name", "params"});
+  if (!v.contains("name")) r.fail(field + ".name", "missing");
+  return {r.string(v["name"], field + ".name"), v.value("params", json())};
+}
+
 }  // namespace
 
 TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
   r.only_keys(j, "", {"name", "behavior", "drone", "drone_configs", "drones", "map", "spawn", "targets",
-                      "contact_handlers", "time", "dt", "log_interval", "velocity_iterations",
+                      "contact_handlers", "metrics", "time", "dt", "log_interval", "velocity_iterations",
                       "position_iterations", "decision_lag", "seed", "repeat", "versions"});
   TestSpec t;
   if (j.contains("name")) {
@@ -103,16 +113,8 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
   // behavior: "name" or {"name": ..., "params": {...}}
   if (!j.contains("behavior")) r.fail("behavior", "missing (e.g. \"behavior\": \"flocking\")");
   {
-    const json& b = j["behavior"];
     json params;
-    if (b.is_object()) {
-      r.only_keys(b, "behavior", {"name", "params"});
-      if (!b.contains("name")) r.fail("behavior.name", "missing");
-      t.behavior.name = r.string(b["name"], "behavior.name");
-      params = b.value("params", json());
-    } else {
-      t.behavior.name = r.string(b, "behavior");
-    }
+    std::tie(t.behavior.name, params) = name_and_params(j["behavior"], r, "behavior");
     try {
       const auto& e = host.behavior(t.behavior.name);
       t.behavior.params = r.params(params, "behavior.params", e.factory.parameters, "behavior '" + t.behavior.name + "'");
@@ -193,6 +195,33 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
     }
   }
 
+  // metrics: ["name", {"name": ..., "params": {...}}, ...]; absent: the built-in ones
+  if (j.contains("metrics")) {
+    const json& m = j["metrics"];
+    if (!m.is_array()) r.fail("metrics", show(m) + " must be a list of metric names or {\"name\", \"params\"} objects");
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      const std::string field = "metrics[" + std::to_string(i) + "]";
+      PluginChoice c;
+      json params;
+      std::tie(c.name, params) = name_and_params(m[i], r, field);
+      try {
+        c.params = r.params(params, field + ".params", host.metric(c.name).factory.parameters, "metric '" + c.name + "'");
+      } catch (const UnknownPlugin& e) {
+        r.fail(field, e.what());
+      }
+      t.metrics.push_back(std::move(c));
+    }
+  } else {
+    for (const char* name : default_metrics)
+      if (std::any_of(host.metrics().begin(), host.metrics().end(), [&](const auto& e) { return e.factory.name == name; }))
+        t.metrics.push_back({name, ParameterValues(host.metric(name).factory.parameters)});
+  }
+  try {
+    MetricSet(t.metrics, host);  // columns that clash, metrics that cannot be made
+  } catch (const MetricListError& e) {
+    r.fail("metrics[" + std::to_string(e.index) + "]", e.what());
+  }
+
   if (j.contains("dt")) t.dt = r.number(j["dt"], "dt", 1e-4, 1, "s");
   if (j.contains("time")) t.time = r.number(j["time"], "time", t.dt, 1e7, "s");
   if (j.contains("log_interval")) t.log_interval = r.number(j["log_interval"], "log_interval", t.dt, 1e7, "s");
@@ -242,6 +271,8 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   if (t.spawn) j["spawn"]["point"] = {t.spawn->x, t.spawn->y};
   j["targets"] = {{"kind", t.target.name}, {"count", t.targets}, {"params", params_json(t.target.params)}};
   j["contact_handlers"] = t.contact_handlers;
+  j["metrics"] = json::array();
+  for (const auto& m : t.metrics) j["metrics"].push_back({{"name", m.name}, {"params", params_json(m.params)}});
   j["time"] = t.time;
   j["dt"] = t.dt;
   j["log_interval"] = t.log_interval;
@@ -256,6 +287,9 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   json handlers = json::array();
   for (const auto& h : t.contact_handlers) handlers.push_back(plugin_json(host.contact_handler(h)));
   versions["contact_handlers"] = handlers;
+  json metrics = json::array();
+  for (const auto& m : t.metrics) metrics.push_back(plugin_json(host.metric(m.name)));
+  versions["metrics"] = metrics;
   j["versions"] = versions;
   return j.dump(2) + "\n";
 }

@@ -1,6 +1,6 @@
 #pragma once
-// Plugin registration. A plugin library registers any number of behaviors, target kinds, maps and
-// contact handlers with one macro each; the library exports one C symbol, `salsa_plugin_descriptor`,
+// Plugin registration. A plugin library registers any number of behaviors, target kinds, maps, contact
+// handlers and metrics with one macro each; the library exports one C symbol, `salsa_plugin_descriptor`,
 // that the loader reads and checks before it calls anything else.
 #include "salsa/registry.hpp"
 
@@ -88,3 +88,5 @@ salsa_plugin_descriptor() {
 /// Register a contact handler (derived from salsa::ContactHandler).
 #define SALSA_CONTACT_HANDLER(Class, name, brief) \
   SALSA_DETAIL_REGISTER(::salsa::ContactHandler, Class, name, brief)
+/// Register a metric (derived from salsa::Metric).
+#define SALSA_METRIC(Class, name, brief) SALSA_DETAIL_REGISTER(::salsa::Metric, Class, name, brief)

@@ -12,12 +12,13 @@
 #include "salsa/behavior.hpp"
 #include "salsa/contact.hpp"
 #include "salsa/map.hpp"
+#include "salsa/metric.hpp"
 #include "salsa/target.hpp"
 
 namespace salsa {
 
 /// Bumped whenever a type a plugin sees changes layout or meaning.
-inline constexpr std::uint32_t abi_version = 2;  // 2: Behavior::senses
+inline constexpr std::uint32_t abi_version = 2;  // 2: metrics (Registrar::add(Factory<Metric>)), Behavior::senses
 
 /// Types cross the library boundary (std::string, std::function, vectors), so plugin and host must
 /// agree on the C++ library ABI as well; this tag folds the relevant facts into one number. The loader
@@ -33,7 +34,7 @@ constexpr std::uint32_t toolchain_tag() {
   );
 }
 
-enum class PluginKind : std::uint8_t { behavior, target, map, contact_handler };
+enum class PluginKind : std::uint8_t { behavior, target, map, contact_handler, metric };
 
 inline const char* to_string(PluginKind k) {
   switch (k) {
@@ -41,6 +42,7 @@ inline const char* to_string(PluginKind k) {
     case PluginKind::target: return "target";
     case PluginKind::map: return "map";
     case PluginKind::contact_handler: return "contact handler";
+    case PluginKind::metric: return "metric";
   }
   return "?";
 }
@@ -60,6 +62,7 @@ class Registrar {
   virtual void add(Factory<TargetKind> f) = 0;
   virtual void add(Factory<MapGenerator> f) = 0;
   virtual void add(Factory<ContactHandler> f) = 0;
+  virtual void add(Factory<Metric> f) = 0;
 };
 
 /// The handshake. The first four fields keep their place in every ABI version, so any loader can read

@@ -4,6 +4,7 @@
 #include "salsa/contact.hpp"
 #include "salsa/grid.hpp"
 #include "salsa/map.hpp"
+#include "salsa/metric.hpp"
 #include "salsa/parameters.hpp"
 #include "salsa/plugin.hpp"
 #include "salsa/rng.hpp"

@@ -72,12 +72,14 @@ class PluginHost {
   const std::vector<Entry<TargetKind>>& target_kinds() const { return targets_; }
   const std::vector<Entry<MapGenerator>>& maps() const { return maps_; }
   const std::vector<Entry<ContactHandler>>& contact_handlers() const { return handlers_; }
+  const std::vector<Entry<Metric>>& metrics() const { return metrics_; }
 
   /// The entry of that name, or UnknownPlugin naming what exists.
   const Entry<Behavior>& behavior(const std::string& name) const;
   const Entry<TargetKind>& target_kind(const std::string& name) const;
   const Entry<MapGenerator>& map(const std::string& name) const;
   const Entry<ContactHandler>& contact_handler(const std::string& name) const;
+  const Entry<Metric>& metric(const std::string& name) const;
 
   /// A new object from a factory, configured with `values`; it keeps its library loaded. Whatever
   /// plugin code throws (std::bad_alloc, non-std types) comes back as std::runtime_error naming the
@@ -97,6 +99,7 @@ class PluginHost {
   std::vector<Entry<TargetKind>> targets_;
   std::vector<Entry<MapGenerator>> maps_;
   std::vector<Entry<ContactHandler>> handlers_;
+  std::vector<Entry<Metric>> metrics_;
 };
 
 }  // namespace salsa

@@ -16,6 +16,7 @@
 #include "salsa/core/static_geometry.hpp"
 #include "salsa/grid.hpp"
 #include "salsa/map.hpp"
+#include "salsa/metric.hpp"  // TargetState
 #include "salsa/target.hpp"
 
 namespace salsa {
@@ -92,14 +93,6 @@ std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, con
 /// Step phases, timed separately (DESIGN §3).
 enum class Phase { sense, decide, act, physics, detect, observe };
 inline constexpr std::array<const char*, 6> phase_names{"sense", "decide", "act", "physics", "detect", "observe"};
-
-struct TargetState {
-  Vec2 position;
-  double found_time = std::numeric_limits<double>::quiet_NaN();  ///< s, end of the step it was seen in; NaN until found
-  std::int64_t found_by = -1;                                    ///< drone id, -1 until found
-  std::uint64_t observations = 0;  ///< drone-steps during which it was in some drone's view
-  bool found() const { return found_by >= 0; }
-};
 
 class Simulation final : public WorldView {
  public:

@@ -38,6 +38,7 @@ struct TestSpec {
   PluginChoice target;
   std::size_t targets = 0;
   std::vector<std::string> contact_handlers{"detect_targets"};
+  std::vector<PluginChoice> metrics;  ///< in column order; a test without "metrics" gets default_metrics
   double time = 60;                 ///< s simulated
   double dt = 1.0 / 60;             ///< s
   double log_interval = 1;          ///< s between logged rows
@@ -51,6 +52,9 @@ struct TestSpec {
   std::size_t steps() const;
   std::size_t log_every() const;
 };
+
+/// The metrics a test gets when it names none (those of them the host has loaded).
+inline constexpr const char* default_metrics[] = {"area_coverage", "time_to_found", "distance_flown", "collisions"};
 
 /// Reads a test or queue file with the default QueueOptions: load_queue(file, host, {}).tests (queue.hpp).
 std::vector<TestSpec> load_tests(const std::filesystem::path& file, const PluginHost& host);
