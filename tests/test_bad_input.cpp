@@ -180,8 +180,9 @@ class TestBadInput : public QObject {
     CliResult r = run_two_tests(test, out);
     QVERIFY2(r.exit_code == 0, describe(r));
     const auto before = snapshot(out);
-    // 2 tests × .salsa-test, config.json, summary.csv, drones.csv, targets.csv, outcome.csv; the queue's summary.csv
-    QCOMPARE(results_snapshot(out).size(), 13);
+    // 2 tests × .salsa-test, config.json, summary.csv, drones.csv, targets.csv, outcome.csv; the queue's
+    // summary.csv and comparison.csv (plots left out)
+    QCOMPARE(results_snapshot(out).size(), 14);
 
     r = run_salsa({"run", test, "--out", out});
     QVERIFY2(!r.crashed && r.exit_code != 0, describe(r));
@@ -246,7 +247,7 @@ class TestBadInput : public QObject {
     QVERIFY(read_file(out + "/one/config.json").contains("\"time\": 4.0"));
     QCOMPARE(non_empty_lines(QString::fromUtf8(read_file(out + "/one/summary.csv"))).size(), 1 + 5);  // t = 0..4 s
     // No leftover .partial folder; the queue's own files beside the test.
-    QCOMPARE(QDir(out).entryList(QDir::AllEntries | QDir::NoDotAndDotDot | QDir::Hidden), (QStringList{"one", "queue.json", "summary.csv"}));
+    QCOMPARE(QDir(out).entryList(QDir::AllEntries | QDir::NoDotAndDotDot | QDir::Hidden), (QStringList{"comparison.csv", "one", "plots", "queue.json", "summary.csv"}));
   }
 
   // ---------------------------------------------------------------- bad plugins

@@ -90,8 +90,15 @@ class TestExamples : public QObject {
       const QStringList targets = non_empty_lines(QString::fromUtf8(read_file(dir + "/targets.csv")));
       QCOMPARE(targets.size(), 1 + config["targets"].toObject()["count"].toInt());
     }
-    // Nothing else left behind (no half-written ".partial" folders).
-    QCOMPARE(QDir(out.path()).entryList(QDir::Dirs | QDir::NoDotAndDotDot | QDir::Hidden).size(), names.size());
+    // Nothing else left behind (no half-written ".partial" folders), and the queue's own files: one
+    // summary row per test, all ok, and its plots.
+    QStringList folders = QDir(out.path()).entryList(QDir::Dirs | QDir::NoDotAndDotDot | QDir::Hidden);
+    QVERIFY(folders.removeOne("plots"));
+    QCOMPARE(folders.size(), names.size());
+    const QStringList rows = non_empty_lines(QString::fromUtf8(read_file(out.path() + "/summary.csv")));
+    QCOMPARE(rows.size(), names.size() + 1);
+    for (qsizetype i = 1; i < rows.size(); ++i) QVERIFY2(rows[i].contains(",ok,"), qPrintable(rows[i]));
+    QVERIFY(QFileInfo(out.path() + "/plots/found_boxplot.png").size() > 0);
   }
 
   void map_file_validates_data() { add_rows(true); }

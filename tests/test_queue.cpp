@@ -145,7 +145,7 @@ class TestQueue : public QObject {
         << QStringList{"q.json: sweep.behaviors[0].params.cohesion_weight[2]: 1 is already in the list"};
     QTest::newRow("map parameter")
         << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "maps": ["empty", {"name": "forest", "params": {"clusters": [10, 2.5]}}]}})")
-        << QStringList{"q.json: sweep.maps[1].params.clusters[1]: 2.5 is out of range (allowed: whole number in [0, 1000])"};
+        << QStringList{"q.json: sweep.maps[1].params.clusters[1]: 2.5 is out of range (allowed: whole number in [0, 20000])"};
     QTest::newRow("unknown map") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "maps": ["empty", "forrest"]}})")
                                  << QStringList{"q.json: sweep.maps[1]: unknown map 'forrest'"};
     QTest::newRow("drones out of range") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": [10, 0]}})")

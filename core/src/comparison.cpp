@@ -50,7 +50,9 @@ void write_comparison(const fs::path& out, const std::string& metric) {
   // ---- Read: the ok tests' metric, by cell, variant and (repeat, seed).
   CsvReader in(out / "summary.csv");
   const std::size_t c_cell = in.column("cell"), c_variant = in.column("variant"), c_status = in.column("status"),
-                    c_seed = in.column("seed"), c_metric = in.column(metric);
+                    c_seed = in.column("seed");
+  // A queue whose tests all failed has no outcome columns: nothing to compare then.
+  const auto c_metric_found = in.find(metric);
   const auto c_repeat = in.find("repeat");
   std::vector<std::optional<std::size_t>> c_description;
   for (const char* name : description) c_description.push_back(in.find(name));
@@ -58,6 +60,7 @@ void write_comparison(const fs::path& out, const std::string& metric) {
   std::map<std::string, std::size_t> cell_index;
   while (in.next()) {
     if (in[c_status] != "ok") continue;
+    const std::size_t c_metric = c_metric_found ? *c_metric_found : in.column(metric);  // throws: names the header
     const auto value = in.optional_number(c_metric);
     if (!value) continue;
     const std::string id(in[c_cell]), variant(in[c_variant]);

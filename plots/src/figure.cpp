@@ -26,6 +26,9 @@ void ensure_application() {
   static char name[] = "salsa";
   static char* argv[] = {name, nullptr};
   static QApplication app(argc, argv);
+  // Qt's own diagnostics ("libpng error: Write Error" on a full disk) are raw library text; every
+  // failure that matters reaches the caller as an exception naming the file instead.
+  qInstallMessageHandler([](QtMsgType, const QMessageLogContext&, const QString&) {});
 }
 
 QColor palette(std::size_t i) {
