@@ -102,7 +102,7 @@ inline CliResult run_salsa(const QStringList& args, const QString& working_dir =
     r.err = "could not start " + salsa_executable();
     return r;
   }
-  p.waitForFinished(120000);
+  p.waitForFinished(600000);  // the shortened forest-health queue under the sanitizers takes minutes
   r.crashed = p.exitStatus() != QProcess::NormalExit;
   r.exit_code = p.exitCode();
   r.out = QString::fromUtf8(p.readAllStandardOutput());

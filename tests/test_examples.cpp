@@ -69,12 +69,17 @@ class TestExamples : public QObject {
     QFETCH(QString, file);
     QTemporaryDir out;
     QVERIFY(out.isValid());
-    // From another working folder: relative map files resolve against the test file's folder.
-    const CliResult r = run_salsa({"run", file, "--time", "5", "--out", out.path()}, out.path());
-    QVERIFY2(!r.crashed && r.exit_code == 0, describe(r));
-    QVERIFY2(r.err.trimmed().isEmpty(), describe(r));
     const QStringList names = test_names(file);
     QVERIFY(!names.isEmpty());
+    // From another working folder: relative map files resolve against the test file's folder. Big
+    // queues (the forest-health experiment: 100 tests over 50,000 trees) skip the plots, which
+    // test_plots covers; their data and summary are checked all the same.
+    QStringList args{"run", file, "--time", "5", "--out", out.path()};
+    const bool big = names.size() > 20;
+    if (big) args << "--no-plots";
+    const CliResult r = run_salsa(args, out.path());
+    QVERIFY2(!r.crashed && r.exit_code == 0, describe(r));
+    QVERIFY2(r.err.trimmed().isEmpty(), describe(r));
     for (const QString& name : names) {
       const QString dir = out.filePath(name);
       for (const char* f : {"config.json", "summary.csv", "drones.csv", "targets.csv"})
@@ -98,7 +103,7 @@ class TestExamples : public QObject {
     const QStringList rows = non_empty_lines(QString::fromUtf8(read_file(out.path() + "/summary.csv")));
     QCOMPARE(rows.size(), names.size() + 1);
     for (qsizetype i = 1; i < rows.size(); ++i) QVERIFY2(rows[i].contains(",ok,"), qPrintable(rows[i]));
-    QVERIFY(QFileInfo(out.path() + "/plots/found_boxplot.png").size() > 0);
+    if (!big) QVERIFY(QFileInfo(out.path() + "/plots/found_boxplot.png").size() > 0);
   }
 
   void map_file_validates_data() { add_rows(true); }
