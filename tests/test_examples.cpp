@@ -82,7 +82,7 @@ class TestExamples : public QObject {
     QVERIFY2(r.err.trimmed().isEmpty(), describe(r));
     for (const QString& name : names) {
       const QString dir = out.filePath(name);
-      for (const char* f : {"config.json", "summary.csv", "drones.csv", "targets.csv"})
+      for (const char* f : {"config.json", "map.json", "summary.csv", "drones.csv", "targets.csv"})
         QVERIFY2(QFileInfo(dir + "/" + f).size() > 0, qPrintable(dir + "/" + f + " missing or empty\n" + describe(r)));
       // 5 s simulated, whatever the file says, logged from t = 0.
       const QJsonObject config = QJsonDocument::fromJson(read_file(dir + "/config.json")).object();

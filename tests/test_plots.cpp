@@ -97,14 +97,29 @@ class TestPlots : public QObject {
     QVERIFY2(hits > 0, "no line at the right end of found.png");
     QVERIFY2(std::abs(sum / hits - (715 - last * 6.45)) < 4, qPrintable(QString::number(sum / hits) + " vs " + QString::number(last)));
 
-    // The area: the map file's bounds when there is one, else around every position.
+    // The area: the map's bounds, from the map.json the run wrote (a generated map too).
+    QVERIFY2(QFileInfo(t + "/map.json").size() > 0, "the run writes map.json");
     const salsa::plots::Rect area = salsa::plots::test_area(t.toStdString());
-    if (map_file) {
-      QCOMPARE(area.x0, 0.0);
-      QCOMPARE(area.y0, 0.0);
-      QCOMPARE(area.x1, 300.0);
-      QCOMPARE(area.y1, 200.0);
-    }
+    QCOMPARE(area.x0, 0.0);
+    QCOMPARE(area.y0, 0.0);
+    QCOMPARE(area.x1, map_file ? 300.0 : 200.0);
+    QCOMPARE(area.y1, 200.0);
+
+    // trajectories.png: the obstacles are drawn (opaque grey, far more of it than the legend's
+    // square), and the frame is the map's bounds: going down the middle column, the map's top wall
+    // comes a few pixels after the plot's frame (a small margin, not the next round number).
+    const QImage trajectories(t + "/plots/trajectories.png");
+    long grey = 0;
+    for (int y = 0; y < trajectories.height(); ++y)
+      for (int x = 0; x < trajectories.width(); ++x) grey += trajectories.pixel(x, y) == qRgb(150, 150, 150);
+    QVERIFY2(grey > 1500, qPrintable(QString::number(grey) + " obstacle pixels"));
+    auto level = [&](int y) { return qGray(trajectories.pixel(600, y)); };  // the frame is a thin grey line, the wall black
+    int frame = 60;
+    while (frame < 400 && level(frame) > 200) ++frame;
+    int wall = frame;
+    while (wall < 400 && level(wall) <= 200) ++wall;
+    while (wall < 400 && level(wall) > 60) ++wall;
+    QVERIFY2(frame < 300 && wall - frame >= 3 && wall - frame < 25, qPrintable(QString("frame at %1, wall at %2").arg(frame).arg(wall)));
 
     // The heat map's hottest cell is the cell holding the most rows of drones.csv.
     std::vector<std::pair<double, double>> positions;

@@ -91,7 +91,7 @@ class TestQueueRun : public QObject {
     r = run_salsa(QStringList{"run", "q.json", "--out", "many", "-q"} + options, dir.path());
     QVERIFY2(r.exit_code == 0 && r.out.isEmpty() && r.err.isEmpty(), describe(r));
     const auto one = results_snapshot(dir.filePath("one")), many = results_snapshot(dir.filePath("many"));
-    QCOMPARE(one.size(), 8 * 6 + 2);  // per test .salsa-test, config.json, summary, drones, targets, outcome; summary.csv, comparison.csv
+    QCOMPARE(one.size(), 8 * 7 + 2);  // per test .salsa-test, config.json, map.json, summary, drones, targets, outcome; summary.csv, comparison.csv
     QCOMPARE(many, one);
     // timing.json: wall seconds and steps (5 s at 60 steps per second).
     for (int i = 0; i < 8; ++i) {

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -98,6 +99,37 @@ void write_targets(const fs::path& file, const Simulation& sim) {
     csv.end_row();
   }
   csv.close();
+}
+
+// map.json: the map the test ran on, in the map file format (docs/maps.md). One shape per line.
+void append_number(std::string& out, double v) {
+  if (v == 0) v = 0;  // no "-0": it would read back as the integer 0 anyway
+  char text[32];
+  out.append(text, std::to_chars(text, text + sizeof text, v).ptr);  // shortest text that reads back exactly
+}
+
+void append_point(std::string& out, Vec2 p) {
+  out += '[';
+  append_number(out, p.x);
+  out += ", ";
+  append_number(out, p.y);
+  out += ']';
+}
+
+void append_shapes(std::string& out, const char* key, const std::vector<Polyline>& shapes, bool last) {
+  out += "  \"";
+  out += key;
+  out += "\": [";
+  for (std::size_t i = 0; i < shapes.size(); ++i) {
+    out += i ? ",\n    [" : "\n    [";
+    for (std::size_t j = 0; j < shapes[i].size(); ++j) {
+      if (j) out += ", ";
+      append_point(out, shapes[i][j]);
+    }
+    out += ']';
+  }
+  out += shapes.empty() ? "]" : "\n  ]";
+  out += last ? "\n" : ",\n";
 }
 
 /// Writes a whole small file and syncs it; WriteError naming the file on any failure.
@@ -460,6 +492,20 @@ void check_outputs(const std::vector<TestSpec>& tests, const PluginHost& host, c
 
 std::string test_config(const TestSpec& test, const PluginHost& host) { return config_of(test, host); }
 
+std::string map_json(const MapData& map, Vec2 spawn) {
+  std::string out = "{\n  \"bounds\": {\"min\": ";
+  append_point(out, map.bounds.min);
+  out += ", \"max\": ";
+  append_point(out, map.bounds.max);
+  out += "},\n  \"spawn\": ";
+  append_point(out, spawn);
+  out += ",\n";
+  append_shapes(out, "obstacles", map.obstacles, false);
+  append_shapes(out, "hollow", map.hollow, false);
+  append_shapes(out, "lines", map.lines, true);
+  return out += "}\n";
+}
+
 void record_failure(const fs::path& out, const std::string& name, const std::string& line) {
   const fs::path work = partial_folder(out, name);
   if (!salsa_wrote(work)) return;
@@ -515,6 +561,13 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
       metrics.emplace(test, host);
     } catch (const std::exception& e) {
       throw failed(where + ": could not start: " + e.what());
+    }
+    // The map the test runs on, for the plots and for rerunning it on the same geometry.
+    try {
+      write_file(work / "map.json", map_json(sim->map(), sim->spawn_point()));
+    } catch (const WriteError& e) {
+      record_failure(options.out, test.name, where + ": " + e.what());
+      throw WriteError(where + ": " + e.what());
     }
     SummaryObserver summary(work / "summary.csv", *metrics);
     std::optional<DroneObserver> drones;

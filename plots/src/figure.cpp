@@ -72,16 +72,32 @@ Figure::Figure(const QString& title, int width, int height) : image_(width, heig
   image_.fill(Qt::white);
 }
 
-void Figure::x_axis(const QString& label, double lo, double hi) {
-  x_label_ = label;
-  x_ticks_ = nice_ticks(lo, hi);
-  x_lo_ = x_ticks_.front(), x_hi_ = x_ticks_.back();
+namespace {
+
+/// Round ticks over [lo, hi] and the axis's ends: the outer ticks, or (exact) lo and hi with the
+/// ticks inside them.
+void axis(double lo, double hi, bool exact, std::vector<double>& ticks, double& step, double& from, double& to) {
+  ticks = nice_ticks(lo, hi);
+  step = ticks.size() > 1 ? ticks[1] - ticks[0] : 1;
+  if (!exact || !(hi > lo)) {
+    from = ticks.front(), to = ticks.back();
+    return;
+  }
+  const double slack = 1e-9 * step;
+  std::erase_if(ticks, [&](double t) { return t < lo - slack || t > hi + slack; });
+  from = lo, to = hi;
 }
 
-void Figure::y_axis(const QString& label, double lo, double hi) {
+}  // namespace
+
+void Figure::x_axis(const QString& label, double lo, double hi, bool exact) {
+  x_label_ = label;
+  axis(lo, hi, exact, x_ticks_, x_step_, x_lo_, x_hi_);
+}
+
+void Figure::y_axis(const QString& label, double lo, double hi, bool exact) {
   y_label_ = label;
-  y_ticks_ = nice_ticks(lo, hi);
-  y_lo_ = y_ticks_.front(), y_hi_ = y_ticks_.back();
+  axis(lo, hi, exact, y_ticks_, y_step_, y_lo_, y_hi_);
 }
 
 void Figure::x_categories(const QString& label, const std::vector<QString>& names) {
@@ -132,8 +148,7 @@ QPainter& Figure::begin() {
     p.drawLine(QPointF(x, plot_.top()), QPointF(x, plot_.bottom()));
     p.setPen(Qt::black);
     p.drawLine(QPointF(x, plot_.bottom()), QPointF(x, plot_.bottom() + 6));
-    const double step = x_ticks_.size() > 1 ? x_ticks_[1] - x_ticks_[0] : 1;
-    p.drawText(QRectF(x - 60, plot_.bottom() + 8, 120, 22), Qt::AlignHCenter | Qt::AlignTop, tick_text(x_ticks_[i], step));
+    p.drawText(QRectF(x - 60, plot_.bottom() + 8, 120, 22), Qt::AlignHCenter | Qt::AlignTop, tick_text(x_ticks_[i], x_step_));
   }
   for (std::size_t i = 0; i < x_names_.size(); ++i) {
     const double x = at(static_cast<double>(i), y_lo_).x();
@@ -145,8 +160,7 @@ QPainter& Figure::begin() {
     p.drawLine(QPointF(plot_.left(), y), QPointF(plot_.right(), y));
     p.setPen(Qt::black);
     p.drawLine(QPointF(plot_.left() - 6, y), QPointF(plot_.left(), y));
-    const double step = y_ticks_.size() > 1 ? y_ticks_[1] - y_ticks_[0] : 1;
-    p.drawText(QRectF(plot_.left() - 100, y - 11, 90, 22), Qt::AlignRight | Qt::AlignVCenter, tick_text(y_ticks_[i], step));
+    p.drawText(QRectF(plot_.left() - 100, y - 11, 90, 22), Qt::AlignRight | Qt::AlignVCenter, tick_text(y_ticks_[i], y_step_));
   }
   p.setFont(font(18));
   p.drawText(QRectF(plot_.left(), std::min(image_.height() - 45.0, plot_.bottom() + 36), plot_.width(), 30), Qt::AlignCenter, x_label_);

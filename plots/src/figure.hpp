@@ -32,9 +32,10 @@ class Figure {
  public:
   explicit Figure(const QString& title, int width, int height);
 
-  /// A numeric axis over round ticks covering [lo, hi].
-  void x_axis(const QString& label, double lo, double hi);
-  void y_axis(const QString& label, double lo, double hi);
+  /// A numeric axis over round ticks covering [lo, hi]; `exact`: the axis is [lo, hi] itself, with
+  /// the round ticks inside it (a map's bounds as the frame, not the next round numbers).
+  void x_axis(const QString& label, double lo, double hi, bool exact = false);
+  void y_axis(const QString& label, double lo, double hi, bool exact = false);
   /// Named positions 0 … n-1 (x: below the axis; y: top to bottom, names on the left).
   void x_categories(const QString& label, const std::vector<QString>& names);
   void y_categories(const std::vector<QString>& names);
@@ -57,6 +58,7 @@ class Figure {
   QPainter painter_;
   QString title_, x_label_, y_label_;
   std::vector<double> x_ticks_, y_ticks_;
+  double x_step_ = 1, y_step_ = 1;  // between round ticks
   std::vector<QString> x_names_, y_names_;
   double x_lo_ = 0, x_hi_ = 1, y_lo_ = 0, y_hi_ = 1;
   bool equal_ = false;

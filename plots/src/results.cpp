@@ -81,13 +81,12 @@ struct MapShape {
   std::vector<QPolygonF> solid, hollow, lines;
 };
 
-MapShape read_map(const fs::path& folder) {
+MapShape read_map(const fs::path& folder, const json& config) {
   MapShape m;
   fs::path file = folder / "map.json";
   std::error_code ec;
-  if (!fs::exists(file, ec)) {
-    const json config = read_json(folder / "config.json", "a resolved test (config.json)");
-    if (!config.contains("map") || !config["map"].is_object() || !config["map"].contains("file") || !config["map"]["file"].is_string())
+  if (!fs::exists(file, ec)) {  // a folder written before map.json was: a map file still has the geometry
+    if (!config.is_object() || !config.contains("map") || !config["map"].is_object() || !config["map"].contains("file") || !config["map"]["file"].is_string())
       return m;  // a generated map: its geometry is not in the folder
     file = config["map"]["file"].get<std::string>();
     if (!fs::exists(file, ec)) return m;
@@ -124,7 +123,9 @@ MapShape read_map(const fs::path& folder) {
 struct TestData {
   std::string name;
   MapShape map;
-  Rect area;
+  Rect area;               // the map's bounds, else the extent of the data
+  Rect view;               // what the map plots show: the area and a small margin
+  double target_radius = 0;  // m, from config.json's target params (0: not given)
   std::vector<double> time, found, nn, coverage;  // summary.csv; nn: NaN when empty
   bool has_coverage = false;
   std::map<long, Points> paths;                    // drones.csv, by drone id
@@ -200,11 +201,21 @@ TestData read_test(const fs::path& folder, bool with_drones) {
   if (t.name.empty()) t.name = folder.parent_path().filename().string();
   if (!is_file(folder / "config.json"))
     throw InputError(name_of(folder) + ": no config.json (allowed: a test folder written by 'salsa run')");
-  t.map = read_map(folder);
+  const json config = read_json(folder / "config.json", "a resolved test (config.json)");
+  t.map = read_map(folder, config);
+  if (config.is_object() && config.contains("targets") && config["targets"].is_object() && config["targets"].contains("params") &&
+      config["targets"]["params"].is_object() && config["targets"]["params"].contains("radius") &&
+      config["targets"]["params"]["radius"].is_number())
+    t.target_radius = std::max(0.0, config["targets"]["params"]["radius"].get<double>());
   read_summary(t, folder / "summary.csv");
   if (with_drones && is_file(folder / "drones.csv")) read_drones(t, folder / "drones.csv");
   if (is_file(folder / "targets.csv")) read_targets(t, folder / "targets.csv");
-  t.area = t.map.bounds ? *t.map.bounds : data_extent(t);
+  t.area = t.map.bounds ? *t.map.bounds : data_extent(t);  // data_extent has its margin already
+  t.view = t.area;
+  if (t.map.bounds) {  // the bounds' walls just inside the frame
+    const double margin = 0.015 * std::max(t.area.x1 - t.area.x0, t.area.y1 - t.area.y0);
+    t.view = Rect{t.area.x0 - margin, t.area.y0 - margin, t.area.x1 + margin, t.area.y1 + margin};
+  }
   return t;
 }
 
@@ -254,6 +265,9 @@ void time_chart(const TestData& t, const std::vector<double>& y, const QString& 
   f.save(file);
 }
 
+// Obstacles opaque (drawn before targets and paths, so nothing hides under them unseen).
+const QColor obstacle_colour(150, 150, 150);
+
 void draw_map(Figure& f, const MapShape& m) {
   QPainter& p = f.painter();
   auto mapped = [&](const QPolygonF& poly) {
@@ -262,7 +276,7 @@ void draw_map(Figure& f, const MapShape& m) {
     return out;
   };
   p.setPen(QPen(QColor(90, 90, 90), 1.2));
-  p.setBrush(QColor(150, 150, 150, 200));
+  p.setBrush(obstacle_colour);
   for (const auto& poly : m.solid) p.drawPolygon(mapped(poly));
   p.setBrush(Qt::NoBrush);
   p.setPen(QPen(QColor(90, 90, 90), 2.5));
@@ -276,25 +290,43 @@ void draw_map(Figure& f, const MapShape& m) {
 
 std::vector<LegendEntry> map_legend(const MapShape& m) {
   std::vector<LegendEntry> e;
-  if (!m.solid.empty()) e.push_back({LegendEntry::square, QColor(150, 150, 150), "obstacle"});
+  if (!m.solid.empty()) e.push_back({LegendEntry::square, obstacle_colour, "obstacle"});
   if (!m.bounds) e.push_back({LegendEntry::note, Qt::black, "(map geometry not in the folder)"});
   return e;
 }
 
+// Targets are light (pastel) discs under the paths, so thousands of them never hide a path: found
+// ones green, the ones not found red, drawn last (they are the interesting ones).
+const QColor found_colour(172, 222, 172), missed_colour(245, 140, 125);
+
+QString metres(double v) { return QString::number(v, 'g', 4) + " m"; }
+
 void trajectories(const TestData& t, const fs::path& file) {
   Figure f(QString::fromStdString(t.name) + ": drone trajectories", plot_width, plot_height);
-  f.x_axis("x (m)", t.area.x0, t.area.x1);
-  f.y_axis("y (m)", t.area.y0, t.area.y1);
+  f.x_axis("x (m)", t.view.x0, t.view.x1, true);
+  f.y_axis("y (m)", t.view.y0, t.view.y1, true);
   f.equal_aspect();
   auto legend = map_legend(t.map);
-  legend.push_back({LegendEntry::line, palette(0), "drone paths (" + QString::number(t.paths.size()) + ", one colour each)"});
-  legend.push_back({LegendEntry::dot, QColor(30, 160, 60), "target found (" + QString::number(t.targets_found.size()) + ")"});
-  legend.push_back({LegendEntry::ring, QColor(210, 40, 40), "target not found (" + QString::number(t.targets_missed.size()) + ")"});
+  legend.push_back({LegendEntry::line, palette(0).darker(165), "drone paths (" + QString::number(t.paths.size()) + ", one colour each)"});
+  legend.push_back({LegendEntry::dot, found_colour, "target found (" + QString::number(t.targets_found.size()) + ")"});
+  legend.push_back({LegendEntry::dot, missed_colour, "target not found (" + QString::number(t.targets_missed.size()) + ")"});
+  if (t.target_radius > 0 && !(t.targets_found.empty() && t.targets_missed.empty()))
+    legend.push_back({LegendEntry::note, Qt::black, "(targets to scale: radius " + metres(t.target_radius) + ")"});
   f.legend(legend);
   QPainter& p = f.begin();
   draw_map(f, t.map);
-  // Paths: points within 1.5 pixels of the last one drawn are skipped (millions of rows; a line is
-  // 1.4 pixels wide, so nothing visible is lost).
+
+  // Targets at their size (at least 1 pixel across the radius; 3 pixels when the size is unknown),
+  // outlined only when large enough for an outline to show.
+  const double radius = t.target_radius > 0 ? std::max(1.0, t.target_radius * f.pixels_per_x()) : 3.0;
+  for (const auto& [points, colour] : {std::pair{&t.targets_found, found_colour}, std::pair{&t.targets_missed, missed_colour}}) {
+    p.setPen(radius >= 3 ? QPen(colour.darker(135), 1) : QPen(Qt::NoPen));
+    p.setBrush(colour);
+    for (auto [x, y] : *points) p.drawEllipse(f.at(x, y), radius, radius);
+  }
+
+  // Paths on top, dark: points within 1.5 pixels of the last one drawn are skipped (millions of
+  // rows; a line is 1.5 pixels wide, so nothing visible is lost).
   const double min_step = 1.5 / f.pixels_per_x();
   std::size_t k = 0;
   for (const auto& [id, path] : t.paths) {
@@ -302,20 +334,19 @@ void trajectories(const TestData& t, const fs::path& file) {
     double lx = 1e300, ly = 1e300;
     for (auto [x, y] : path)
       if (std::abs(x - lx) + std::abs(y - ly) >= min_step) line << f.at(x, y), lx = x, ly = y;
-    QColor c = palette(k++);
-    c.setAlpha(170);
-    p.setPen(QPen(c, 1.4));
+    QColor c = palette(k++).darker(165);
+    c.setAlpha(230);
+    p.setPen(QPen(c, 1.5, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
     // In short pieces: Qt fills a translucent polyline as one path, which is slow when it crosses itself.
     for (qsizetype i = 0; i + 1 < line.size(); i += 16) p.drawPolyline(line.constData() + i, static_cast<int>(std::min<qsizetype>(17, line.size() - i)));
-    p.setBrush(c);
-    if (!line.empty()) p.drawEllipse(line.back(), 3, 3);
   }
-  p.setPen(QPen(QColor(210, 40, 40), 1.8));
-  p.setBrush(Qt::NoBrush);
-  for (auto [x, y] : t.targets_missed) p.drawEllipse(f.at(x, y), 4.5, 4.5);
-  p.setPen(QPen(QColor(20, 110, 40), 1));
-  p.setBrush(QColor(30, 160, 60));
-  for (auto [x, y] : t.targets_found) p.drawEllipse(f.at(x, y), 4.5, 4.5);
+  // Where each drone ended: a dot with a white rim, over every path.
+  k = 0;
+  p.setPen(QPen(Qt::white, 1));
+  for (const auto& [id, path] : t.paths) {
+    p.setBrush(palette(k++).darker(165));
+    if (!path.empty()) p.drawEllipse(f.at(path.back().first, path.back().second), 3.5, 3.5);
+  }
   f.save(file);
 }
 
@@ -338,8 +369,8 @@ void heat_map(const TestData& t, const fs::path& file) {
   for (const auto& [id, path] : t.paths) all.insert(all.end(), path.begin(), path.end());
   const HeatGrid g = bin_positions(all, t.area, heat_columns);
   Figure f(QString::fromStdString(t.name) + ": where the drones were", plot_width, plot_height);
-  f.x_axis("x (m)", t.area.x0, t.area.x1);
-  f.y_axis("y (m)", t.area.y0, t.area.y0 + g.rows * g.cell);
+  f.x_axis("x (m)", t.view.x0, t.view.x1, true);
+  f.y_axis("y (m)", t.view.y0, std::max(t.view.y1, t.area.y0 + g.rows * g.cell), true);
   f.equal_aspect();
   f.reserve_right(110);
   QPainter& p = f.begin();

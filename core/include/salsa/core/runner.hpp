@@ -1,6 +1,6 @@
 #pragma once
-// Runs tests at full speed and writes their data: per test a folder with config.json, summary.csv,
-// drones.csv and targets.csv (docs/output-format.md).
+// Runs tests at full speed and writes their data: per test a folder with config.json, map.json,
+// summary.csv, drones.csv, targets.csv and outcome.csv (docs/output-format.md).
 //
 // Output folders: a test writes to OUT/.<name>.partial/ and renames it to OUT/<name>/ when complete.
 // Both carry a marker file (folder_marker) written before anything else, and salsa removes or replaces
@@ -63,6 +63,12 @@ void check_outputs(const std::vector<TestSpec>& tests, const PluginHost& host, c
 
 /// What the test's config.json holds (the resolved test, a map file's path made absolute).
 std::string test_config(const TestSpec& test, const PluginHost& host);
+
+/// What a test's map.json holds: `map` (its spawn replaced by `spawn`, the point the drones started
+/// around) in the map file format the json map plugin reads (docs/maps.md). Numbers are the shortest
+/// text that reads back to the same double, so the json map plugin gives back the same MapData and
+/// the same map gives the same bytes on every run.
+std::string map_json(const MapData& map, Vec2 spawn);
 
 /// Writes `line` to OUT/.<name>.partial/error.txt (when salsa wrote that folder): why the test
 /// failed. run_test does this itself for TestFailure and WriteError.
