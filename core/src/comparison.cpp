@@ -1,4 +1,5 @@
 #include "salsa/core/comparison.hpp"
+#include "salsa/core/queue_summary.hpp"
 
 #include <boost/math/distributions/students_t.hpp>
 
@@ -119,11 +120,7 @@ void write_comparison(const fs::path& out, const std::string& metric) {
         for (double v : {n ? sum_a / dn : nan, n ? sum_b / dn : nan, mean, mean - half, mean + half, n ? wins / dn : nan}) put(number(v));
         text += '\n';
       }
-  const fs::path file = out / "comparison.csv";
-  std::ofstream o(file, std::ios::binary | std::ios::trunc);
-  o << text;
-  o.close();
-  if (!o) throw WriteError(file.string() + ": write failed (disk full?)");
+  replace_file(out / "comparison.csv", text);
 }
 
 }  // namespace salsa

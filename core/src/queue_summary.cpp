@@ -57,24 +57,6 @@ std::optional<json> read_json(const fs::path& file) {
   }
 }
 
-/// Writes `file` whole or not at all: a temporary file in the same folder, renamed over it.
-void replace_file(const fs::path& file, const std::string& text) {
-  const fs::path tmp = file.string() + "." + std::to_string(::getpid()) + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw WriteError(file.string() + ": write failed (disk full?)");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, file, ec);
-  if (ec) throw WriteError(file.string() + ": cannot write (" + ec.message() + ")");
-}
-
 std::string csv_field(const std::string& text) {
   if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
   std::string quoted = "\"";
@@ -214,6 +196,24 @@ std::vector<std::string> names_in(const fs::path& out) {
 }
 
 }  // namespace
+
+void replace_file(const fs::path& file, const std::string& text) {
+  const fs::path tmp = file.string() + "." + std::to_string(::getpid()) + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw WriteError(file.string() + ": write failed (disk full?)");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, file, ec);
+  if (ec) throw WriteError(file.string() + ": cannot write (" + ec.message() + ")");
+}
+
 
 std::string cell_of(const std::string& config_json) {
   json config = json::parse(config_json);

@@ -578,7 +578,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
       metrics->start(*sim);
       summary.observe(*sim);  // time 0
     } catch (const MetricFailure& e) {
-      throw TestFailure(where + ": " + e.what() + " (rows so far in " + work.string() + ")");
+      throw failed(where + ": " + e.what() + " (rows so far in " + work.string() + ")");
     }
     if (drones) drones->observe(*sim);
     const std::size_t steps = test.steps();
@@ -602,7 +602,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     } catch (const Interrupted&) {
       throw;
     } catch (const MetricFailure& e) {
-      throw TestFailure(where + ": " + e.what() + " (rows so far in " + work.string() + ")");
+      throw failed(where + ": " + e.what() + " (rows so far in " + work.string() + ")");
     } catch (const WriteError& e) {
       record_failure(options.out, test.name, where + ": " + e.what());
       throw WriteError(where + ": " + e.what());
@@ -614,7 +614,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     try {
       finals = metrics->finish(*sim);
     } catch (const MetricFailure& e) {
-      throw TestFailure(where + ": " + e.what() + " (rows so far in " + work.string() + ")");
+      throw failed(where + ": " + e.what() + " (rows so far in " + work.string() + ")");
     }
     try {
       summary.close();

@@ -588,7 +588,7 @@ void forest(const fs::path& csv, const fs::path& file) {
     const auto win = in.optional_number(c_win);
     rows.push_back({QString::fromStdString(std::string(in[c_a]) + " − " + std::string(in[c_b]) + ", " + std::string(in[c_drones]) + " drones"),
                     "n = " + QString::fromUtf8(in[c_n].data(), static_cast<qsizetype>(in[c_n].size())) +
-                        (win ? ", A better in " + QString::number(*win * 100, 'f', 0) + " %" : QString()),
+                        (win ? ", A higher in " + QString::number(*win * 100, 'f', 0) + " %" : QString()),
                     scaled(c_mean), scaled(c_lo), scaled(c_hi)});
   }
   if (rows.empty()) return;

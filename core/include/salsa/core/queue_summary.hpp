@@ -33,6 +33,10 @@ void claim_queue_folder(const std::filesystem::path& out, const QueueRecord& rec
 /// (OUT/.<name>.partial/error.txt) or missing, every input from config.json, outcome.csv's columns and
 /// timing.json's wall seconds. `host`, when given, decides which parameters are non-default (for the
 /// variant column); without it, the parameters that vary within the queue are. Throws WriteError.
+/// Writes `file` whole or not at all (a temporary file in the same folder, renamed over it), so a
+/// reader never sees half of it; WriteError naming the file.
+void replace_file(const std::filesystem::path& file, const std::string& text);
+
 void write_queue_summary(const std::filesystem::path& out, const PluginHost* host = nullptr);
 
 /// 12 hex digits naming a test's experimental condition apart from its behavior: a hash of its
