@@ -9,6 +9,7 @@ namespace salsa::cli {
 Hooks& hooks() {
   static Hooks h = [] {
     Hooks wired;
+    wired.start_plotting = plots::start_plotting;
     wired.draw_test_plots = plots::draw_test_plots;
     wired.draw_queue_plots = plots::draw_queue_plots;
     wired.write_comparison = [](const std::filesystem::path& out) { write_comparison(out); };

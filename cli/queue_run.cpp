@@ -32,6 +32,7 @@ struct Event {
   enum Kind { ok, skipped, failed, interrupted, write_error } kind = ok;
   std::size_t slot = 0;
   std::string message;  // one line: why it failed or where it stopped
+  std::string plots_failed;  // why its plots could not be drawn (the test itself is fine)
   double wall_seconds = 0;
 };
 
@@ -190,6 +191,12 @@ QueueResult run_queue(const std::vector<TestSpec>& tests, const PluginHost& host
     } catch (const std::exception& x) {  // InputError (a folder taken since the check), or worse
       e.kind = Event::failed, e.message = x.what();
     }
+    // Its plots, drawn here so that they keep pace with the tests (QPainter on QImage: any thread).
+    if (e.kind == Event::ok && run.plots && hooks().draw_test_plots) try {
+        hooks().draw_test_plots(options.out / test.name);
+      } catch (const std::exception& x) {
+        e.plots_failed = x.what();
+      }
     {
       std::lock_guard lock(mutex);
       events.push_back(std::move(e));
@@ -197,7 +204,8 @@ QueueResult run_queue(const std::vector<TestSpec>& tests, const PluginHost& host
     wake.notify_one();
   };
 
-  // ---- The main thread: starts tests in queue order, handles what ended, draws progress and plots.
+  // ---- The main thread: starts tests in queue order, handles what ended, draws progress.
+  if (run.plots && hooks().start_plotting) hooks().start_plotting();
   Progress progress(run, run.expected, tests.size());
   std::size_t running = 0, done = 0, failed = 0;
   double simulated = 0, remaining = 0;  // s simulated here so far; s left of the tests handed out
@@ -260,12 +268,10 @@ QueueResult run_queue(const std::vector<TestSpec>& tests, const PluginHost& host
           ++done;
           simulated += test.time;
           progress.test_done(slot.index, test.name + ": " + finished_line(test, folder, e.wall_seconds));
-          if (run.plots && hooks().draw_test_plots) try {
-              hooks().draw_test_plots(folder);
-            } catch (const std::exception& x) {
-              progress.before_error();
-              std::cerr << "salsa: warning: plots of test '" << test.name << "': " << x.what() << std::endl;
-            }
+          if (!e.plots_failed.empty()) {
+            progress.before_error();
+            std::cerr << "salsa: warning: plots of test '" << test.name << "': " << e.plots_failed << std::endl;
+          }
           break;
         case Event::skipped:
           ++done;

@@ -16,7 +16,8 @@ namespace salsa::cli {
 /// What other parts of salsa do after tests and queues are written, set once at start-up (main.cpp,
 /// wire_hooks). Each may be empty: then that step is skipped.
 struct Hooks {
-  std::function<void(const std::filesystem::path& test_folder)> draw_test_plots;  // main thread only (Qt)
+  std::function<void()> start_plotting;  // main thread, before draw_test_plots runs on any other
+  std::function<void(const std::filesystem::path& test_folder)> draw_test_plots;  // any thread, at once
   std::function<void(const std::filesystem::path& out)> write_comparison;        // after summary.csv
   std::function<void(const std::filesystem::path& out)> draw_queue_plots;        // main thread only (Qt)
 };

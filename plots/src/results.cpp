@@ -636,6 +636,8 @@ void forest(const fs::path& csv, const fs::path& file) {
 
 }  // namespace
 
+void start_plotting() { ensure_application(); }
+
 void draw_queue_plots(const fs::path& out) {
   CsvReader in(out / "summary.csv");
   const std::size_t c_name = in.column("name"), c_status = in.column("status"), c_variant = in.column("variant"),

@@ -1,7 +1,9 @@
 #pragma once
 // The plots of a run, drawn from its files alone (see docs/plots.md): per test into TEST/plots/, per
-// queue into OUT/plots/. PNGs of 1200 × 800 pixels, rendered offscreen with QPainter. Call from the
-// main thread only (Qt). Throws salsa::InputError (one line naming the file) on bad input.
+// queue into OUT/plots/. PNGs of 1200 × 800 pixels, rendered offscreen with QPainter on QImage. Call
+// start_plotting() on the main thread first (it creates Qt's application object); then
+// draw_test_plots may run on several threads at once. Throws salsa::InputError (one line naming the
+// file) on bad input.
 #include <algorithm>
 #include <cstddef>
 #include <filesystem>
@@ -13,6 +15,9 @@ namespace salsa::plots {
 inline constexpr int plot_width = 1200, plot_height = 800;
 /// comparison.png grows with its rows: 1200 × max(400, 180 + 50 · rows).
 inline int comparison_plot_height(std::size_t rows) { return std::max(400, 180 + 50 * static_cast<int>(rows)); }
+
+/// Sets Qt up for offscreen drawing; call on the main thread before any drawing on other threads.
+void start_plotting();
 
 /// Writes TEST/plots/*.png from config.json, summary.csv, drones.csv, targets.csv and map.json (each
 /// plot whose data is there).
