@@ -349,7 +349,8 @@ void write_queue_summary(const fs::path& out, const PluginHost* host) {
     for (const auto& [p, v] : r.behavior_params.items()) {
       bool differs = values_seen[r.behavior][p].size() > 1;
       if (declared) {
-        const auto d = std::find_if(declared->begin(), declared->end(), [&](const Parameter& x) { return x.name == p; });
+        const std::string& name = p;  // clang 14 cannot capture a structured binding
+        const auto d = std::find_if(declared->begin(), declared->end(), [&](const Parameter& x) { return x.name == name; });
         differs = d == declared->end() || !v.is_number() || v.get<double>() != d->value;
       }
       if (!differs) continue;
