@@ -60,7 +60,8 @@ StaticGeometry::StaticGeometry(const MapData& map, double cell_size) : bounds_(m
   rows_ = static_cast<int>(b.height() / cell_) + 3;
   // Each cell's ids, ascending, in one array (counting sort): a query reads a row of cells as one range.
   cell_start_.assign(static_cast<std::size_t>(cols_) * rows_ + 1, 0);
-  for (std::uint32_t i = 0; i < segments_.size(); ++i) cells_of(i, [&](std::size_t c) { ++cell_start_[c + 1]; });
+  for (std::uint32_t i = 0; i < segments_.size(); ++i)
+    cells_examined_ += cells_of(i, [&](std::size_t c) { ++cell_start_[c + 1]; });
   for (std::size_t c = 1; c < cell_start_.size(); ++c) cell_start_[c] += cell_start_[c - 1];
   cell_ids_.resize(cell_start_.back());
   std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
@@ -68,13 +69,14 @@ StaticGeometry::StaticGeometry(const MapData& map, double cell_size) : bounds_(m
 }
 
 template <class Fn>
-void StaticGeometry::cells_of(std::uint32_t id, Fn&& fn) const {
+std::size_t StaticGeometry::cells_of(std::uint32_t id, Fn&& fn) const {
   // The cells of the segment's bounding box that it really passes (within the cell's circumcircle).
   // Row by row, only the columns near the part of the segment inside the row's band are looked at, so a
   // long diagonal costs its length in cells, not its bounding box's area.
   const Segment& s = segments_[id];
   const double reach = cell_ * 0.7072, margin = reach * 1.01;
   const Vec2 d = s.b - s.a;
+  std::size_t examined = 0;
   const int x_lo = col(std::min(s.a.x, s.b.x)), x_hi = col(std::max(s.a.x, s.b.x));
   for (int y = row(std::min(s.a.y, s.b.y)); y <= row(std::max(s.a.y, s.b.y)); ++y) {
     const double cy = origin_.y + (y + 0.5) * cell_;
@@ -90,9 +92,11 @@ void StaticGeometry::cells_of(std::uint32_t id, Fn&& fn) const {
     const double xa = s.a.x + d.x * t0, xb = s.a.x + d.x * t1;
     for (int x = std::max(x_lo, col(std::min(xa, xb) - margin)), last = std::min(x_hi, col(std::max(xa, xb) + margin)); x <= last; ++x) {
       const Vec2 centre = origin_ + Vec2{x * cell_, y * cell_} + Vec2{cell_ / 2, cell_ / 2};
+      ++examined;
       if (segment_distance(centre, s) <= reach) fn(static_cast<std::size_t>(y) * cols_ + x);
     }
   }
+  return examined;
 }
 
 void StaticGeometry::candidates(Vec2 p, double range, std::vector<std::uint32_t>& out) const {

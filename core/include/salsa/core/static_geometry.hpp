@@ -25,6 +25,9 @@ class StaticGeometry {
 
   const Rect& bounds() const { return bounds_; }
   std::span<const Segment> segments() const { return segments_; }
+  /// Cells looked at while filing the segments into the grid: the index's build cost, which tests
+  /// check grows with the segments' lengths, not their bounding boxes' areas.
+  std::size_t cells_examined() const { return cells_examined_; }
 
   /// Inside bounds by `clearance` m, outside every solid obstacle, and farther than `clearance`
   /// from every wall segment. Never for a non-finite point or clearance.
@@ -40,8 +43,9 @@ class StaticGeometry {
 
  private:
   /// fn(cell index) for each cell segment `id` passes.
+  /// Returns how many cells it looked at.
   template <class Fn>
-  void cells_of(std::uint32_t id, Fn&& fn) const;
+  std::size_t cells_of(std::uint32_t id, Fn&& fn) const;
   int col(double x) const { return cell_coord(x - origin_.x, cols_); }
   int row(double y) const { return cell_coord(y - origin_.y, rows_); }
   int cell_coord(double offset, int cells) const {  // clamped in double: far or NaN points cannot overflow the int
@@ -58,6 +62,7 @@ class StaticGeometry {
   int cols_ = 0, rows_ = 0;
   std::vector<std::uint32_t> cell_start_;  ///< cell c's ids are cell_ids_[cell_start_[c] .. cell_start_[c + 1])
   std::vector<std::uint32_t> cell_ids_;
+  std::size_t cells_examined_ = 0;
 };
 
 /// Distance along the ray p + t·d (t ≥ 0, |d| = 1) to segment s, if it crosses it within `range`.

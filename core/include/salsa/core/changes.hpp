@@ -1,0 +1,39 @@
+#pragma once
+// Timed changes: what a researcher changed while a simulation ran, as data. The GUI's sandbox sends
+// every live change through apply_change and records it; a test's "changes" replays them headless at
+// the same steps, so `salsa run` of a saved sandbox session gives the same data byte for byte.
+// JSON (docs/test-format.md): "changes": [{"time": 30, "set": {"behavior.params.cohesion_weight": 2,
+// "drones": 20}}, ...]
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace salsa {
+
+class Simulation;
+struct TestSpec;
+
+/// One live change: before the step that starts at `time` s, set `key` to `value`.
+/// Keys: "behavior.params.<name>" (a declared parameter of the test's behavior), "drones" (drone count,
+/// whole number ≥ 1), "drone.<field>" (camera_range, obstacle_range, detection_range, max_speed,
+/// max_force, radius, mass, obstacle_rays).
+struct Change {
+  double time = 0;  ///< s; a whole number of steps: llround(time / dt) is the step it precedes
+  std::string key;
+  double value = 0;
+  bool operator==(const Change&) const = default;
+};
+
+/// The step before which a change at `time` s is applied: llround(time / dt).
+std::uint64_t change_step(double time, double dt);
+
+/// Empty when `change` may be applied to `test` as it stands (key known, value allowed, the drone
+/// configuration it makes passes check_drone), else "<key>: <value> is out of range (allowed: ...)".
+std::string check_change(const TestSpec& test, const Change& change);
+
+/// Applies `change` to `sim` at once (it takes effect in the next step) and to `test` (so later checks
+/// see the new values). Throws std::invalid_argument with check_change's reason, or what the plugin's
+/// configure() throws; either way `sim` and `test` are left exactly as they were.
+void apply_change(Simulation& sim, TestSpec& test, const Change& change);
+
+}  // namespace salsa

@@ -1,0 +1,142 @@
+#pragma once
+// The sandbox's simulation, on a worker thread. The GUI never touches the Simulation: it posts commands,
+// which the worker applies between steps (live changes go through apply_change and are recorded in the
+// timeline), and reads the latest immutable Snapshot, which the worker publishes a few dozen times a
+// second. No widgets here (tests drive it directly).
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "salsa/core/changes.hpp"
+#include "salsa/core/plugin_host.hpp"
+#include "salsa/core/test_spec.hpp"
+
+namespace salsa::gui {
+
+/// What changes only when the world is rebuilt (a new test, map or target placement): the view's
+/// static layer is keyed on this object's address.
+struct Scene {
+  MapData map;
+  Vec2 spawn;
+  std::vector<Vec2> targets;  ///< target positions, by id
+  double target_radius = 0;   ///< m
+};
+
+/// A uniform grid over the map bounds: how often drones were in each cell, normalised to 0–100
+/// (100 = the busiest cell).
+struct HeatMap {
+  Vec2 origin;       ///< the bounds' min corner
+  double cell = 1;   ///< m
+  int cols = 0, rows = 0;
+  std::vector<float> values;  ///< row-major, rows × cols, 0–100
+};
+
+/// One row of the live plots.
+struct StatsRow {
+  double time = 0;              ///< s
+  double found_percent = 0;     ///< targets found, % of all (0 when there are none)
+  double coverage_percent = 0;  ///< free map area that has been in some camera's range, %
+  double mean_speed = 0;        ///< m/s
+  double mean_nn_distance = 0;  ///< m, nearest other drone, averaged (NaN with one drone)
+};
+
+/// The selected drone, for the inspector.
+struct Inspection {
+  std::uint32_t id = 0;
+  Vec2 position, velocity, commanded;      ///< m, m/s, m/s (what the behavior asked for last step)
+  std::vector<std::uint32_t> neighbours;   ///< ids within detection range
+  std::vector<ObstacleHit> hits;           ///< its obstacle rays' hits, last step
+  std::string memory;                      ///< Behavior::inspect(id); empty when not exposed
+};
+
+enum class RunState { paused, running, failed };
+
+/// Immutable once published.
+struct Snapshot {
+  std::uint64_t step = 0;
+  double time = 0;  ///< s
+  double dt = 0;    ///< s, the step in use (larger than the test's when `inexact`)
+  bool inexact = false;
+  std::shared_ptr<const Scene> scene;
+  DroneConfig drone;                   ///< current configuration (ranges for the view)
+  std::vector<Vec2> positions, velocities;
+  std::vector<std::uint8_t> found;     ///< per target: 1 once found
+  std::size_t targets_found = 0;
+  std::uint64_t found_version = 0;     ///< changes whenever `found` does (the static layer redraws)
+  /// Trails: trail_length samples per drone, drone d's at [d × trail_length, (d + 1) × trail_length),
+  /// oldest first; samples not yet taken are NaN.
+  std::vector<Vec2> trails;
+  std::size_t trail_length = 0;
+  std::shared_ptr<const HeatMap> heat;     ///< a new object when it changed
+  std::shared_ptr<const std::vector<StatsRow>> stats;  ///< the run's rows so far (one per stats interval)
+  std::optional<Inspection> selected;
+  RunState state = RunState::paused;
+  std::string error;        ///< why the run stopped (state failed): one line naming the plugin
+  double speed = 0;         ///< simulated seconds per wall second, recent
+  std::string test_name;    ///< the loaded test's name
+};
+
+/// How the worker paces the simulation.
+struct Pacing {
+  enum Mode { real_time, steps_per_frame, fastest } mode = real_time;
+  int steps = 1;        ///< steps_per_frame: whole steps per frame (1/60 s of wall time)
+  int dt_factor = 1;    ///< > 1: the larger time step dt × factor (fast, inexact; not recorded as a test)
+};
+
+class Engine {
+ public:
+  explicit Engine(const PluginHost& host);
+  ~Engine();  ///< stops the worker
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+
+  // Commands. Each returns at once; the future gives "" once applied, or the one-line reason it was
+  // refused, in which case nothing changed.
+  /// A new start state: builds a simulation for `test` (paused, time 0) and clears the timeline.
+  std::future<std::string> load(TestSpec test);
+  /// Rebuilds the loaded test's start state (paused, time 0), timeline cleared.
+  std::future<std::string> reset();
+  /// A live change (keys as in salsa/core/changes.hpp), recorded at the current time.
+  std::future<std::string> set(std::string key, double value);
+  void start();
+  void pause();
+  /// One step (exact), then paused.
+  std::future<std::string> step_once();
+  /// Fails (returns the reason) when dt_factor makes the step too long for the physics (check_drone).
+  std::future<std::string> set_pacing(Pacing pacing);
+  void select(std::optional<std::uint32_t> drone);
+  /// Trail samples kept per drone (0: none) and taken every `every` steps.
+  void set_trails(std::size_t length, std::size_t every);
+
+  /// The latest snapshot (never null; an empty scene before the first load). Never waits on the worker
+  /// beyond a pointer copy.
+  std::shared_ptr<const Snapshot> snapshot() const;
+
+  /// The start state plus the timeline of changes so far, `time` set to now: `salsa run` of it replays
+  /// this session. Refused (std::nullopt, `why` set) after the inexact larger step was used.
+  std::optional<TestSpec> as_test(std::string* why = nullptr) const;
+  /// The timeline so far.
+  std::vector<Change> timeline() const;
+
+  /// Called on the worker thread with a snapshot taken exactly at every multiple of `interval` s of
+  /// simulated time (for recordings whose timing does not depend on the machine); nullptr stops it.
+  /// The worker waits for the callback to return.
+  void on_frame(double interval, std::function<void(std::shared_ptr<const Snapshot>)> callback);
+
+  /// Blocks until every command posted so far has been applied (tests, and before saving).
+  void sync();
+
+ private:
+  struct Worker;
+  std::unique_ptr<Worker> worker_;
+};
+
+}  // namespace salsa::gui

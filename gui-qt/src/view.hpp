@@ -1,0 +1,89 @@
+#pragma once
+// Drawing a snapshot. render_scene draws into any QPainter (the widget, a screenshot, a recording
+// frame, the render benchmark); SwarmView is the sandbox's interactive view: zoom, pan, fit, click to
+// select. Raster only: a cached static layer (obstacles, targets, heat map, spawn) redrawn only when the
+// transform, size, options or the scene / found targets / heat map change; drones drawn in batches.
+#include <QImage>
+#include <QTransform>
+#include <QWidget>
+#include <memory>
+#include <optional>
+
+#include "engine.hpp"
+
+namespace salsa::gui {
+
+struct ViewOptions {
+  bool camera_range = false, obstacle_range = false, detection_range = false;
+  bool targets = true;     ///< found and unfound targets, in two colours
+  bool trails = true;
+  bool heat_map = false;
+  bool obstacles = true;
+  bool spawn = true;
+  bool operator==(const ViewOptions&) const = default;
+};
+
+/// World → pixels for a `size` widget showing `area` (m) whole, centred, y up.
+QTransform fit_transform(const Rect& area, QSizeF size);
+
+/// Draws everything but the static layer (drones, trails, ranges, selection) over what the painter
+/// holds. `world_to_px` maps metres to pixels.
+void render_dynamic(QPainter& painter, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px);
+/// Draws the static layer (background, heat map, obstacles, spawn, targets).
+void render_static(QPainter& painter, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px);
+/// A whole frame of `size` px (static layer, then dynamic): screenshots, recordings, golden images.
+QImage render_frame(const Snapshot& snap, const ViewOptions& options, QSize size,
+                    std::optional<QTransform> world_to_px = std::nullopt);
+
+/// Caches the static layer of the last frame; redraws it only when its inputs change.
+class FrameRenderer {
+ public:
+  /// Draws `snap` into `target` (its whole size) with the cached static layer.
+  void draw(QPainter& painter, QSize size, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px);
+  std::size_t static_redraws() const { return static_redraws_; }  ///< for tests and the benchmark
+
+ private:
+  QImage layer_;
+  const Scene* scene_ = nullptr;
+  const HeatMap* heat_ = nullptr;
+  std::uint64_t found_version_ = ~0ull;
+  ViewOptions options_;
+  QTransform transform_;
+  std::size_t static_redraws_ = 0;
+};
+
+class SwarmView : public QWidget {
+  Q_OBJECT
+ public:
+  explicit SwarmView(QWidget* parent = nullptr);
+  void show_snapshot(std::shared_ptr<const Snapshot> snap);  ///< repaints
+  void set_options(const ViewOptions& options);
+  const ViewOptions& options() const { return options_; }
+  void fit();                      ///< whole map in view
+  void zoom(double factor, std::optional<QPointF> around = std::nullopt);
+  QTransform world_to_px() const;
+  QImage screenshot();             ///< the view as shown
+
+ signals:
+  void drone_clicked(std::optional<std::uint32_t> id);  ///< nullopt: clicked on empty space
+
+ protected:
+  void paintEvent(QPaintEvent*) override;
+  void wheelEvent(QWheelEvent*) override;
+  void mousePressEvent(QMouseEvent*) override;
+  void mouseMoveEvent(QMouseEvent*) override;
+  void mouseReleaseEvent(QMouseEvent*) override;
+  void keyPressEvent(QKeyEvent*) override;
+  void resizeEvent(QResizeEvent*) override;
+
+ private:
+  std::shared_ptr<const Snapshot> snap_;
+  ViewOptions options_;
+  FrameRenderer renderer_;
+  double zoom_ = 1;   ///< relative to fit
+  QPointF pan_;       ///< px
+  std::optional<QPoint> press_;
+  bool dragged_ = false;
+};
+
+}  // namespace salsa::gui
