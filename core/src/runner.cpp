@@ -582,9 +582,20 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     }
     if (drones) drones->observe(*sim);
     const std::size_t steps = test.steps();
+    TestSpec changed = test;  // as the timed changes leave it
+    std::size_t next_change = 0;
     const auto stepping = std::chrono::steady_clock::now();
     try {
       for (std::size_t i = 0; i < steps; ++i) {
+        // Timed changes apply right before the step that starts at their time (as the GUI sandbox did).
+        for (; next_change < test.changes.size() && change_step(test.changes[next_change].time, test.dt) <= i; ++next_change) {
+          try {
+            apply_change(*sim, changed, test.changes[next_change], host);
+          } catch (const std::exception& e) {
+            throw failed(where + ": the change at t = " + format_time(test.changes[next_change].time) + " s could not be applied: " +
+                         e.what() + " (rows so far in " + work.string() + ")");
+          }
+        }
         if (const int sig = stop_requested.load(std::memory_order_relaxed)) {
           summary.close();
           if (drones) drones->close();
@@ -600,6 +611,8 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
       }
       result.stepping_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - stepping).count();
     } catch (const Interrupted&) {
+      throw;
+    } catch (const TestFailure&) {  // a change that could not be applied: already worded
       throw;
     } catch (const MetricFailure& e) {
       throw failed(where + ": " + e.what() + " (rows so far in " + work.string() + ")");

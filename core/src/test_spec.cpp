@@ -103,7 +103,7 @@ std::pair<std::string, json> name_and_params(const json& v, const Reader& r, con
 TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
   r.only_keys(j, "", {"name", "behavior", "drone", "drone_configs", "drones", "map", "spawn", "targets",
                       "contact_handlers", "metrics", "time", "dt", "log_interval", "velocity_iterations",
-                      "position_iterations", "decision_lag", "seed", "repeat", "versions"});
+                      "position_iterations", "decision_lag", "seed", "repeat", "changes", "versions"});
   TestSpec t;
   if (j.contains("name")) {
     t.name = r.string(j["name"], "name");
@@ -231,6 +231,33 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
   if (j.contains("repeat")) t.repeat = r.integer(j["repeat"], "repeat", 0, 1'000'000);
   t.seed_given = j.contains("seed");
   t.seed = t.seed_given ? r.integer(j["seed"], "seed", 0, 9007199254740992.0) : paired_seed(1, t.repeat, world_key(t));
+
+  // changes: [{"time": 30, "set": {"behavior.params.cohesion_weight": 2, "drones": 20}}, ...], each
+  // checked against the test as the earlier ones left it.
+  if (j.contains("changes")) {
+    const json& list = j["changes"];
+    if (!list.is_array()) r.fail("changes", show(list) + " must be a list of {\"time\", \"set\"} objects");
+    TestSpec state = t;
+    double last = 0;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string field = "changes[" + std::to_string(i) + "]";
+      r.only_keys(list[i], field, {"time", "set"});
+      if (!list[i].contains("time")) r.fail(field + ".time", "missing");
+      if (!list[i].contains("set")) r.fail(field + ".set", "missing");
+      const double time = r.number(list[i]["time"], field + ".time", last, t.time, "s");
+      const json& set = list[i]["set"];
+      if (!set.is_object() || set.empty()) r.fail(field + ".set", show(set) + " must be an object of key: value");
+      for (const auto& item : set.items()) {
+        const std::string at = field + ".set." + strict_json::printable(item.key());
+        if (!item.value().is_number()) r.fail(at, show(item.value()) + " is not a number");
+        const Change c{time, item.key(), item.value().get<double>()};
+        if (const std::string why = check_change(state, c, host); !why.empty()) r.fail(at, why);
+        apply_to_test(state, c);
+        t.changes.push_back(c);
+      }
+      last = time;
+    }
+  }
   return t;
 }
 
@@ -281,6 +308,14 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   j["decision_lag"] = t.decision_lag;
   j["seed"] = t.seed;
   j["repeat"] = t.repeat;
+  if (!t.changes.empty()) {  // only when there are some: earlier tests keep their config.json bytes
+    json changes = json::array();
+    for (const Change& c : t.changes) {
+      const bool whole = c.key == "drones" || c.key == "drone.obstacle_rays";  // counts read as counts
+      changes.push_back({{"time", c.time}, {"set", {{c.key, whole ? json(static_cast<std::uint64_t>(c.value)) : json(c.value)}}}});
+    }
+    j["changes"] = changes;
+  }
   json versions = {{"salsa", salsa_version()}, {"behavior", plugin_json(host.behavior(t.behavior.name))},
                    {"map", plugin_json(host.map(t.map.name))}};
   if (t.targets > 0) versions["target"] = plugin_json(host.target_kind(t.target.name));

@@ -10,6 +10,7 @@
 
 namespace salsa {
 
+class PluginHost;
 class Simulation;
 struct TestSpec;
 
@@ -27,13 +28,18 @@ struct Change {
 /// The step before which a change at `time` s is applied: llround(time / dt).
 std::uint64_t change_step(double time, double dt);
 
-/// Empty when `change` may be applied to `test` as it stands (key known, value allowed, the drone
-/// configuration it makes passes check_drone), else "<key>: <value> is out of range (allowed: ...)".
-std::string check_change(const TestSpec& test, const Change& change);
+/// Empty when `change` may be applied to `test` as it stands (key known, value allowed by the behavior's
+/// declared range, the drone configuration it makes passes check_drone), else why not, without the
+/// key: "0 is out of range (allowed: whole number in [1, 1000000])".
+std::string check_change(const TestSpec& test, const Change& change, const PluginHost& host);
+
+/// Records `change` in `test` alone (its behavior parameters, drone count or drone configuration), as
+/// a test that starts with the new value would hold it. Call check_change first.
+void apply_to_test(TestSpec& test, const Change& change);
 
 /// Applies `change` to `sim` at once (it takes effect in the next step) and to `test` (so later checks
-/// see the new values). Throws std::invalid_argument with check_change's reason, or what the plugin's
-/// configure() throws; either way `sim` and `test` are left exactly as they were.
-void apply_change(Simulation& sim, TestSpec& test, const Change& change);
+/// see the new values). Throws std::invalid_argument("<key>: <why>") for a refused change, or what the
+/// plugin's configure() or the simulation throws; either way `sim` and `test` are left as they were.
+void apply_change(Simulation& sim, TestSpec& test, const Change& change, const PluginHost& host);
 
 }  // namespace salsa

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "salsa/core/changes.hpp"
 #include "salsa/core/drone_config.hpp"
 #include "salsa/core/plugin_host.hpp"
 #include "salsa/core/simulation.hpp"
@@ -48,6 +49,7 @@ struct TestSpec {
   std::uint64_t seed = 1;
   bool seed_given = false;          ///< "seed" was in the file: it wins over the paired seed (queue.hpp)
   std::size_t repeat = 0;           ///< which repeat of its configuration in a queue (0 first)
+  std::vector<Change> changes;      ///< timed live changes, in time order (salsa/core/changes.hpp)
 
   std::size_t steps() const;
   std::size_t log_every() const;

@@ -1,0 +1,107 @@
+// Timed changes: checked against the test as it stands, applied to a running simulation between steps.
+#include "salsa/core/changes.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string_view>
+
+#include "salsa/core/plugin_host.hpp"
+#include "salsa/core/simulation.hpp"
+#include "salsa/core/test_spec.hpp"
+
+namespace salsa {
+namespace {
+
+constexpr std::string_view params_prefix = "behavior.params.";
+constexpr std::string_view drone_prefix = "drone.";
+constexpr double max_drones = 1'000'000;  // as "drones" in a test file
+
+/// The drone configuration's numeric fields a change may set (obstacle_rays is handled apart: an int).
+double* drone_field(DroneConfig& d, std::string_view name) {
+  if (name == "camera_range") return &d.camera_range;
+  if (name == "obstacle_range") return &d.obstacle_range;
+  if (name == "detection_range") return &d.detection_range;
+  if (name == "max_speed") return &d.max_speed;
+  if (name == "max_force") return &d.max_force;
+  if (name == "radius") return &d.radius;
+  if (name == "mass") return &d.mass;
+  return nullptr;
+}
+
+std::string whole_in(double lo, double hi) {
+  return "whole number in [" + Parameter::format(lo) + ", " + Parameter::format(hi) + "]";
+}
+
+}  // namespace
+
+std::uint64_t change_step(double time, double dt) { return static_cast<std::uint64_t>(std::llround(time / dt)); }
+
+std::string check_change(const TestSpec& test, const Change& c, const PluginHost& host) {
+  const std::string value = Parameter::format(c.value);
+  const std::string_view key = c.key;
+  if (key.starts_with(params_prefix)) {
+    const std::string_view name = key.substr(params_prefix.size());
+    const Parameters& schema = host.behavior(test.behavior.name).factory.parameters;
+    for (const Parameter& p : schema)
+      if (p.name == name) {
+        const std::string why = p.check(c.value);
+        return why.empty() ? "" : value + " " + why;
+      }
+    std::string declared;
+    for (const Parameter& p : schema) declared += (declared.empty() ? "" : ", ") + p.name;
+    return "unknown parameter of behavior '" + test.behavior.name + "' (declared: " + (declared.empty() ? "none" : declared) + ")";
+  }
+  if (key == "drones") {
+    if (!(c.value >= 1 && c.value <= max_drones) || c.value != std::floor(c.value))
+      return value + " is out of range (allowed: " + whole_in(1, max_drones) + ")";
+    return {};
+  }
+  if (key.starts_with(drone_prefix)) {
+    const std::string_view name = key.substr(drone_prefix.size());
+    DroneConfig d = test.drone;
+    if (name == "obstacle_rays") {
+      if (!(c.value >= 0 && c.value <= 64) || c.value != std::floor(c.value))
+        return value + " is out of range (allowed: " + whole_in(0, 64) + ")";
+      d.obstacle_rays = static_cast<int>(c.value);
+    } else if (double* field = drone_field(d, name)) {
+      *field = c.value;
+    } else {
+      return "unknown drone property (allowed: camera_range, obstacle_range, detection_range, max_speed, max_force, "
+             "radius, mass, obstacle_rays)";
+    }
+    if (const Problem p = check_drone(d, test.dt)) return p.what;
+    return {};
+  }
+  return "unknown key (allowed: behavior.params.<name>, drones, drone.<property>)";
+}
+
+void apply_to_test(TestSpec& test, const Change& c) {
+  const std::string_view key = c.key;
+  if (key.starts_with(params_prefix)) test.behavior.params.set(key.substr(params_prefix.size()), c.value);
+  else if (key == "drones") test.drones = static_cast<std::size_t>(c.value);
+  else if (key == "drone.obstacle_rays") test.drone.obstacle_rays = static_cast<int>(c.value);
+  else if (key.starts_with(drone_prefix)) *drone_field(test.drone, key.substr(drone_prefix.size())) = c.value;
+}
+
+void apply_change(Simulation& sim, TestSpec& test, const Change& c, const PluginHost& host) {
+  if (const std::string why = check_change(test, c, host); !why.empty()) throw std::invalid_argument(c.key + ": " + why);
+  TestSpec changed = test;
+  apply_to_test(changed, c);
+  const std::string_view key = c.key;
+  if (key.starts_with(params_prefix)) {
+    const ParameterValues old = sim.behavior().parameters();
+    try {
+      sim.behavior().set_parameters(changed.behavior.params);
+    } catch (...) {
+      sim.behavior().set_parameters(old);  // configure() refused the combination: back to what ran
+      throw;
+    }
+  } else if (key == "drones") {
+    sim.set_drone_count(changed.drones);
+  } else {
+    sim.set_drone_config(changed.drone);
+  }
+  test = std::move(changed);
+}
+
+}  // namespace salsa
