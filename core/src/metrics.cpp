@@ -166,12 +166,19 @@ void MetricSet::after_step(const Simulation& sim) {
   each(sim, "step", [&](Slot& s) { s.metric->step(*view_); });
 }
 
-void MetricSet::row(const Simulation& sim, CsvWriter& csv) {
+std::vector<double> MetricSet::observe(const Simulation& sim) {
   after_step(sim);  // observers run inside the step: the metrics see that step first
   each(sim, "observe", [&](Slot& s) {
     s.values.assign(s.step.size(), no_value);
     s.metric->observe(*view_, s.values);
   });
+  std::vector<double> out;
+  for (const Slot& s : slots_) out.insert(out.end(), s.values.begin(), s.values.end());
+  return out;
+}
+
+void MetricSet::row(const Simulation& sim, CsvWriter& csv) {
+  observe(sim);
   for (const Slot& s : slots_)
     for (std::size_t c = 0; c < s.step.size(); ++c) {
       if (std::isfinite(s.values[c])) csv.field(s.values[c], s.step[c].decimals);

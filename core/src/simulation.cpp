@@ -380,6 +380,14 @@ void Simulation::set_drone_config(const DroneConfig& config) {
   setup_.drone = std::move(next);
 }
 
+void Simulation::set_dt(double dt) {
+  if (auto p = check_drone(setup_.drone, dt)) throw std::invalid_argument(p.text());
+  if (auto p = check_resolution(setup_.map.bounds, setup_.drone, dt)) throw std::invalid_argument("map: " + p.text());
+  dt_base_time_ = time();
+  dt_base_steps_ = steps_;
+  setup_.dt = dt;
+}
+
 void Simulation::set_behavior(std::shared_ptr<Behavior> behavior) {
   if (!behavior) throw std::invalid_argument("behavior: none given");
   behavior->reset(drones_.positions.size());
@@ -564,7 +572,7 @@ class Actions final : public ContactActions {
 // Every event of a step carries the time the step ends, the time of the first row that can count it:
 // what was in view on the snapshot at t is found at t + dt, so a row never misses a found target.
 void Simulation::dispatch_sightings() {
-  const double step_end = static_cast<double>(steps_ + 1) * setup_.dt;  // time() once this step is counted
+  const double step_end = time_at(steps_ + 1);  // time() once this step is counted
   Actions actions(targets_.states, targets_.found, step_end);
   for (std::uint32_t i = 0; i < seen_.size(); ++i) {
     // Targets lie scattered in memory: ask for a drone's all at once rather than miss on each in turn.

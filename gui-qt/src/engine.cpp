@@ -1,1 +1,510 @@
-// (being written)
+// The sandbox's worker: one thread owns the Simulation. Commands run between steps; after each tick
+// (1/60 s of wall time) and each command the worker publishes a new immutable Snapshot.
+#include "engine.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <limits>
+
+#include "salsa/core/metrics.hpp"
+#include "salsa/core/simulation.hpp"
+
+namespace salsa::gui {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr auto tick = std::chrono::microseconds(16'667);  // one frame at 60 Hz
+constexpr int heat_cells = 128;                           // along the map's long side
+
+double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+std::string format_time(double t) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f", t);
+  return text;
+}
+
+}  // namespace
+
+struct Engine::Worker {
+  explicit Worker(const PluginHost& h) : host(h) {
+    publish_empty();
+    thread = std::thread([this] { loop(); });
+  }
+  ~Worker() {
+    post([this] { quit = true; });
+    thread.join();
+  }
+
+  const PluginHost& host;
+  std::thread thread;
+
+  // Commands, run on the worker between steps.
+  std::mutex command_mutex;
+  std::condition_variable wake;
+  std::deque<std::function<void()>> commands;
+  bool quit = false;
+
+  // The published snapshot.
+  mutable std::mutex snapshot_mutex;
+  std::shared_ptr<const Snapshot> published;
+
+  // ---- Worker-only state ----
+  TestSpec start;    // the start state
+  TestSpec current;  // as the live changes left it
+  std::vector<Change> changes;
+  std::unique_ptr<Simulation> sim;
+  std::unique_ptr<MetricSet> coverage;  // the area_coverage metric plugin, when loaded
+  std::shared_ptr<const Scene> scene;
+  RunState state = RunState::paused;
+  std::string error;
+  Pacing pacing;
+  bool inexact_used = false;
+  std::optional<std::uint32_t> selected;
+  // Real-time pacing: the wall time and simulated time it counts from.
+  Clock::time_point anchor_wall;
+  double anchor_time = 0;
+  // Speed: (wall, simulated) samples over the last second or so.
+  std::deque<std::pair<Clock::time_point, double>> speed_samples;
+  // Found targets.
+  std::vector<std::uint8_t> found;
+  std::size_t found_count = 0;
+  std::uint64_t found_version = 0;
+  // Trails: a ring of trail_length samples per drone.
+  std::size_t trail_length = 64, trail_every = 6, trail_taken = 0;
+  std::vector<Vec2> trail_ring;
+  // Heat map: visits per cell, normalised when published.
+  HeatMap heat_grid;
+  std::vector<std::uint32_t> heat_counts;
+  std::shared_ptr<const HeatMap> heat;
+  Clock::time_point heat_published;
+  // Live plot rows.
+  std::shared_ptr<const std::vector<StatsRow>> stats = std::make_shared<std::vector<StatsRow>>();
+  // Recording frames.
+  double frame_interval = 0;
+  std::function<void(std::shared_ptr<const Snapshot>)> frame_callback;
+
+  void post(std::function<void()> fn) {
+    {
+      std::lock_guard lock(command_mutex);
+      commands.push_back(std::move(fn));
+    }
+    wake.notify_one();
+  }
+  template <class R>
+  std::future<R> ask(std::function<R()> fn) {
+    auto promise = std::make_shared<std::promise<R>>();
+    auto future = promise->get_future();
+    post([promise, fn = std::move(fn)] {
+      try {
+        promise->set_value(fn());
+      } catch (...) {
+        promise->set_exception(std::current_exception());
+      }
+    });
+    return future;
+  }
+
+  void publish_empty() {
+    auto snap = std::make_shared<Snapshot>();
+    snap->scene = std::make_shared<Scene>();
+    snap->stats = stats;
+    std::lock_guard lock(snapshot_mutex);
+    published = std::move(snap);
+  }
+
+  // ---- The loop ----
+  void loop() {
+    auto next_tick = Clock::now();
+    while (true) {
+      std::deque<std::function<void()>> todo;
+      {
+        std::unique_lock lock(command_mutex);
+        if (commands.empty() && !(state == RunState::running && sim))
+          wake.wait(lock, [&] { return !commands.empty(); });
+        todo.swap(commands);
+      }
+      for (auto& fn : todo) fn();
+      if (quit) return;
+      if (!todo.empty()) publish();
+      if (state != RunState::running || !sim) {
+        next_tick = Clock::now();
+        continue;
+      }
+      run_tick();
+      publish();
+      // Paced modes wait for the next frame (woken early by a command); fastest goes straight on.
+      if (pacing.mode != Pacing::fastest) {
+        next_tick += tick;
+        const auto now = Clock::now();
+        if (next_tick < now) next_tick = now;
+        std::unique_lock lock(command_mutex);
+        wake.wait_until(lock, next_tick, [&] { return !commands.empty(); });
+      }
+    }
+  }
+
+  void run_tick() {
+    const auto began = Clock::now();
+    auto more = [&](std::size_t done) {
+      switch (pacing.mode) {
+        case Pacing::steps_per_frame: return done < static_cast<std::size_t>(std::max(1, pacing.steps));
+        case Pacing::fastest: return Clock::now() - began < tick;
+        case Pacing::real_time: {
+          // Simulated time follows the wall clock, at most a quarter second behind (no catching up).
+          const double wall = seconds(Clock::now() - anchor_wall);
+          if (wall - (sim->time() - anchor_time) > 0.25) {
+            anchor_time = sim->time();
+            anchor_wall = Clock::now() - std::chrono::milliseconds(250);
+          }
+          return sim->time() - anchor_time + sim->dt() / 2 < seconds(Clock::now() - anchor_wall) &&
+                 Clock::now() - began < tick;
+        }
+      }
+      return false;
+    };
+    for (std::size_t done = 0; more(done) && state == RunState::running; ++done) step();
+  }
+
+  void step() {
+    try {
+      sim->step();
+    } catch (const std::exception& e) {
+      const auto& entry = host.behavior(current.behavior.name);
+      error = "behavior '" + current.behavior.name + "' (" + entry.plugin().file.string() + ") failed at t = " +
+              format_time(sim->time()) + " s: " + e.what();
+      state = RunState::failed;
+      return;
+    }
+    after_step();
+  }
+
+  void after_step() {
+    if (coverage) {
+      try {
+        coverage->after_step(*sim);
+      } catch (const std::exception&) {
+        coverage.reset();  // the plot loses its coverage line; the run goes on
+      }
+    }
+    const auto positions = sim->drone_positions();
+    // Heat: one visit per drone per step.
+    for (Vec2 p : positions) {
+      const int c = std::clamp(static_cast<int>((p.x - heat_grid.origin.x) / heat_grid.cell), 0, heat_grid.cols - 1);
+      const int r = std::clamp(static_cast<int>((p.y - heat_grid.origin.y) / heat_grid.cell), 0, heat_grid.rows - 1);
+      ++heat_counts[static_cast<std::size_t>(r) * heat_grid.cols + c];
+    }
+    if (trail_length > 0 && sim->step_count() % trail_every == 0) {
+      const std::size_t slot = trail_taken % trail_length;
+      for (std::size_t d = 0; d < positions.size(); ++d) trail_ring[d * trail_length + slot] = positions[d];
+      ++trail_taken;
+    }
+    if (sim->targets_found() != found_count) {
+      const auto& targets = sim->targets();
+      for (std::size_t i = 0; i < targets.size(); ++i) found[i] = targets[i].found() ? 1 : 0;
+      found_count = sim->targets_found();
+      ++found_version;
+    }
+    if (sim->step_count() % current.log_every() == 0) add_stats_row();
+    if (frame_callback) {
+      const auto every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(frame_interval / sim->dt())));
+      if (sim->step_count() % every == 0) frame_callback(make_snapshot());
+    }
+  }
+
+  void add_stats_row() {
+    StatsRow row;
+    row.time = sim->time();
+    const std::size_t targets = sim->targets().size();
+    row.found_percent = targets ? 100.0 * static_cast<double>(sim->targets_found()) / static_cast<double>(targets) : 0;
+    row.coverage_percent = std::numeric_limits<double>::quiet_NaN();
+    if (coverage) {
+      try {
+        const auto values = coverage->observe(*sim);
+        if (!values.empty()) row.coverage_percent = 100 * values[0];
+      } catch (const std::exception&) {
+        coverage.reset();
+      }
+    }
+    double speed = 0;
+    for (Vec2 v : sim->drone_velocities()) speed += v.length();
+    row.mean_speed = sim->drone_count() ? speed / static_cast<double>(sim->drone_count()) : 0;
+    double nn = 0;
+    std::size_t counted = 0;
+    for (double d : sim->nearest_neighbour_distances())
+      if (std::isfinite(d)) nn += d, ++counted;
+    row.mean_nn_distance = counted ? nn / static_cast<double>(counted) : std::numeric_limits<double>::quiet_NaN();
+    auto rows = std::make_shared<std::vector<StatsRow>>(*stats);  // published rows are never touched again
+    rows->push_back(row);
+    stats = std::move(rows);
+  }
+
+  // ---- Snapshots ----
+  std::shared_ptr<const Snapshot> make_snapshot() {
+    auto snap = std::make_shared<Snapshot>();
+    snap->scene = scene;
+    snap->stats = stats;
+    snap->state = state;
+    snap->error = error;
+    snap->test_name = start.name;
+    if (!sim) return snap;
+    snap->step = sim->step_count();
+    snap->time = sim->time();
+    snap->dt = sim->dt();
+    snap->inexact = sim->dt() != start.dt;
+    snap->drone = sim->drone_config();
+    const auto p = sim->drone_positions(), v = sim->drone_velocities();
+    snap->positions.assign(p.begin(), p.end());
+    snap->velocities.assign(v.begin(), v.end());
+    snap->found = found;
+    snap->targets_found = found_count;
+    snap->found_version = found_version;
+    if (trail_length > 0) {  // oldest first
+      snap->trail_length = trail_length;
+      snap->trails.resize(p.size() * trail_length);
+      const std::size_t first = trail_taken % trail_length;
+      for (std::size_t d = 0; d < p.size(); ++d)
+        for (std::size_t k = 0; k < trail_length; ++k)
+          snap->trails[d * trail_length + k] = trail_ring[d * trail_length + (first + k) % trail_length];
+    }
+    snap->heat = heat;
+    if (selected && *selected < p.size()) snap->selected = inspect(*selected);
+    if (speed_samples.size() >= 2) {
+      const auto& [w0, t0] = speed_samples.front();
+      const auto& [w1, t1] = speed_samples.back();
+      const double wall = seconds(w1 - w0);
+      snap->speed = wall > 0 ? (t1 - t0) / wall : 0;
+    }
+    return snap;
+  }
+
+  Inspection inspect(std::uint32_t id) const {
+    Inspection in;
+    in.id = id;
+    const auto p = sim->drone_positions();
+    in.position = p[id];
+    in.velocity = sim->drone_velocities()[id];
+    in.commanded = sim->commanded_velocities().size() > id ? sim->commanded_velocities()[id] : Vec2{};
+    const double range = sim->drone_config().detection_range;
+    for (std::uint32_t j = 0; j < p.size(); ++j)  // one drone against all: cheap, and only for the selection
+      if (j != id && distance_squared(p[j], p[id]) <= range * range) in.neighbours.push_back(j);
+    const auto hits = sim->obstacle_hits(id);
+    in.hits.assign(hits.begin(), hits.end());
+    in.memory = sim->behavior().inspect(id);
+    return in;
+  }
+
+  void publish() {
+    const auto now = Clock::now();
+    if (sim) {
+      speed_samples.emplace_back(now, sim->time());
+      while (speed_samples.size() > 2 && now - speed_samples.front().first > std::chrono::seconds(1)) speed_samples.pop_front();
+      if (!heat || now - heat_published > std::chrono::milliseconds(250)) publish_heat(now);
+    }
+    auto snap = make_snapshot();
+    std::lock_guard lock(snapshot_mutex);
+    published = std::move(snap);
+  }
+
+  void publish_heat(Clock::time_point now) {
+    auto h = std::make_shared<HeatMap>(heat_grid);
+    const std::uint32_t most = heat_counts.empty() ? 0 : *std::max_element(heat_counts.begin(), heat_counts.end());
+    h->values.resize(heat_counts.size());
+    for (std::size_t i = 0; i < heat_counts.size(); ++i)
+      h->values[i] = most ? static_cast<float>(100.0 * heat_counts[i] / most) : 0.f;
+    heat = std::move(h);
+    heat_published = now;
+  }
+
+  // ---- Commands ----
+  std::string load(TestSpec test) {
+    std::unique_ptr<Simulation> next;
+    std::unique_ptr<MetricSet> next_coverage;
+    try {
+      const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+      next = std::make_unique<Simulation>(make_setup(test, host, static_cast<int>(std::max(1u, cores - 1))));
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    const auto& metrics = host.metrics();
+    if (std::any_of(metrics.begin(), metrics.end(), [](const auto& e) { return e.factory.name == "area_coverage"; })) {
+      try {
+        next_coverage = std::make_unique<MetricSet>(
+            std::vector<PluginChoice>{{"area_coverage", ParameterValues(host.metric("area_coverage").factory.parameters)}}, host);
+        next_coverage->start(*next);
+      } catch (const std::exception&) {
+        next_coverage.reset();  // no coverage line; the sandbox still runs
+      }
+    }
+    // Nothing below throws (but for memory): the new start state replaces the old one whole.
+    sim = std::move(next);
+    coverage = std::move(next_coverage);
+    test.changes.clear();
+    start = test;
+    current = test;
+    changes.clear();
+    state = RunState::paused;
+    error.clear();
+    inexact_used = false;
+    pacing.dt_factor = 1;
+    selected.reset();
+    auto s = std::make_shared<Scene>();
+    s->map = sim->map();
+    s->spawn = sim->spawn_point();
+    for (const auto& t : sim->targets()) s->targets.push_back(t.position);
+    s->target_radius = sim->setup().target_kind ? sim->setup().target_kind->radius() : 0;
+    scene = std::move(s);
+    found.assign(sim->targets().size(), 0);
+    found_count = 0;
+    ++found_version;
+    reset_trails();
+    const Rect b = sim->bounds();
+    heat_grid = {};
+    heat_grid.origin = b.min;
+    heat_grid.cell = std::max(b.width(), b.height()) / heat_cells;
+    heat_grid.cols = std::max(1, static_cast<int>(std::ceil(b.width() / heat_grid.cell)));
+    heat_grid.rows = std::max(1, static_cast<int>(std::ceil(b.height() / heat_grid.cell)));
+    heat_counts.assign(static_cast<std::size_t>(heat_grid.cols) * heat_grid.rows, 0);
+    heat.reset();
+    stats = std::make_shared<std::vector<StatsRow>>();
+    add_stats_row();  // time 0
+    speed_samples.clear();
+    return {};
+  }
+
+  void reset_trails() {
+    trail_taken = 0;
+    trail_ring.assign(sim ? sim->drone_count() * trail_length : 0, Vec2{std::numeric_limits<double>::quiet_NaN(), 0});
+  }
+
+  std::string set(const std::string& key, double value) {
+    if (!sim) return "no test loaded";
+    if (state == RunState::failed) return "the run stopped: " + error + " (reset to go on)";
+    const Change change{sim->time(), key, value};
+    try {
+      apply_change(*sim, current, change, host);
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    changes.push_back(change);
+    if (key == "drones") {
+      reset_trails();
+      if (selected && *selected >= sim->drone_count()) selected.reset();
+    }
+    return {};
+  }
+
+  void start_running() {
+    if (!sim || state == RunState::failed) return;
+    state = RunState::running;
+    anchor_wall = Clock::now();
+    anchor_time = sim->time();
+  }
+};
+
+Engine::Engine(const PluginHost& host) : worker_(std::make_unique<Worker>(host)) {}
+Engine::~Engine() = default;
+
+std::future<std::string> Engine::load(TestSpec test) {
+  return worker_->ask<std::string>([w = worker_.get(), test = std::move(test)]() mutable { return w->load(std::move(test)); });
+}
+
+std::future<std::string> Engine::reset() {
+  return worker_->ask<std::string>([w = worker_.get()] { return w->sim ? w->load(w->start) : std::string("no test loaded"); });
+}
+
+std::future<std::string> Engine::set(std::string key, double value) {
+  return worker_->ask<std::string>([w = worker_.get(), key = std::move(key), value] { return w->set(key, value); });
+}
+
+void Engine::start() {
+  worker_->post([w = worker_.get()] { w->start_running(); });
+}
+
+void Engine::pause() {
+  worker_->post([w = worker_.get()] {
+    if (w->state == RunState::running) w->state = RunState::paused;
+  });
+}
+
+std::future<std::string> Engine::step_once() {
+  return worker_->ask<std::string>([w = worker_.get()]() -> std::string {
+    if (!w->sim) return "no test loaded";
+    if (w->state == RunState::failed) return "the run stopped: " + w->error + " (reset to go on)";
+    w->state = RunState::paused;
+    w->step();
+    return w->state == RunState::failed ? w->error : "";
+  });
+}
+
+std::future<std::string> Engine::set_pacing(Pacing pacing) {
+  return worker_->ask<std::string>([w = worker_.get(), pacing]() -> std::string {
+    if (w->sim) {
+      const double dt = w->start.dt * std::max(1, pacing.dt_factor);
+      if (dt != w->sim->dt()) {
+        try {
+          w->sim->set_dt(dt);
+        } catch (const std::exception& e) {
+          return "larger time step ×" + std::to_string(pacing.dt_factor) + " refused: " + e.what();
+        }
+      }
+      if (pacing.dt_factor > 1) w->inexact_used = true;
+    }
+    w->pacing = pacing;
+    w->anchor_wall = Clock::now();
+    w->anchor_time = w->sim ? w->sim->time() : 0;
+    return {};
+  });
+}
+
+void Engine::select(std::optional<std::uint32_t> drone) {
+  worker_->post([w = worker_.get(), drone] { w->selected = drone; });
+}
+
+void Engine::set_trails(std::size_t length, std::size_t every) {
+  worker_->post([w = worker_.get(), length, every] {
+    w->trail_length = length;
+    w->trail_every = std::max<std::size_t>(1, every);
+    w->reset_trails();
+  });
+}
+
+std::shared_ptr<const Snapshot> Engine::snapshot() const {
+  std::lock_guard lock(worker_->snapshot_mutex);
+  return worker_->published;
+}
+
+std::optional<TestSpec> Engine::as_test(std::string* why) const {
+  auto answer = worker_->ask<std::pair<std::optional<TestSpec>, std::string>>(
+      [w = worker_.get()]() -> std::pair<std::optional<TestSpec>, std::string> {
+        if (!w->sim) return {std::nullopt, "no test loaded"};
+        if (w->inexact_used)
+          return {std::nullopt, "this run used the larger time step (inexact), so no test can replay it; reset and run at the test's own step to save it"};
+        TestSpec t = w->start;
+        t.changes = w->changes;
+        t.time = std::max(w->sim->time(), t.dt);
+        t.seed_given = true;
+        return {std::move(t), ""};
+      });
+  auto [test, reason] = answer.get();
+  if (why) *why = reason;
+  return test;
+}
+
+std::vector<Change> Engine::timeline() const {
+  return worker_->ask<std::vector<Change>>([w = worker_.get()] { return w->changes; }).get();
+}
+
+void Engine::on_frame(double interval, std::function<void(std::shared_ptr<const Snapshot>)> callback) {
+  worker_->ask<int>([w = worker_.get(), interval, callback = std::move(callback)]() mutable {
+    w->frame_interval = interval;
+    w->frame_callback = interval > 0 ? std::move(callback) : nullptr;
+    return 0;
+  }).get();
+}
+
+void Engine::sync() { worker_->ask<int>([] { return 0; }).get(); }
+
+}  // namespace salsa::gui

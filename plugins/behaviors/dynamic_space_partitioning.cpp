@@ -4,6 +4,8 @@
 // partition whose distances go around obstacles), and each drone sweeps its own region: it flies to
 // the nearest cell of it that nobody has visited, and once all are visited, to the one visited
 // longest ago. So the regions tile the free map and every region has a drone covering it.
+#include <cstdio>
+#include <string>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -71,6 +73,18 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Sweep> {
   }
 
   salsa::Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only
+
+  std::string inspect(std::uint32_t id) const override {
+    if (id >= points_.size() || id >= memory().size()) return {};
+    std::size_t owned = 0;
+    for (const auto& c : cells_) owned += c.owner == id;
+    const Sweep& s = memory()[id];
+    char text[160];
+    if (s.goal == kNone) std::snprintf(text, sizeof text, "region: %zu cells; no goal", owned);
+    else std::snprintf(text, sizeof text, "region: %zu cells; goal cell at (%.0f, %.0f), given up past t = %.0f s", owned,
+                       centre(s.goal).x, centre(s.goal).y, s.deadline);
+    return text;
+  }
 
  protected:
   void configure() override {

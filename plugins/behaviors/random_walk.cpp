@@ -1,6 +1,8 @@
 // Random walk: each drone flies at full speed along a random heading for a random time, then picks a
 // new one. No communication. Obstacles close ahead make it turn away instead of grinding along walls.
 #include <algorithm>
+#include <cstdio>
+#include <string>
 
 #include <salsa/sdk.hpp>
 
@@ -43,6 +45,14 @@ class RandomWalk final : public salsa::BehaviorWithMemory<Walk> {
   }
 
   salsa::Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only
+
+  std::string inspect(std::uint32_t id) const override {
+    if (id >= memory().size() || !memory()[id].started) return {};
+    const Walk& w = memory()[id];
+    char text[96];
+    std::snprintf(text, sizeof text, "heading %.0f°, %.1f s until the next", w.heading * 180 / salsa::pi, w.time_left);
+    return text;
+  }
 
  protected:
   void configure() override {

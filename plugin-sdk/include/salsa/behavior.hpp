@@ -3,6 +3,8 @@
 // and may run in parallel, so it may only write that drone's own memory.
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include "salsa/parameters.hpp"
@@ -31,6 +33,9 @@ class Behavior : public Configurable {
   virtual void reset(std::size_t drones) { (void)drones; }
   /// What `decide` reads (default: everything). Asked once per step, after `prepare`.
   virtual Senses senses() const { return {}; }
+  /// A few lines about drone `id`'s memory for the GUI's inspector ("" = nothing to show). Called
+  /// between steps, on the stepping thread.
+  virtual std::string inspect(std::uint32_t id) const { (void)id; return {}; }
 };
 
 /// A behavior with per-drone memory `Memory`, one slot per drone, owned and sized by the core through

@@ -50,6 +50,7 @@ class MetricSet {
   void start(const Simulation& sim);       ///< at time 0
   void after_step(const Simulation& sim);  ///< after every step (a step already seen is skipped)
   void row(const Simulation& sim, CsvWriter& csv);  ///< at each logged row: appends the step columns' fields
+  std::vector<double> observe(const Simulation& sim);  ///< the step columns' values now (NaN: empty), in order
   std::vector<std::pair<std::string, std::string>> finish(const Simulation& sim);  ///< final (column, text)
 
  private:

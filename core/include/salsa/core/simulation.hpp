@@ -113,6 +113,10 @@ class Simulation final : public WorldView {
   void set_behavior(std::shared_ptr<Behavior> behavior);  ///< fresh per-drone memory
   void set_map(const MapData& map, std::optional<Vec2> spawn = std::nullopt);  ///< re-spawns drones and targets
   void set_targets(std::shared_ptr<TargetKind> kind, std::size_t count);        ///< re-places targets
+  /// A new time step (s), from the next step on: the GUI's "larger time step" (fast, inexact). Refused
+  /// (std::invalid_argument) when a drone could pass through a wall in one step (check_drone,
+  /// check_resolution). Time goes on from where it is.
+  void set_dt(double dt);
   void add_observer(Observer* observer) { observers_.push_back(observer); }
 
   // ---- State ----
@@ -130,12 +134,17 @@ class Simulation final : public WorldView {
   /// Nearest other drone's distance for each drone (m); +inf when alone. About O(N) through a grid sized
   /// to the drones' spread, whatever the detection range.
   std::vector<double> nearest_neighbour_distances() const;
+  /// The drone's obstacle-ray hits of the last sense phase.
+  std::span<const ObstacleHit> obstacle_hits(std::uint32_t id) const {
+    const std::size_t rays = drones_.ray_directions.size();
+    return {drones_.hits.data() + id * rays, id < drones_.hit_counts.size() ? drones_.hit_counts[id] : 0u};
+  }
   /// Seconds spent in each phase so far (zeros unless SimulationSetup::profile).
   const std::array<double, 6>& profile() const { return profile_; }
 
   // ---- WorldView ----
   Rect bounds() const override { return setup_.map.bounds; }
-  double time() const override { return static_cast<double>(steps_) * setup_.dt; }
+  double time() const override { return time_at(steps_); }
   double dt() const override { return setup_.dt; }
   std::span<const Vec2> drone_positions() const override { return drones_.positions; }
   std::span<const Vec2> drone_velocities() const override { return drones_.velocities; }
@@ -181,6 +190,8 @@ class Simulation final : public WorldView {
   Perception perceive(std::uint32_t id, Senses senses, Scratch& scratch) const;
   void read_back();
   void timed(Phase phase, const auto& fn);
+  /// The time after `steps` steps: steps × dt, counted from the last set_dt.
+  double time_at(std::uint64_t steps) const { return dt_base_time_ + static_cast<double>(steps - dt_base_steps_) * setup_.dt; }
 
   SimulationSetup setup_;
   Vec2 spawn_;
@@ -196,6 +207,8 @@ class Simulation final : public WorldView {
   std::vector<Observer*> observers_;
   Rng spawn_rng_;
   std::uint64_t steps_ = 0;
+  std::uint64_t dt_base_steps_ = 0;  ///< step count and time at the last set_dt (0 and 0 without one)
+  double dt_base_time_ = 0;
   std::uint64_t collisions_ = 0;
   std::array<double, 6> profile_{};
 };
