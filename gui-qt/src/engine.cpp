@@ -97,9 +97,11 @@ struct Engine::Worker {
   std::future<R> ask(std::function<R()> fn) {
     auto promise = std::make_shared<std::promise<R>>();
     auto future = promise->get_future();
-    post([promise, fn = std::move(fn)] {
+    post([this, promise, fn = std::move(fn)] {
       try {
-        promise->set_value(fn());
+        auto value = fn();
+        publish(true);  // whoever waits on the answer sees its effect in snapshot()
+        promise->set_value(std::move(value));
       } catch (...) {
         promise->set_exception(std::current_exception());
       }
@@ -128,7 +130,7 @@ struct Engine::Worker {
       }
       for (auto& fn : todo) fn();
       if (quit) return;
-      if (!todo.empty()) publish();
+      if (!todo.empty()) publish(true);
       if (state != RunState::running || !sim) {
         next_tick = Clock::now();
         continue;
@@ -296,12 +298,13 @@ struct Engine::Worker {
     return in;
   }
 
-  void publish() {
+  /// `now_all`: the heat map too, whenever it was last drawn (after commands; while running, 4 times a second).
+  void publish(bool now_all = false) {
     const auto now = Clock::now();
     if (sim) {
       speed_samples.emplace_back(now, sim->time());
       while (speed_samples.size() > 2 && now - speed_samples.front().first > std::chrono::seconds(1)) speed_samples.pop_front();
-      if (!heat || now - heat_published > std::chrono::milliseconds(250)) publish_heat(now);
+      if (now_all || !heat || now - heat_published > std::chrono::milliseconds(250)) publish_heat(now);
     }
     auto snap = make_snapshot();
     std::lock_guard lock(snapshot_mutex);
@@ -495,6 +498,13 @@ std::optional<TestSpec> Engine::as_test(std::string* why) const {
 
 std::vector<Change> Engine::timeline() const {
   return worker_->ask<std::vector<Change>>([w = worker_.get()] { return w->changes; }).get();
+}
+
+std::optional<TestSpec> Engine::current_test() const {
+  return worker_->ask<std::optional<TestSpec>>([w = worker_.get()]() -> std::optional<TestSpec> {
+    if (!w->sim) return std::nullopt;
+    return w->current;
+  }).get();
 }
 
 void Engine::on_frame(double interval, std::function<void(std::shared_ptr<const Snapshot>)> callback) {

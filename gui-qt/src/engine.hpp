@@ -125,6 +125,8 @@ class Engine {
   std::optional<TestSpec> as_test(std::string* why = nullptr) const;
   /// The timeline so far.
   std::vector<Change> timeline() const;
+  /// The loaded test as the live changes left it (what the controls should show); nullopt before a load.
+  std::optional<TestSpec> current_test() const;
 
   /// Called on the worker thread with a snapshot taken exactly at every multiple of `interval` s of
   /// simulated time (for recordings whose timing does not depend on the machine); nullptr stops it.

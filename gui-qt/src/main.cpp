@@ -1,1 +1,154 @@
-int main() { return 0; }
+// salsa-gui: the sandbox window; `--headless FILE...` runs tests like `salsa run`; `--bench-render`
+// measures drawing. Plugins come from the same folders as the CLI's.
+#include <unistd.h>
+
+#include <QApplication>
+#include <QDir>
+#include <QFileInfo>
+#include <QScreen>
+#include <QTimer>
+#include <QWindow>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "bench_render.hpp"
+#include "main_window.hpp"
+#include "salsa/core/plugin_host.hpp"
+
+namespace {
+
+constexpr const char* usage = R"(usage: salsa-gui [TEST.json] [options]
+       salsa-gui --headless TEST.json... [salsa run options]   run tests without a window, exactly as `salsa run`
+       salsa-gui --bench-render [--frames N]                    frame times at 1920x1080, 1,000 drones, 50,000 targets
+
+options:
+  --plugin-dir DIR     also search DIR for plugins (repeatable, searched first)
+  --start              start running at once
+  --screenshot FILE    save a screenshot of the window (or, under X, of the screen) after --after seconds, then quit
+  --after SECONDS      when to take the screenshot (default 3)
+  -h, --help           this text
+)";
+
+/// The `salsa` program installed (or built) beside this one.
+std::string sibling_salsa(const char* argv0) {
+  std::error_code ec;
+  std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec) self = std::filesystem::absolute(argv0);
+  return (self.parent_path() / "salsa").string();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  if (!args.empty() && args[0] == "--headless") {
+    // One implementation of running tests: hand over to `salsa run` (same options, output and exit codes).
+    const std::string salsa = sibling_salsa(argv[0]);
+    std::vector<char*> child{const_cast<char*>(salsa.c_str()), const_cast<char*>("run")};
+    for (int i = 2; i < argc; ++i) child.push_back(argv[i]);
+    child.push_back(nullptr);
+    execv(salsa.c_str(), child.data());
+    std::cerr << "salsa-gui: --headless needs the salsa program beside salsa-gui: " << salsa << ": " << std::strerror(errno) << "\n";
+    return 2;
+  }
+
+  std::vector<std::filesystem::path> plugin_dirs;
+  std::string test, screenshot;
+  double after = 3;
+  bool start = false, bench = false;
+  int frames = 300;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&](const char* what) -> std::string {
+      if (i + 1 >= args.size()) {
+        std::cerr << "salsa-gui: " << a << " needs " << what << "\n";
+        std::exit(2);
+      }
+      return args[++i];
+    };
+    if (a == "-h" || a == "--help") {
+      std::cout << usage;
+      return 0;
+    } else if (a == "--plugin-dir") {
+      plugin_dirs.emplace_back(value("a folder"));
+    } else if (a == "--start") {
+      start = true;
+    } else if (a == "--screenshot") {
+      screenshot = value("a file name");
+    } else if (a == "--after") {
+      const std::string v = value("seconds");
+      try {
+        after = std::stod(v);
+      } catch (const std::exception&) {
+        after = -1;
+      }
+      if (!(after >= 0 && after <= 3600)) {
+        std::cerr << "salsa-gui: --after: '" << v << "' is out of range (allowed: [0, 3600] s)\n";
+        return 2;
+      }
+    } else if (a == "--bench-render") {
+      bench = true;
+    } else if (a == "--frames") {
+      const std::string v = value("a count");
+      try {
+        frames = std::stoi(v);
+      } catch (const std::exception&) {
+        frames = 0;
+      }
+      if (frames < 10 || frames > 100000) {
+        std::cerr << "salsa-gui: --frames: '" << v << "' is out of range (allowed: whole number in [10, 100000])\n";
+        return 2;
+      }
+    } else if (!a.empty() && a[0] == '-') {
+      std::cerr << "salsa-gui: unknown option '" << a << "'\n" << usage;
+      return 2;
+    } else if (test.empty()) {
+      test = a;
+    } else {
+      std::cerr << "salsa-gui: one test file at a time (got '" << test << "' and '" << a << "'); use --headless to run several\n";
+      return 2;
+    }
+  }
+
+  QApplication app(argc, argv);
+  QApplication::setOrganizationName("salsa");
+  QApplication::setApplicationName("salsa-gui");
+  salsa::PluginHost host;
+  host.load(salsa::PluginHost::default_search_path(plugin_dirs));
+  for (const auto& f : host.failures()) std::cerr << "salsa-gui: " << f.file.string() << " skipped: " << f.reason << "\n";
+  if (host.behaviors().empty()) {
+    std::cerr << "salsa-gui: no behavior plugins found (searched:";
+    for (const auto& d : host.searched()) std::cerr << " " << d.path.string();
+    std::cerr << ")\n";
+    return 1;
+  }
+  if (bench) return salsa::gui::bench_render(host, std::cout, frames);
+
+  salsa::gui::MainWindow window(host);
+  window.resize(1600, 1000);
+  window.show();
+  if (!test.empty() && !window.open_test(QString::fromStdString(test)).empty()) {
+    if (!screenshot.empty()) return 1;  // scripted: the message was shown; nothing to capture
+  }
+  if (start) window.start();
+  if (!screenshot.empty()) {
+    QTimer::singleShot(static_cast<int>(after * 1000), &window, [&] {
+      // Under X (xvfb-run) grab the screen as a person sees it; offscreen, the window draws itself.
+      QScreen* screen = window.windowHandle() ? window.windowHandle()->screen() : nullptr;
+      QPixmap shot = QGuiApplication::platformName() == "xcb" && screen
+                         ? screen->grabWindow(0, window.x(), window.y(), window.frameGeometry().width(), window.frameGeometry().height())
+                         : window.grab();
+      if (!shot.save(QString::fromStdString(screenshot))) {
+        std::cerr << "salsa-gui: " << screenshot << ": cannot write the screenshot\n";
+        QApplication::exit(1);
+        return;
+      }
+      std::cout << screenshot << "\n";
+      QApplication::quit();
+    });
+  }
+  return QApplication::exec();
+}

@@ -1,1 +1,132 @@
 #pragma once
+// The sandbox window: the view in the middle, the set-up and live parameters on the left, live plots
+// and the inspector on the right. Every control either changes the running simulation (behavior
+// parameters, drone count, drone properties: recorded in the timeline) or loads a new start state
+// (behavior, map, targets, seed). The window owns no simulation logic: it sends commands to the Engine
+// and shows its snapshots.
+#include <QMainWindow>
+#include <QTimer>
+#include <functional>
+#include <future>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "engine.hpp"
+#include "view.hpp"
+
+class QComboBox;
+class QSpinBox;
+class QLabel;
+class QPlainTextEdit;
+class QPushButton;
+class QAction;
+
+namespace salsa::gui {
+
+class ParamPanel;
+class LiveCharts;
+class Recorder;
+
+class MainWindow : public QMainWindow {
+  Q_OBJECT
+ public:
+  explicit MainWindow(const PluginHost& host, QWidget* parent = nullptr);
+  ~MainWindow() override;
+
+  // ---- What the menus do, callable without dialogs (tests, command line). Each returns "" or the
+  // one-line reason it was refused (also shown in a dialog); a refusal keeps the current state.
+  std::string open_test(const QString& file);
+  std::string open_map(const QString& file);
+  std::string save_test(const QString& file);
+  std::string save_screenshot(const QString& file);
+  void start();
+  void pause();
+  void toggle_run();
+  void step();
+  void reset();
+
+  // ---- For tests ----
+  Engine& engine() { return engine_; }
+  SwarmView* view() const { return view_; }
+  ParamPanel* behavior_panel() const { return behavior_panel_; }
+  ParamPanel* drone_panel() const { return drone_panel_; }
+  QSpinBox* drones_box() const { return drones_; }
+  QComboBox* behavior_box() const { return behavior_; }
+  LiveCharts* charts() const { return charts_; }
+  const QString& last_message() const { return last_message_; }
+  /// Applies every answer the engine has given so far (the timer does this 60 times a second).
+  void poll();
+
+ protected:
+  void closeEvent(QCloseEvent*) override;
+
+ private:
+  void build_controls();
+  void build_menus();
+  /// The start state the controls describe (parsed like a test file, so the CLI's checks apply).
+  std::optional<TestSpec> spec_from_controls(std::string* why);
+  /// Loads `test` as the new start state; on refusal shows why and puts the controls back.
+  std::string load(const TestSpec& test);
+  /// Shows `test` in the controls, emitting nothing.
+  void show_test(const TestSpec& test);
+  void reload_from_controls();
+  void live_change(const std::string& key, double value);
+  void apply_drone_config(const QString& name);
+  void save_drone_config();
+  void set_pacing();
+  void toggle_recording();
+  void show_shortcuts();
+  void show_message(const QString& text, bool error = true);
+  void refresh();  ///< 60 Hz: the latest snapshot to the view; status, charts and inspector a few times a second
+  void restore_settings();
+  void save_settings();
+  std::vector<DroneConfig> drone_configs() const;  ///< built-in, then the user's saved ones
+
+  const PluginHost& host_;
+  Engine engine_;
+  SwarmView* view_ = nullptr;
+  // Set-up controls.
+  QComboBox* behavior_ = nullptr;
+  QComboBox* map_ = nullptr;
+  ParamPanel* map_panel_ = nullptr;
+  QLabel* map_file_label_ = nullptr;
+  QString map_file_;
+  QComboBox* target_kind_ = nullptr;
+  QSpinBox* targets_ = nullptr;
+  QSpinBox* drones_ = nullptr;
+  QSpinBox* seed_ = nullptr;
+  ParamPanel* behavior_panel_ = nullptr;
+  QComboBox* drone_config_ = nullptr;
+  ParamPanel* drone_panel_ = nullptr;
+  QPushButton* run_button_ = nullptr;
+  QComboBox* pacing_ = nullptr;
+  QSpinBox* pacing_amount_ = nullptr;
+  LiveCharts* charts_ = nullptr;
+  QPlainTextEdit* inspector_ = nullptr;
+  QLabel* status_time_ = nullptr;
+  QLabel* status_speed_ = nullptr;
+  QLabel* status_fps_ = nullptr;
+  QLabel* status_found_ = nullptr;
+  QLabel* status_inexact_ = nullptr;
+  QAction* record_action_ = nullptr;
+
+  std::optional<TestSpec> loaded_;  ///< the start state running now
+  TestSpec file_base_;              ///< what an opened test file set that the controls do not show
+  bool updating_ = false;           ///< controls being set by the program: no commands
+  struct Pending {
+    std::future<std::string> answer;
+    std::function<void(const std::string&)> then;
+  };
+  std::vector<Pending> pending_;
+  QTimer timer_;
+  std::shared_ptr<const Snapshot> shown_;
+  int frames_ = 0;
+  double fps_ = 0;
+  std::chrono::steady_clock::time_point fps_since_, slow_refresh_;
+  std::unique_ptr<Recorder> recorder_;
+  QString last_message_;
+  std::string last_error_shown_;
+};
+
+}  // namespace salsa::gui

@@ -1,1 +1,367 @@
-// (being written)
+#include "view.hpp"
+
+#include <QKeyEvent>
+#include <QMouseEvent>
+#include <QPainter>
+#include <QPainterPath>
+#include <QWheelEvent>
+#include <algorithm>
+#include <cmath>
+
+namespace salsa::gui {
+namespace {
+
+const QColor background(0xf4, 0xf1, 0xea);
+const QColor outside(0xd8, 0xd4, 0xcc);
+const QColor obstacle_fill(0x6b, 0x6b, 0x6b);
+const QColor obstacle_line(0x3c, 0x3c, 0x3c);
+const QColor found_colour(0x2e, 0x9e, 0x48);
+const QColor unfound_colour(0x9a, 0x9a, 0x9a);
+const QColor drone_colour(0x1f, 0x3f, 0x8c);
+const QColor trail_colour(0x1f, 0x3f, 0x8c, 70);
+const QColor selected_colour(0xe0, 0x3a, 0x1e);
+const QColor neighbour_colour(0xf0, 0x9a, 0x1a);
+
+QPolygonF polygon(const Polyline& points) {
+  QPolygonF out;
+  out.reserve(static_cast<qsizetype>(points.size()));
+  for (Vec2 p : points) out << QPointF(p.x, p.y);
+  return out;
+}
+
+/// The heat map as an image, one pixel per cell (row 0 at the bottom: flipped by the transform).
+QImage heat_image(const HeatMap& heat) {
+  QImage image(heat.cols, heat.rows, QImage::Format_ARGB32_Premultiplied);
+  for (int r = 0; r < heat.rows; ++r) {
+    auto* line = reinterpret_cast<QRgb*>(image.scanLine(r));
+    for (int c = 0; c < heat.cols; ++c) {
+      const float v = heat.values[static_cast<std::size_t>(r) * heat.cols + c] / 100.f;  // 0..1
+      if (v <= 0) {
+        line[c] = 0;
+        continue;
+      }
+      // Transparent yellow to opaque red, on a square-root scale so rare visits still show.
+      const float s = std::sqrt(v);
+      const int alpha = static_cast<int>(40 + 190 * s);
+      const int red = 255, green = static_cast<int>(210 - 170 * s), blue = static_cast<int>(40 * (1 - s));
+      line[c] = qPremultiply(qRgba(red, green, blue, alpha));
+    }
+  }
+  return image;
+}
+
+double px_per_m(const QTransform& t) { return std::hypot(t.m11(), t.m12()); }
+
+}  // namespace
+
+QTransform fit_transform(const Rect& area, QSizeF size) {
+  const double w = std::max(area.width(), 1e-9), h = std::max(area.height(), 1e-9);
+  const double margin = 12;
+  const double scale = std::max(1e-9, std::min((size.width() - 2 * margin) / w, (size.height() - 2 * margin) / h));
+  const double cx = (area.min.x + area.max.x) / 2, cy = (area.min.y + area.max.y) / 2;
+  // y up: world y grows towards the top of the picture.
+  return QTransform(scale, 0, 0, -scale, size.width() / 2 - scale * cx, size.height() / 2 + scale * cy);
+}
+
+void render_static(QPainter& painter, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px) {
+  painter.save();
+  painter.fillRect(painter.viewport(), outside);
+  if (!snap.scene) {
+    painter.restore();
+    return;
+  }
+  const Scene& scene = *snap.scene;
+  const Rect& b = scene.map.bounds;
+  painter.setTransform(world_to_px);
+  const QRectF bounds(QPointF(b.min.x, b.min.y), QPointF(b.max.x, b.max.y));
+  painter.fillRect(bounds, background);
+  if (options.heat_map && snap.heat && !snap.heat->values.empty()) {
+    const HeatMap& h = *snap.heat;
+    painter.setRenderHint(QPainter::SmoothPixmapTransform, true);
+    painter.drawImage(QRectF(h.origin.x, h.origin.y, h.cell * h.cols, h.cell * h.rows), heat_image(h));
+  }
+  painter.setRenderHint(QPainter::Antialiasing, true);
+  const double px = px_per_m(world_to_px);
+  if (options.obstacles) {
+    QPen line(obstacle_line, 1.5 / px);
+    painter.setPen(line);
+    painter.setBrush(obstacle_fill);
+    for (const auto& o : scene.map.obstacles) painter.drawPolygon(polygon(o));
+    painter.setBrush(Qt::NoBrush);
+    QPen wall(obstacle_line, std::max(2.0 / px, 0.5));
+    painter.setPen(wall);
+    for (const auto& o : scene.map.hollow) painter.drawPolygon(polygon(o));
+    for (const auto& l : scene.map.lines) painter.drawPolyline(polygon(l));
+  }
+  painter.setPen(QPen(obstacle_line, 2 / px));
+  painter.drawRect(bounds);
+  if (options.targets && !scene.targets.empty()) {
+    // Two batches (found, unfound): one drawPoints each with a round pen of the target's size on screen.
+    painter.setRenderHint(QPainter::Antialiasing, false);
+    QPolygonF found, unfound;
+    for (std::size_t i = 0; i < scene.targets.size(); ++i) {
+      const bool f = i < snap.found.size() && snap.found[i];
+      (f ? found : unfound) << world_to_px.map(QPointF(scene.targets[i].x, scene.targets[i].y));
+    }
+    painter.resetTransform();
+    const double size = std::max(2.0, 2 * scene.target_radius * px);
+    for (const auto& [points, colour] : {std::pair{&unfound, unfound_colour}, std::pair{&found, found_colour}}) {
+      QPen pen(colour, size, Qt::SolidLine, size > 3 ? Qt::RoundCap : Qt::SquareCap);
+      painter.setPen(pen);
+      painter.drawPoints(*points);
+    }
+    painter.setTransform(world_to_px);
+  }
+  if (options.spawn) {
+    painter.resetTransform();
+    const QPointF s = world_to_px.map(QPointF(scene.spawn.x, scene.spawn.y));
+    painter.setRenderHint(QPainter::Antialiasing, true);
+    painter.setPen(QPen(QColor(0x8c, 0x1f, 0x6b), 2));
+    painter.setBrush(Qt::NoBrush);
+    painter.drawEllipse(s, 7, 7);
+    painter.drawLine(s - QPointF(10, 0), s + QPointF(10, 0));
+    painter.drawLine(s - QPointF(0, 10), s + QPointF(0, 10));
+  }
+  painter.restore();
+}
+
+void render_dynamic(QPainter& painter, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px) {
+  painter.save();
+  painter.resetTransform();
+  painter.setRenderHint(QPainter::Antialiasing, true);
+  const double px = px_per_m(world_to_px);
+  const std::size_t n = snap.positions.size();
+  std::vector<QPointF> at(n);
+  for (std::size_t i = 0; i < n; ++i) at[i] = world_to_px.map(QPointF(snap.positions[i].x, snap.positions[i].y));
+
+  if (options.trails && snap.trail_length > 1 && snap.trails.size() >= n * snap.trail_length) {
+    // One path for every trail: a single stroke, however many drones.
+    QPainterPath trails;
+    for (std::size_t d = 0; d < n; ++d) {
+      bool open = false;
+      for (std::size_t k = 0; k < snap.trail_length; ++k) {
+        const Vec2 p = snap.trails[d * snap.trail_length + k];
+        if (!std::isfinite(p.x)) {
+          open = false;
+          continue;
+        }
+        const QPointF q = world_to_px.map(QPointF(p.x, p.y));
+        if (open) trails.lineTo(q);
+        else trails.moveTo(q);
+        open = true;
+      }
+      if (open) trails.lineTo(at[d]);
+    }
+    painter.setPen(QPen(trail_colour, 1.2));
+    painter.setBrush(Qt::NoBrush);
+    painter.drawPath(trails);
+  }
+
+  struct Range {
+    bool on;
+    double metres;
+    QColor colour;
+  };
+  for (const Range& r : {Range{options.detection_range, snap.drone.detection_range, QColor(0x1f, 0x3f, 0x8c, 60)},
+                         Range{options.obstacle_range, snap.drone.obstacle_range, QColor(0x8c, 0x4f, 0x1f, 80)},
+                         Range{options.camera_range, snap.drone.camera_range, QColor(0x2e, 0x9e, 0x48, 110)}}) {
+    if (!r.on || r.metres <= 0) continue;
+    painter.setPen(QPen(r.colour, 1));
+    painter.setBrush(QColor(r.colour.red(), r.colour.green(), r.colour.blue(), r.colour.alpha() / 4));
+    const double radius = r.metres * px;
+    for (const QPointF& p : at) painter.drawEllipse(p, radius, radius);
+  }
+
+  // Drones: one path of circles, filled at once, then one set of velocity ticks.
+  const double radius = std::max(3.0, snap.drone.radius * px);
+  QPainterPath bodies;
+  for (const QPointF& p : at) bodies.addEllipse(p, radius, radius);
+  painter.setPen(Qt::NoPen);
+  painter.setBrush(drone_colour);
+  painter.drawPath(bodies);
+  std::vector<QLineF> ticks;
+  ticks.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 v = snap.velocities[i];
+    const double speed = v.length();
+    if (speed <= 0) continue;
+    const QPointF dir(v.x / speed, -v.y / speed);  // screen y points down
+    ticks.emplace_back(at[i], at[i] + dir * (radius + 5));
+  }
+  painter.setPen(QPen(drone_colour, 1.5));
+  painter.drawLines(ticks.data(), static_cast<int>(ticks.size()));
+
+  if (snap.selected && snap.selected->id < n) {
+    const Inspection& in = *snap.selected;
+    const QPointF me = at[in.id];
+    painter.setBrush(Qt::NoBrush);
+    painter.setPen(QPen(neighbour_colour, 2));
+    for (std::uint32_t j : in.neighbours)
+      if (j < n) painter.drawEllipse(at[j], radius + 3, radius + 3);
+    painter.setPen(QPen(selected_colour, 1.5, Qt::DashLine));
+    for (const ObstacleHit& h : in.hits) {
+      const QPointF hit = world_to_px.map(QPointF(h.point.x, h.point.y));
+      painter.drawLine(me, hit);
+      painter.drawEllipse(hit, 3, 3);
+    }
+    painter.setPen(QPen(selected_colour, 2.5));
+    painter.drawEllipse(me, radius + 5, radius + 5);
+    if (snap.drone.detection_range > 0) {
+      painter.setPen(QPen(selected_colour, 1, Qt::DotLine));
+      painter.drawEllipse(me, snap.drone.detection_range * px, snap.drone.detection_range * px);
+    }
+  }
+  painter.restore();
+}
+
+QImage render_frame(const Snapshot& snap, const ViewOptions& options, QSize size, std::optional<QTransform> world_to_px) {
+  QImage image(size, QImage::Format_ARGB32_Premultiplied);
+  const QTransform t = world_to_px ? *world_to_px
+                                   : fit_transform(snap.scene ? snap.scene->map.bounds : Rect{{0, 0}, {1, 1}}, QSizeF(size));
+  QPainter painter(&image);
+  render_static(painter, snap, options, t);
+  render_dynamic(painter, snap, options, t);
+  return image;
+}
+
+void FrameRenderer::draw(QPainter& painter, QSize size, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px) {
+  const qreal dpr = painter.device() ? painter.device()->devicePixelRatioF() : 1;
+  const QSize pixels = (QSizeF(size) * dpr).toSize();
+  const bool stale = layer_.size() != pixels || scene_ != snap.scene.get() || found_version_ != snap.found_version ||
+                     !(options_ == options) || transform_ != world_to_px ||
+                     (options.heat_map && heat_ != snap.heat.get());
+  if (stale) {
+    layer_ = QImage(pixels, QImage::Format_ARGB32_Premultiplied);
+    layer_.setDevicePixelRatio(dpr);
+    QPainter p(&layer_);
+    render_static(p, snap, options, world_to_px);
+    scene_ = snap.scene.get();
+    heat_ = snap.heat.get();
+    found_version_ = snap.found_version;
+    options_ = options;
+    transform_ = world_to_px;
+    ++static_redraws_;
+  }
+  painter.drawImage(QPointF(0, 0), layer_);
+  render_dynamic(painter, snap, options, world_to_px);
+}
+
+// ---------------------------------------------------------------- SwarmView
+
+SwarmView::SwarmView(QWidget* parent) : QWidget(parent) {
+  setAttribute(Qt::WA_OpaquePaintEvent);  // the static layer covers every pixel
+  setFocusPolicy(Qt::StrongFocus);
+  setMinimumSize(400, 300);
+  setMouseTracking(false);
+}
+
+void SwarmView::show_snapshot(std::shared_ptr<const Snapshot> snap) {
+  const bool first = !snap_ || (snap && snap_->scene != snap->scene && snap_->scene && snap->scene &&
+                                snap_->scene->map.bounds != snap->scene->map.bounds);
+  snap_ = std::move(snap);
+  if (first) fit();
+  update();
+}
+
+void SwarmView::set_options(const ViewOptions& options) {
+  options_ = options;
+  update();
+}
+
+void SwarmView::fit() {
+  zoom_ = 1;
+  pan_ = {};
+  update();
+}
+
+QTransform SwarmView::world_to_px() const {
+  const Rect area = snap_ && snap_->scene ? snap_->scene->map.bounds : Rect{{0, 0}, {1, 1}};
+  QTransform t = fit_transform(area, QSizeF(size()));
+  // Zoom about the widget's centre, then pan (in pixels).
+  const QPointF c(width() / 2.0, height() / 2.0);
+  QTransform z;
+  z.translate(c.x() + pan_.x(), c.y() + pan_.y());
+  z.scale(zoom_, zoom_);
+  z.translate(-c.x(), -c.y());
+  return t * z;
+}
+
+void SwarmView::zoom(double factor, std::optional<QPointF> around) {
+  const double next = std::clamp(zoom_ * factor, 0.2, 2000.0);
+  factor = next / zoom_;
+  // Keep the point under `around` (default: the centre) where it is on screen.
+  const QPointF c(width() / 2.0, height() / 2.0);
+  const QPointF a = around.value_or(c);
+  pan_ = (pan_ + c - a) * factor + a - c;
+  zoom_ = next;
+  update();
+}
+
+QImage SwarmView::screenshot() { return grab().toImage(); }
+
+void SwarmView::paintEvent(QPaintEvent*) {
+  QPainter painter(this);
+  if (!snap_) {
+    painter.fillRect(rect(), background);
+    return;
+  }
+  renderer_.draw(painter, size(), *snap_, options_, world_to_px());
+}
+
+void SwarmView::wheelEvent(QWheelEvent* event) {
+  const double steps = event->angleDelta().y() / 120.0;
+  zoom(std::pow(1.25, steps), event->position());
+  event->accept();
+}
+
+void SwarmView::mousePressEvent(QMouseEvent* event) {
+  if (event->button() != Qt::LeftButton) return;
+  press_ = event->position().toPoint();
+  dragged_ = false;
+}
+
+void SwarmView::mouseMoveEvent(QMouseEvent* event) {
+  if (!press_) return;
+  const QPoint delta = event->position().toPoint() - *press_;
+  if (!dragged_ && delta.manhattanLength() < 4) return;  // a click may wobble a little
+  dragged_ = true;
+  pan_ += QPointF(delta);
+  press_ = event->position().toPoint();
+  update();
+}
+
+void SwarmView::mouseReleaseEvent(QMouseEvent* event) {
+  if (event->button() != Qt::LeftButton || !press_) return;
+  press_.reset();
+  if (dragged_ || !snap_) return;
+  // The nearest drone whose circle (at least 6 px) holds the click.
+  const QTransform t = world_to_px();
+  const double radius = std::max(6.0, snap_->drone.radius * px_per_m(t));
+  std::optional<std::uint32_t> best;
+  double best_d = radius;
+  for (std::uint32_t i = 0; i < snap_->positions.size(); ++i) {
+    const QPointF p = t.map(QPointF(snap_->positions[i].x, snap_->positions[i].y));
+    const double d = std::hypot(p.x() - event->position().x(), p.y() - event->position().y());
+    if (d <= best_d) best_d = d, best = i;
+  }
+  Q_EMIT drone_clicked(best);
+}
+
+void SwarmView::keyPressEvent(QKeyEvent* event) {
+  switch (event->key()) {
+    case Qt::Key_Plus:
+    case Qt::Key_Equal: zoom(1.25); break;
+    case Qt::Key_Minus: zoom(0.8); break;
+    case Qt::Key_0:
+    case Qt::Key_F: fit(); break;
+    default: QWidget::keyPressEvent(event); return;
+  }
+  event->accept();
+}
+
+void SwarmView::resizeEvent(QResizeEvent* event) {
+  QWidget::resizeEvent(event);
+  update();
+}
+
+}  // namespace salsa::gui

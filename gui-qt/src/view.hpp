@@ -64,7 +64,7 @@ class SwarmView : public QWidget {
   QTransform world_to_px() const;
   QImage screenshot();             ///< the view as shown
 
- signals:
+ Q_SIGNALS:
   void drone_clicked(std::optional<std::uint32_t> id);  ///< nullopt: clicked on empty space
 
  protected:
