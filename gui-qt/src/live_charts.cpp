@@ -49,6 +49,7 @@ LiveCharts::LiveCharts(QWidget* parent) : QWidget(parent) {
       a->setTitleFont(f);
     }
     c.x->setRange(0, 10);
+    c.x->setTickCount(6);
     c.y->setRange(0, specs[i].fixed_max > 0 ? specs[i].fixed_max : 1);
     chart->addAxis(c.x, Qt::AlignBottom);
     chart->addAxis(c.y, Qt::AlignLeft);
@@ -77,7 +78,11 @@ void LiveCharts::show_rows(const std::shared_ptr<const std::vector<StatsRow>>& r
     }
     charts_[i].series->replace(points);  // one update of the whole series
     charts_[i].x->setRange(0, std::max(10.0, end));
-    if (specs[i].fixed_max == 0) charts_[i].y->setRange(0, top > 0 ? top * 1.1 : 1);
+    charts_[i].x->applyNiceNumbers();  // ticks at round times
+    if (specs[i].fixed_max == 0) {
+      charts_[i].y->setRange(0, top > 0 ? top * 1.1 : 1);
+      charts_[i].y->applyNiceNumbers();
+    }
   }
 }
 

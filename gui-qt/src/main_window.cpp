@@ -216,10 +216,18 @@ void MainWindow::build_controls() {
   auto reload = [this] {
     if (!updating_) reload_from_controls();
   };
-  connect(behavior_, &QComboBox::currentTextChanged, this, reload);
-  connect(map_, &QComboBox::currentTextChanged, this, [this] {
+  // Another behavior or map starts from its own declared defaults.
+  connect(behavior_, &QComboBox::currentTextChanged, this, [this](const QString& name) {
+    if (updating_) return;
+    const auto& e = host_.behavior(name.toStdString());
+    behavior_panel_->set_schema(e.factory.parameters, ParameterValues(e.factory.parameters));
+    reload_from_controls();
+  });
+  connect(map_, &QComboBox::currentTextChanged, this, [this](const QString& name) {
     if (updating_) return;
     map_file_.clear();
+    const auto& e = host_.map(name.toStdString());
+    map_panel_->set_schema(e.factory.parameters, ParameterValues(e.factory.parameters));
     reload_from_controls();
   });
   connect(map_panel_, &ParamPanel::changed, this, reload);
