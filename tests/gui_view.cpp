@@ -139,11 +139,18 @@ class GuiView : public QObject {
     for (Vec2& p : moved->positions) p += Vec2{1, 1};
     draw(*moved, t);
     QCOMPARE(renderer.static_redraws(), std::size_t(1));
-    moved->found_version = snap->found_version + 1;  // a target found: redraw
+    moved->found_version = snap->found_version + 1;  // a target found: stamped over the layer
     moved->found[1] = 1;
     draw(*moved, t);
-    QCOMPARE(renderer.static_redraws(), std::size_t(2));
+    QCOMPARE(renderer.static_redraws(), std::size_t(1));
+    QCOMPARE(renderer.found_updates(), std::size_t(1));
+    // ... which then shows what a whole redraw would.
+    QVERIFY(differing(target, render_frame(*moved, all_on(), QSize(400, 300), t)) < 0.001);
     draw(*moved, t * QTransform::fromScale(1.25, 1.25));  // zoom: redraw
+    QCOMPARE(renderer.static_redraws(), std::size_t(2));
+    auto heat = std::make_shared<Snapshot>(*moved);  // a new heat map, shown: redraw
+    heat->heat = std::make_shared<HeatMap>(*moved->heat);
+    draw(*heat, t);
     QCOMPARE(renderer.static_redraws(), std::size_t(3));
   }
 

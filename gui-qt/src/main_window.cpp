@@ -519,7 +519,8 @@ std::vector<DroneConfig> MainWindow::drone_configs() const {
   const auto saved = settings.value("drone_configs").toString().toStdString();
   if (saved.empty()) return all;
   try {
-    for (const auto& [name, v] : json::parse(saved).items()) {
+    const json configs = json::parse(saved);  // named: items() of a temporary would dangle
+    for (const auto& [name, v] : configs.items()) {
       DroneConfig d;
       d.name = name;
       d.camera_range = v.value("camera_range", d.camera_range);

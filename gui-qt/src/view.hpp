@@ -35,12 +35,14 @@ void render_static(QPainter& painter, const Snapshot& snap, const ViewOptions& o
 QImage render_frame(const Snapshot& snap, const ViewOptions& options, QSize size,
                     std::optional<QTransform> world_to_px = std::nullopt);
 
-/// Caches the static layer of the last frame; redraws it only when its inputs change.
+/// Caches the static layer of the last frame; redraws it only when the scene, options, transform, size
+/// or (shown) heat map change. Targets found since are stamped over it.
 class FrameRenderer {
  public:
   /// Draws `snap` into `target` (its whole size) with the cached static layer.
   void draw(QPainter& painter, QSize size, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px);
-  std::size_t static_redraws() const { return static_redraws_; }  ///< for tests and the benchmark
+  std::size_t static_redraws() const { return static_redraws_; }  ///< whole static layers drawn (tests, benchmark)
+  std::size_t found_updates() const { return found_updates_; }    ///< newly found targets stamped over it
 
  private:
   QImage layer_;
@@ -49,7 +51,8 @@ class FrameRenderer {
   std::uint64_t found_version_ = ~0ull;
   ViewOptions options_;
   QTransform transform_;
-  std::size_t static_redraws_ = 0;
+  std::size_t static_redraws_ = 0, found_updates_ = 0;
+  std::vector<std::uint8_t> drawn_found_;  ///< the found flags the layer shows
 };
 
 class SwarmView : public QWidget {
