@@ -61,7 +61,10 @@ int bench_queue(const po::variables_map& vm, const PluginHost& host, const std::
   qo.yes = true;  // a benchmark of a big queue is what the user asked for
   Queue queue = load_queue(file, host, qo);
   if (vm.count("time"))
-    for (auto& t : queue.tests) t.time = vm["time"].as<double>();
+    for (auto& t : queue.tests) {
+      t.time = vm["time"].as<double>();
+      std::erase_if(t.changes, [&](const Change& c) { return c.time > t.time; });  // never reached
+    }
   const int jobs = vm["jobs"].as<int>() > 0 ? vm["jobs"].as<int>() : static_cast<int>(std::thread::hardware_concurrency());
   const bool floor = vm.count("floor");
   Scratch scratch;

@@ -274,7 +274,11 @@ std::vector<TestSpec> load_all(const po::variables_map& vm, const PluginHost& ho
   std::unordered_map<std::string, std::string> tests;    // the test without its name -> where
   for (const auto& f : vm["files"].as<std::vector<std::string>>()) {
     for (auto& t : load_queue(f, host, options).tests) {
-      if (vm.count("time")) t.time = seconds_option(vm, "time", t);
+      if (vm.count("time")) {
+        t.time = seconds_option(vm, "time", t);
+        // Changes past the new end never apply; dropped, config.json stays a valid test.
+        std::erase_if(t.changes, [&](const Change& c) { return c.time > t.time; });
+      }
       if (vm.count("log-interval")) t.log_interval = seconds_option(vm, "log-interval", t);
       if (const auto [it, fresh] = sources.emplace(t.name, t.source); !fresh)
         throw InputError(t.source + ": name: \"" + t.name + "\" is already used by " + it->second);

@@ -11,6 +11,8 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -27,6 +29,9 @@ constexpr const char* usage = R"(usage: salsa-gui [TEST.json] [options]
 options:
   --plugin-dir DIR     also search DIR for plugins (repeatable, searched first)
   --start              start running at once
+  --view LIST          what the view shows, e.g. heat,camera,-trails (camera, obstacle, detection,
+                       targets, trails, heat, obstacles, spawn; a leading - hides)
+  --select ID          inspect drone ID
   --screenshot FILE    save a screenshot of the window (or, under X, of the screen) after --after seconds, then quit
   --after SECONDS      when to take the screenshot (default 3)
   -h, --help           this text
@@ -56,7 +61,8 @@ int main(int argc, char** argv) {
   }
 
   std::vector<std::filesystem::path> plugin_dirs;
-  std::string test, screenshot;
+  std::string test, screenshot, view;
+  std::optional<std::uint32_t> select;
   double after = 3;
   bool start = false, bench = false;
   int frames = 300;
@@ -76,6 +82,16 @@ int main(int argc, char** argv) {
       plugin_dirs.emplace_back(value("a folder"));
     } else if (a == "--start") {
       start = true;
+    } else if (a == "--view") {
+      view = value("a list such as heat,camera");
+    } else if (a == "--select") {
+      const std::string v = value("a drone id");
+      try {
+        select = static_cast<std::uint32_t>(std::stoul(v));
+      } catch (const std::exception&) {
+        std::cerr << "salsa-gui: --select: '" << v << "' is not a drone id (allowed: whole number ≥ 0)\n";
+        return 2;
+      }
     } else if (a == "--screenshot") {
       screenshot = value("a file name");
     } else if (a == "--after") {
@@ -133,6 +149,31 @@ int main(int argc, char** argv) {
   if (!test.empty() && !window.open_test(QString::fromStdString(test)).empty()) {
     if (!screenshot.empty()) return 1;  // scripted: the message was shown; nothing to capture
   }
+  if (!view.empty()) {
+    salsa::gui::ViewOptions o = window.view()->options();
+    std::stringstream items(view);
+    for (std::string item; std::getline(items, item, ',');) {
+      const bool on = item.empty() || item[0] != '-';
+      const std::string name = on ? item : item.substr(1);
+      bool salsa::gui::ViewOptions::*flag = name == "camera"      ? &salsa::gui::ViewOptions::camera_range
+                                           : name == "obstacle"    ? &salsa::gui::ViewOptions::obstacle_range
+                                           : name == "detection"   ? &salsa::gui::ViewOptions::detection_range
+                                           : name == "targets"     ? &salsa::gui::ViewOptions::targets
+                                           : name == "trails"      ? &salsa::gui::ViewOptions::trails
+                                           : name == "heat"        ? &salsa::gui::ViewOptions::heat_map
+                                           : name == "obstacles"   ? &salsa::gui::ViewOptions::obstacles
+                                           : name == "spawn"       ? &salsa::gui::ViewOptions::spawn
+                                                                   : nullptr;
+      if (!flag) {
+        std::cerr << "salsa-gui: --view: unknown item '" << name
+                  << "' (allowed: camera, obstacle, detection, targets, trails, heat, obstacles, spawn)\n";
+        return 2;
+      }
+      o.*flag = on;
+    }
+    window.set_view_options(o);
+  }
+  if (select) window.engine().select(select);
   if (start) window.start();
   if (!screenshot.empty()) {
     QTimer::singleShot(static_cast<int>(after * 1000), &window, [&] {

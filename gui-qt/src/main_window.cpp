@@ -18,6 +18,7 @@
 #include <QPlainTextEdit>
 #include <QPushButton>
 #include <QScrollArea>
+#include <QSignalBlocker>
 #include <QSettings>
 #include <QSpinBox>
 #include <QStatusBar>
@@ -175,7 +176,7 @@ void MainWindow::build_controls() {
   speed->addWidget(pacing_, 1);
   speed->addWidget(pacing_amount_);
   run_layout->addLayout(speed);
-  column->addWidget(run);
+  column->insertWidget(0, run);  // first: the buttons used most stay in sight
   column->addStretch();
 
   auto* scroll = new QScrollArea;
@@ -307,6 +308,7 @@ void MainWindow::build_menus() {
       o.*flag = on;
       view_->set_options(o);
     });
+    view_toggles_.emplace_back(a, t.flag);
   }
 
   QMenu* help = menuBar()->addMenu("&Help");
@@ -317,6 +319,14 @@ void MainWindow::build_menus() {
                                "plugins; this is its sandbox. Headless: <tt>salsa run</tt> or <tt>salsa-gui --headless</tt>.")
                            .arg(salsa_version()));
   });
+}
+
+void MainWindow::set_view_options(const ViewOptions& options) {
+  for (auto& [action, flag] : view_toggles_) {
+    const QSignalBlocker quiet(action);
+    action->setChecked(options.*flag);
+  }
+  view_->set_options(options);
 }
 
 void MainWindow::show_shortcuts() {

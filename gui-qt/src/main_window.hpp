@@ -45,6 +45,8 @@ class MainWindow : public QMainWindow {
   void toggle_run();
   void step();
   void reset();
+  /// What the view shows (the View menu's toggles follow).
+  void set_view_options(const ViewOptions& options);
 
   // ---- For tests ----
   Engine& engine() { return engine_; }
@@ -110,6 +112,7 @@ class MainWindow : public QMainWindow {
   QLabel* status_found_ = nullptr;
   QLabel* status_inexact_ = nullptr;
   QAction* record_action_ = nullptr;
+  std::vector<std::pair<QAction*, bool ViewOptions::*>> view_toggles_;
 
   std::optional<TestSpec> loaded_;  ///< the start state running now
   TestSpec file_base_;              ///< what an opened test file set that the controls do not show
