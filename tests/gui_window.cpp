@@ -102,6 +102,22 @@ class GuiWindow : public QObject {
     QCOMPARE(window_->engine().current_test()->drone.max_speed, 10.0);
   }
 
+  void clicking_a_drone_shows_its_state() {
+    for (int i = 0; i < 30; ++i) window_->step();
+    settle();
+    QTRY_VERIFY_WITH_TIMEOUT(window_->engine().snapshot()->step == 30, 5000);
+    window_->view()->show_snapshot(window_->engine().snapshot());
+    const auto snap = window_->engine().snapshot();
+    const QPoint at = window_->view()->world_to_px().map(QPointF(snap->positions[7].x, snap->positions[7].y)).toPoint();
+    QTest::mouseClick(window_->view(), Qt::LeftButton, {}, at);
+    window_->engine().sync();
+    QTRY_VERIFY_WITH_TIMEOUT(window_->engine().snapshot()->selected.has_value(), 5000);
+    const std::uint32_t id = window_->engine().snapshot()->selected->id;
+    QVERIFY2(distance(snap->positions[id], snap->positions[7]) < 3, "the clicked drone, or one on top of it");
+    QTRY_VERIFY_WITH_TIMEOUT(window_->inspector_text().startsWith(QString("drone %1\nposition (").arg(id)), 5000);
+    QVERIFY(window_->inspector_text().contains("neighbours ("));
+  }
+
   void bad_files_keep_the_state() {
     for (int i = 0; i < 10; ++i) window_->step();
     settle();

@@ -16,8 +16,13 @@ constexpr std::string_view params_prefix = "behavior.params.";
 constexpr std::string_view drone_prefix = "drone.";
 constexpr double max_drones = 1'000'000;  // as "drones" in a test file
 
-/// The drone configuration's numeric fields a change may set (obstacle_rays is handled apart: an int).
-double* drone_field(DroneConfig& d, std::string_view name) {
+std::string whole_in(double lo, double hi) {
+  return "whole number in [" + Parameter::format(lo) + ", " + Parameter::format(hi) + "]";
+}
+
+}  // namespace
+
+double* drone_property(DroneConfig& d, std::string_view name) {
   if (name == "camera_range") return &d.camera_range;
   if (name == "obstacle_range") return &d.obstacle_range;
   if (name == "detection_range") return &d.detection_range;
@@ -27,12 +32,6 @@ double* drone_field(DroneConfig& d, std::string_view name) {
   if (name == "mass") return &d.mass;
   return nullptr;
 }
-
-std::string whole_in(double lo, double hi) {
-  return "whole number in [" + Parameter::format(lo) + ", " + Parameter::format(hi) + "]";
-}
-
-}  // namespace
 
 std::uint64_t change_step(double time, double dt) { return static_cast<std::uint64_t>(std::llround(time / dt)); }
 
@@ -63,7 +62,7 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
       if (!(c.value >= 0 && c.value <= 64) || c.value != std::floor(c.value))
         return value + " is out of range (allowed: " + whole_in(0, 64) + ")";
       d.obstacle_rays = static_cast<int>(c.value);
-    } else if (double* field = drone_field(d, name)) {
+    } else if (double* field = drone_property(d, name)) {
       *field = c.value;
     } else {
       return "unknown drone property (allowed: camera_range, obstacle_range, detection_range, max_speed, max_force, "
@@ -80,7 +79,7 @@ void apply_to_test(TestSpec& test, const Change& c) {
   if (key.starts_with(params_prefix)) test.behavior.params.set(key.substr(params_prefix.size()), c.value);
   else if (key == "drones") test.drones = static_cast<std::size_t>(c.value);
   else if (key == "drone.obstacle_rays") test.drone.obstacle_rays = static_cast<int>(c.value);
-  else if (key.starts_with(drone_prefix)) *drone_field(test.drone, key.substr(drone_prefix.size())) = c.value;
+  else if (key.starts_with(drone_prefix)) *drone_property(test.drone, key.substr(drone_prefix.size())) = c.value;
 }
 
 void apply_change(Simulation& sim, TestSpec& test, const Change& c, const PluginHost& host) {

@@ -51,15 +51,7 @@ json drone_json(const DroneConfig& d) {
           {"radius", d.radius},       {"mass", d.mass},                 {"obstacle_rays", d.obstacle_rays}};
 }
 
-double drone_value(const DroneConfig& d, const std::string& name) {
-  if (name == "camera_range") return d.camera_range;
-  if (name == "obstacle_range") return d.obstacle_range;
-  if (name == "detection_range") return d.detection_range;
-  if (name == "max_speed") return d.max_speed;
-  if (name == "max_force") return d.max_force;
-  if (name == "radius") return d.radius;
-  return d.mass;
-}
+double drone_value(const DroneConfig& d, const std::string& name) { return *drone_property(d, name); }
 
 // The sandbox's first scene: a small forest, enough drones and trees to see the behavior work.
 constexpr const char* first_test = R"({"name": "sandbox", "behavior": "pheromone_avoidance", "drones": 20,
@@ -359,16 +351,7 @@ std::optional<TestSpec> MainWindow::spec_from_controls(std::string* why) {
   j["behavior"] = {{"name", behavior_->currentText().toStdString()}, {"params", params_json(behavior_panel_)}};
   DroneConfig d = loaded_ ? loaded_->drone : file_base_.drone;
   d.name = drone_config_->currentText().toStdString();
-  for (const Parameter& p : drone_panel_->schema()) {
-    const double v = drone_panel_->value(p.name);
-    if (p.name == "camera_range") d.camera_range = v;
-    else if (p.name == "obstacle_range") d.obstacle_range = v;
-    else if (p.name == "detection_range") d.detection_range = v;
-    else if (p.name == "max_speed") d.max_speed = v;
-    else if (p.name == "max_force") d.max_force = v;
-    else if (p.name == "radius") d.radius = v;
-    else if (p.name == "mass") d.mass = v;
-  }
+  for (const Parameter& p : drone_panel_->schema()) *drone_property(d, p.name) = drone_panel_->value(p.name);
   j["drone"] = drone_json(d);
   j["drones"] = drones_->value();
   if (!map_file_.isEmpty()) j["map"] = {{"file", map_file_.toStdString()}};
@@ -533,13 +516,7 @@ std::vector<DroneConfig> MainWindow::drone_configs() const {
     for (const auto& [name, v] : configs.items()) {
       DroneConfig d;
       d.name = name;
-      d.camera_range = v.value("camera_range", d.camera_range);
-      d.obstacle_range = v.value("obstacle_range", d.obstacle_range);
-      d.detection_range = v.value("detection_range", d.detection_range);
-      d.max_speed = v.value("max_speed", d.max_speed);
-      d.max_force = v.value("max_force", d.max_force);
-      d.radius = v.value("radius", d.radius);
-      d.mass = v.value("mass", d.mass);
+      for (const Parameter& p : drone_schema()) *drone_property(d, p.name) = v.value(p.name, *drone_property(d, p.name));
       d.obstacle_rays = v.value("obstacle_rays", d.obstacle_rays);
       all.push_back(d);
     }
@@ -665,6 +642,8 @@ void MainWindow::toggle_recording() {
 }
 
 // ---------------------------------------------------------------- showing
+
+QString MainWindow::inspector_text() const { return inspector_->toPlainText(); }
 
 void MainWindow::poll() {
   for (std::size_t i = 0; i < pending_.size();) {

@@ -57,6 +57,7 @@ class MainWindow : public QMainWindow {
   QComboBox* behavior_box() const { return behavior_; }
   LiveCharts* charts() const { return charts_; }
   const QString& last_message() const { return last_message_; }
+  QString inspector_text() const;
   /// Applies every answer the engine has given so far (the timer does this 60 times a second).
   void poll();
 

@@ -6,7 +6,10 @@
 // "drones": 20}}, ...]
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
+
+#include "salsa/core/drone_config.hpp"
 
 namespace salsa {
 
@@ -24,6 +27,13 @@ struct Change {
   double value = 0;
   bool operator==(const Change&) const = default;
 };
+
+/// A drone configuration's numeric property by name (camera_range, obstacle_range, detection_range,
+/// max_speed, max_force, radius, mass), or nullptr; obstacle_rays is an int and not among them.
+double* drone_property(DroneConfig& drone, std::string_view name);
+inline const double* drone_property(const DroneConfig& drone, std::string_view name) {
+  return drone_property(const_cast<DroneConfig&>(drone), name);
+}
 
 /// The step before which a change at `time` s is applied: llround(time / dt).
 std::uint64_t change_step(double time, double dt);
