@@ -3,6 +3,8 @@
 #include "common.hpp"
 
 #include <QDir>
+#include <QFileInfo>
+#include <QStandardPaths>
 #include <QPainter>
 #include <QSignalSpy>
 #include <QTemporaryDir>
@@ -176,6 +178,16 @@ class GuiView : public QObject {
     QCOMPARE(engine.step_once().get(), std::string());
     for (int i = 0; i < 30; ++i) QCOMPARE(engine.step_once().get(), std::string());
     QCOMPARE(QDir(dir.path() + "/frames").entryList({"frame_*.png"}, QDir::Files).size(), 8);
+    // The MP4: made by ffmpeg when it is installed; else the message says how to get it.
+    QString why;
+    const QString video = recorder.make_video(&why);
+    if (QStandardPaths::findExecutable("ffmpeg").isEmpty()) {
+      QVERIFY(video.isEmpty());
+      QVERIFY2(why.contains("apt install ffmpeg") && why.contains(dir.path() + "/frames"), qPrintable(why));
+    } else {
+      QVERIFY2(!video.isEmpty(), qPrintable(why));
+      QVERIFY(QFileInfo(video).size() > 1000);
+    }
   }
 };
 
