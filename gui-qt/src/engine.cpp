@@ -29,7 +29,7 @@ std::string format_time(double t) {
 }  // namespace
 
 struct Engine::Worker {
-  explicit Worker(const PluginHost& h) : host(h) {
+  explicit Worker(std::shared_ptr<const PluginHost> h) : host(std::move(h)) {
     publish_empty();
     thread = std::thread([this] { loop(); });
   }
@@ -38,7 +38,7 @@ struct Engine::Worker {
     thread.join();
   }
 
-  const PluginHost& host;
+  std::shared_ptr<const PluginHost> host;  // swapped by use_plugins; objects made from an old one keep its libraries
   std::thread thread;
 
   // Commands, run on the worker between steps.
@@ -62,6 +62,7 @@ struct Engine::Worker {
   std::string error;
   Pacing pacing;
   bool inexact_used = false;
+  std::optional<double> reloaded_at;  // the behavior's code was swapped then: no test replays two versions
   std::optional<std::uint32_t> selected;
   // Real-time pacing: the wall time and simulated time it counts from.
   Clock::time_point anchor_wall;
@@ -174,7 +175,7 @@ struct Engine::Worker {
     try {
       sim->step();
     } catch (const std::exception& e) {
-      const auto& entry = host.behavior(current.behavior.name);
+      const auto& entry = host->behavior(current.behavior.name);
       error = "behavior '" + current.behavior.name + "' (" + entry.plugin().file.string() + ") failed at t = " +
               format_time(sim->time()) + " s: " + e.what();
       state = RunState::failed;
@@ -327,15 +328,15 @@ struct Engine::Worker {
     std::unique_ptr<MetricSet> next_coverage;
     try {
       const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-      next = std::make_unique<Simulation>(make_setup(test, host, static_cast<int>(std::max(1u, cores - 1))));
+      next = std::make_unique<Simulation>(make_setup(test, *host, static_cast<int>(std::max(1u, cores - 1))));
     } catch (const std::exception& e) {
       return e.what();
     }
-    const auto& metrics = host.metrics();
+    const auto& metrics = host->metrics();
     if (std::any_of(metrics.begin(), metrics.end(), [](const auto& e) { return e.factory.name == "area_coverage"; })) {
       try {
         next_coverage = std::make_unique<MetricSet>(
-            std::vector<PluginChoice>{{"area_coverage", ParameterValues(host.metric("area_coverage").factory.parameters)}}, host);
+            std::vector<PluginChoice>{{"area_coverage", ParameterValues(host->metric("area_coverage").factory.parameters)}}, *host);
         next_coverage->start(*next);
       } catch (const std::exception&) {
         next_coverage.reset();  // no coverage line; the sandbox still runs
@@ -351,6 +352,7 @@ struct Engine::Worker {
     state = RunState::paused;
     error.clear();
     inexact_used = false;
+    reloaded_at.reset();
     pacing.dt_factor = 1;
     selected.reset();
     auto s = std::make_shared<Scene>();
@@ -387,7 +389,7 @@ struct Engine::Worker {
     if (state == RunState::failed) return "the run stopped: " + error + " (reset to go on)";
     const Change change{sim->time(), key, value};
     try {
-      apply_change(*sim, current, change, host);
+      apply_change(*sim, current, change, *host);
     } catch (const std::exception& e) {
       return e.what();
     }
@@ -399,6 +401,35 @@ struct Engine::Worker {
     return {};
   }
 
+  /// Plugins from a rescan. `reload`: the running behavior's file was rebuilt, so the simulation goes on
+  /// with the new code: same parameter values (those the new version still declares, in its ranges),
+  /// positions and velocities kept, per-drone memory fresh. If the new code refuses, the old keeps running.
+  std::string use_plugins(std::shared_ptr<const PluginHost> next, bool reload) {
+    if (reload && sim) {
+      try {
+        const auto& entry = next->behavior(current.behavior.name);
+        ParameterValues values(entry.factory.parameters);
+        for (const auto& p : entry.factory.parameters)
+          if (current.behavior.params.has(p.name)) {
+            const double v = current.behavior.params.get(p.name);
+            if (v >= p.min && v <= p.max) values.set(p.name, v);
+          }
+        sim->set_behavior(PluginHost::create(entry, values));
+        current.behavior.params = values;
+        ParameterValues start_values(entry.factory.parameters);
+        for (const auto& [name, v] : start_values.items())
+          if (start.behavior.params.has(name)) start_values.set(name, start.behavior.params.get(name));
+        start.behavior.params = start_values;
+        reloaded_at = sim->time();
+        if (state == RunState::failed) state = RunState::paused, error.clear();
+      } catch (const std::exception& e) {
+        return std::string("the old code keeps running: ") + e.what();
+      }
+    }
+    host = std::move(next);
+    return {};
+  }
+
   void start_running() {
     if (!sim || state == RunState::failed) return;
     state = RunState::running;
@@ -407,7 +438,8 @@ struct Engine::Worker {
   }
 };
 
-Engine::Engine(const PluginHost& host) : worker_(std::make_unique<Worker>(host)) {}
+Engine::Engine(std::shared_ptr<const PluginHost> host) : worker_(std::make_unique<Worker>(std::move(host))) {}
+Engine::Engine(const PluginHost& host) : Engine(std::shared_ptr<const PluginHost>(&host, [](const PluginHost*) {})) {}
 Engine::~Engine() = default;
 
 std::future<std::string> Engine::load(TestSpec test) {
@@ -485,6 +517,9 @@ std::optional<TestSpec> Engine::as_test(std::string* why) const {
         if (!w->sim) return {std::nullopt, "no test loaded"};
         if (w->inexact_used)
           return {std::nullopt, "this run used the larger time step (inexact), so no test can replay it; reset and run at the test's own step to save it"};
+        if (w->reloaded_at)
+          return {std::nullopt, "the behavior's code was reloaded at t = " + format_time(*w->reloaded_at) +
+                                    " s, and a test replays one version of it; reset, then run and save"};
         TestSpec t = w->start;
         t.changes = w->changes;
         t.time = std::max(w->sim->time(), t.dt);
@@ -494,6 +529,16 @@ std::optional<TestSpec> Engine::as_test(std::string* why) const {
   auto [test, reason] = answer.get();
   if (why) *why = reason;
   return test;
+}
+
+std::future<std::string> Engine::use_plugins(std::shared_ptr<const PluginHost> host, bool reload_behavior) {
+  return worker_->ask<std::string>([w = worker_.get(), host = std::move(host), reload_behavior]() mutable {
+    return w->use_plugins(std::move(host), reload_behavior);
+  });
+}
+
+std::string Engine::behavior_name() const {
+  return worker_->ask<std::string>([w = worker_.get()] { return w->sim ? w->current.behavior.name : std::string(); }).get();
 }
 
 std::vector<Change> Engine::timeline() const {

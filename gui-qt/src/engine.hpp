@@ -93,7 +93,8 @@ struct Pacing {
 
 class Engine {
  public:
-  explicit Engine(const PluginHost& host);
+  explicit Engine(std::shared_ptr<const PluginHost> host);
+  explicit Engine(const PluginHost& host);  ///< not owned: it outlives the engine
   ~Engine();  ///< stops the worker
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
@@ -113,6 +114,14 @@ class Engine {
   /// Fails (returns the reason) when dt_factor makes the step too long for the physics (check_drone).
   std::future<std::string> set_pacing(Pacing pacing);
   void select(std::optional<std::uint32_t> drone);
+  /// The plugins of a rescan, used from now on (resets, loads). `reload_behavior`: the running
+  /// behavior's file was rebuilt: the simulation switches to the new code where it is (positions and
+  /// velocities kept, parameter values kept where the new code still declares them, per-drone memory
+  /// fresh). Refused (the old code keeps running) when the new code has no such behavior or refuses the
+  /// values. After a reload, as_test is refused until the next reset.
+  std::future<std::string> use_plugins(std::shared_ptr<const PluginHost> host, bool reload_behavior);
+  /// The running behavior's name ("" before a load).
+  std::string behavior_name() const;
   /// Trail samples kept per drone (0: none) and taken every `every` steps.
   void set_trails(std::size_t length, std::size_t every);
 

@@ -132,7 +132,8 @@ int main(int argc, char** argv) {
   QApplication app(argc, argv);
   QApplication::setOrganizationName("salsa");
   QApplication::setApplicationName("salsa-gui");
-  salsa::PluginHost host;
+  auto shared_host = std::make_shared<salsa::PluginHost>();
+  salsa::PluginHost& host = *shared_host;
   host.load(salsa::PluginHost::default_search_path(plugin_dirs));
   for (const auto& f : host.failures()) std::cerr << "salsa-gui: " << f.file.string() << " skipped: " << f.reason << "\n";
   if (host.behaviors().empty()) {
@@ -143,7 +144,7 @@ int main(int argc, char** argv) {
   }
   if (bench) return salsa::gui::bench_render(host, std::cout, frames);
 
-  salsa::gui::MainWindow window(host);
+  salsa::gui::MainWindow window(shared_host, plugin_dirs);
   window.resize(1600, 1000);
   window.show();
   if (!test.empty() && !window.open_test(QString::fromStdString(test)).empty()) {

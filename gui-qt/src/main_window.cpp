@@ -21,12 +21,21 @@
 #include <QSignalBlocker>
 #include <QSettings>
 #include <QSpinBox>
+#include <QStackedWidget>
 #include <QStatusBar>
+#include <QToolBar>
+#include <QActionGroup>
 #include <QVBoxLayout>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "live_charts.hpp"
+#if __has_include("map_editor.hpp")
+#include "map_editor.hpp"
+#define SALSA_HAS_MAP_EDITOR 1
+#endif
+#include "plugins.hpp"
+#include "queue_page.hpp"
 #include "param_panel.hpp"
 #include "recorder.hpp"
 #include "salsa/core/names.hpp"
@@ -63,22 +72,126 @@ const char* const shortcuts[][2] = {
     {"+ / −, wheel", "zoom"},         {"0, F", "fit the map"},          {"drag", "pan"},
     {"click a drone", "inspect it"},  {"Ctrl+O", "open a test"},        {"Ctrl+M", "open a map"},
     {"Ctrl+S", "save as test"},       {"Ctrl+P", "screenshot"},         {"Ctrl+R", "start / stop recording"},
+    {"Ctrl+1 / 2 / 3", "sandbox / queue / map creator"}, {"F5", "rescan plugin folders"},
     {"Ctrl+Q", "quit"},
 };
 
 }  // namespace
 
-MainWindow::MainWindow(const PluginHost& host, QWidget* parent) : QMainWindow(parent), host_(host), engine_(host) {
+MainWindow::MainWindow(std::shared_ptr<const PluginHost> host, std::vector<std::filesystem::path> plugin_dirs, QWidget* parent)
+    : QMainWindow(parent), host_(host), engine_(host), editor_host_(host) {
   setWindowTitle("salsa — sandbox");
+  plugins_ = new PluginManager(plugin_dirs, host_, this);
+  connect(plugins_, &PluginManager::plugins_changed, this,
+          [this](std::shared_ptr<const PluginHost> h, const QStringList& rebuilt) { use_plugins(std::move(h), rebuilt); });
+  // In the status bar, not a dialog: a build still writing the file causes these, and the next write retries.
+  connect(plugins_, &PluginManager::reload_failed, this, [this](const QString& why) { show_message(why, false); });
   view_ = new SwarmView;
-  setCentralWidget(view_);
   connect(view_, &SwarmView::drone_clicked, this, [this](std::optional<std::uint32_t> id) { engine_.select(id); });
+  queue_ = new QueuePage(host_, plugin_dirs);
+  queue_->set_sandbox([this](std::string* why) -> std::optional<TestSpec> {
+    auto t = engine_.current_test();
+    if (!t && why) *why = "no test loaded in the sandbox";
+    return t;
+  });
+  queue_->set_load_into_sandbox([this](const TestSpec& t) { open_test_spec(t); });
+#ifdef SALSA_HAS_MAP_EDITOR
+  map_editor_ = new MapEditor(*editor_host_);
+  connect(map_editor_, &MapEditor::map_saved, this, [this](const QString& file) {
+    show_message("saved " + file + ": Open map in the sandbox, or a test's \"map\": {\"file\": ...}, uses it", false);
+  });
+#endif
+  pages_ = new QStackedWidget;
+  pages_->addWidget(view_);
+  pages_->addWidget(queue_);
+#ifdef SALSA_HAS_MAP_EDITOR
+  pages_->addWidget(map_editor_);
+#else
+  pages_->addWidget(new QLabel("map creator: not yet"));
+#endif
+  setCentralWidget(pages_);
   build_controls();
   build_menus();
   restore_settings();
   connect(&timer_, &QTimer::timeout, this, &MainWindow::refresh);
   timer_.start(16);
   fps_since_ = slow_refresh_ = Clock::now();
+}
+
+MainWindow::MainWindow(const PluginHost& host, QWidget* parent)
+    : MainWindow(std::shared_ptr<const PluginHost>(&host, [](const PluginHost*) {}), {}, parent) {}
+
+void MainWindow::set_mode(Mode m) {
+  if (m == mode_) return;
+  // The sandbox's docks go with it (the simulation keeps its state, running or paused).
+  if (mode_ == Mode::sandbox)
+    for (auto& [dock, shown] : docks_) shown = dock->isVisible(), dock->hide();
+  mode_ = m;
+  pages_->setCurrentIndex(static_cast<int>(m));
+  if (m == Mode::sandbox)
+    for (auto& [dock, shown] : docks_) dock->setVisible(shown);
+  for (QAction* a : sandbox_actions_) a->setEnabled(m == Mode::sandbox);
+  mode_actions_[static_cast<std::size_t>(m)]->setChecked(true);
+  static const char* const titles[] = {"salsa — sandbox", "salsa — queue", "salsa — map creator"};
+  setWindowTitle(titles[static_cast<int>(m)]);
+}
+
+std::string MainWindow::open_test_spec(const TestSpec& test) {
+  const TestSpec previous = file_base_;
+  file_base_ = test;
+  file_base_.changes.clear();
+  if (const std::string why = load(file_base_); !why.empty()) {
+    file_base_ = previous;
+    return why;
+  }
+  set_mode(Mode::sandbox);
+  if (!test.changes.empty())
+    show_message(QString("'%1': its %2 timed changes are not replayed in the sandbox (salsa run replays them)").arg(q(test.name)).arg(test.changes.size()), false);
+  return {};
+}
+
+void MainWindow::fill_plugin_lists() {
+  const bool was = updating_;
+  updating_ = true;
+  auto refill = [](QComboBox* box, const QStringList& names) {
+    const QString keep = box->currentText();
+    box->clear();
+    box->addItems(names);
+    if (box->findText(keep) < 0 && !keep.isEmpty()) box->addItem(keep);  // still running, though gone from the folders
+    box->setCurrentText(keep);
+  };
+  QStringList behaviors, maps, kinds;
+  for (const auto& e : host_->behaviors()) behaviors << q(e.factory.name);
+  for (const auto& e : host_->maps())
+    if (e.factory.name != "json") maps << q(e.factory.name);
+  for (const auto& e : host_->target_kinds()) kinds << q(e.factory.name);
+  refill(behavior_, behaviors);
+  refill(map_, maps);
+  refill(target_kind_, kinds);
+  updating_ = was;
+}
+
+void MainWindow::use_plugins(std::shared_ptr<const PluginHost> host, const QStringList& rebuilt) {
+  host_ = std::move(host);
+  queue_->set_host(host_);
+  fill_plugin_lists();
+  const std::string running = engine_.behavior_name();
+  std::string file;
+  bool reload = false;
+  if (!running.empty() && host_->behaviors().end() != std::find_if(host_->behaviors().begin(), host_->behaviors().end(),
+                                                                    [&](const auto& e) { return e.factory.name == running; })) {
+    file = host_->behavior(running).plugin().file.string();
+    reload = rebuilt.contains(q(file));
+  }
+  pending_.push_back({engine_.use_plugins(host_, reload), [this, reload, running, file](const std::string& why) {
+                        if (!why.empty()) return show_message(q("behavior '" + running + "' (" + file + ") was not reloaded: " + why));
+                        if (!reload) return show_message(QString("plugins rescanned: %1 files").arg(host_->plugins().size()), false);
+                        if (auto t = engine_.current_test()) {
+                          loaded_ = *t;
+                          show_test(*t);  // the new code's parameters
+                        }
+                        show_message(q("reloaded behavior '" + running + "' from " + file + ": the simulation goes on with the new code"), false);
+                      }});
 }
 
 MainWindow::~MainWindow() {
@@ -94,11 +207,11 @@ void MainWindow::build_controls() {
   auto* setup = new QGroupBox("Test (changing these starts over)");
   auto* form = new QFormLayout(setup);
   behavior_ = new QComboBox;
-  for (const auto& e : host_.behaviors()) behavior_->addItem(q(e.factory.name));
+  for (const auto& e : host_->behaviors()) behavior_->addItem(q(e.factory.name));
   behavior_->setToolTip("the behavior every drone runs");
   form->addRow("behavior", behavior_);
   map_ = new QComboBox;
-  for (const auto& e : host_.maps())
+  for (const auto& e : host_->maps())
     if (e.factory.name != "json") map_->addItem(q(e.factory.name));
   form->addRow("map", map_);
   map_panel_ = new ParamPanel;
@@ -112,7 +225,7 @@ void MainWindow::build_controls() {
   file_row->addWidget(open_map_button);
   form->addRow(file_row);
   target_kind_ = new QComboBox;
-  for (const auto& e : host_.target_kinds()) target_kind_->addItem(q(e.factory.name));
+  for (const auto& e : host_->target_kinds()) target_kind_->addItem(q(e.factory.name));
   form->addRow("target kind", target_kind_);
   targets_ = new QSpinBox;
   targets_->setRange(0, 10'000'000);
@@ -195,6 +308,7 @@ void MainWindow::build_controls() {
   inspect->setObjectName("inspector_dock");
   inspect->setWidget(inspector_);
   addDockWidget(Qt::RightDockWidgetArea, inspect);
+  for (QDockWidget* d : {left, plots, inspect}) docks_.emplace_back(d, true);
 
   status_time_ = new QLabel;
   status_speed_ = new QLabel;
@@ -212,14 +326,14 @@ void MainWindow::build_controls() {
   // Another behavior or map starts from its own declared defaults.
   connect(behavior_, &QComboBox::currentTextChanged, this, [this](const QString& name) {
     if (updating_) return;
-    const auto& e = host_.behavior(name.toStdString());
+    const auto& e = host_->behavior(name.toStdString());
     behavior_panel_->set_schema(e.factory.parameters, ParameterValues(e.factory.parameters));
     reload_from_controls();
   });
   connect(map_, &QComboBox::currentTextChanged, this, [this](const QString& name) {
     if (updating_) return;
     map_file_.clear();
-    const auto& e = host_.map(name.toStdString());
+    const auto& e = host_->map(name.toStdString());
     map_panel_->set_schema(e.factory.parameters, ParameterValues(e.factory.parameters));
     reload_from_controls();
   });
@@ -273,15 +387,16 @@ void MainWindow::build_menus() {
   file->addAction("&Quit", QKeySequence::Quit, this, &QWidget::close);
 
   QMenu* run = menuBar()->addMenu("&Run");
-  run->addAction("Start / pause", QKeySequence(Qt::Key_Space), this, &MainWindow::toggle_run);
+  sandbox_actions_.push_back(run->addAction("Start / pause", QKeySequence(Qt::Key_Space), this, &MainWindow::toggle_run));
   QAction* step_action = run->addAction("Step", this, &MainWindow::step);
   step_action->setShortcuts({QKeySequence(Qt::Key_Right), QKeySequence(Qt::Key_S)});
-  run->addAction("Reset", QKeySequence(Qt::Key_R), this, &MainWindow::reset);
+  sandbox_actions_.push_back(step_action);
+  sandbox_actions_.push_back(run->addAction("Reset", QKeySequence(Qt::Key_R), this, &MainWindow::reset));
 
   QMenu* view = menuBar()->addMenu("&View");
-  view->addAction("Fit map", QKeySequence(Qt::Key_F), view_, &SwarmView::fit);
-  view->addAction("Zoom in", QKeySequence(Qt::Key_Plus), this, [this] { view_->zoom(1.25); });
-  view->addAction("Zoom out", QKeySequence(Qt::Key_Minus), this, [this] { view_->zoom(0.8); });
+  sandbox_actions_.push_back(view->addAction("Fit map", QKeySequence(Qt::Key_F), view_, &SwarmView::fit));
+  sandbox_actions_.push_back(view->addAction("Zoom in", QKeySequence(Qt::Key_Plus), this, [this] { view_->zoom(1.25); }));
+  sandbox_actions_.push_back(view->addAction("Zoom out", QKeySequence(Qt::Key_Minus), this, [this] { view_->zoom(0.8); }));
   view->addSeparator();
   struct Toggle {
     const char* text;
@@ -302,6 +417,34 @@ void MainWindow::build_menus() {
     });
     view_toggles_.emplace_back(a, t.flag);
   }
+
+  // Modes: a tool bar of three, Ctrl+1/2/3; each keeps its state while the others are shown.
+  QToolBar* modes = addToolBar("Mode");
+  modes->setObjectName("mode_toolbar");
+  modes->setMovable(false);
+  auto* group = new QActionGroup(this);
+  const std::pair<const char*, Mode> mode_list[] = {{"Sandbox", Mode::sandbox}, {"Queue", Mode::queue}, {"Map creator", Mode::map_creator}};
+  for (const auto& [text, m] : mode_list) {
+    QAction* a = modes->addAction(text, this, [this, m = m] { set_mode(m); });
+    a->setCheckable(true);
+    a->setShortcut(QKeySequence(Qt::CTRL | static_cast<Qt::Key>(Qt::Key_1 + static_cast<int>(m))));
+    a->setToolTip(QString("%1 (%2)").arg(text, a->shortcut().toString()));
+    group->addAction(a);
+    mode_actions_.push_back(a);
+  }
+  mode_actions_.front()->setChecked(true);
+
+  QMenu* plugins = menuBar()->addMenu("&Plugins");
+  plugins->addAction("&Plugins…", this, [this] {
+    auto* d = new PluginsDialog(*plugins_, this);
+    d->setAttribute(Qt::WA_DeleteOnClose);
+    d->show();
+  });
+  plugins->addAction("&Rescan plugin folders", QKeySequence(Qt::Key_F5), plugins_, &PluginManager::rescan);
+  QAction* auto_reload = plugins->addAction("Reload rebuilt plugins &automatically");
+  auto_reload->setCheckable(true);
+  auto_reload->setChecked(plugins_->watching());
+  connect(auto_reload, &QAction::toggled, plugins_, &PluginManager::set_watching);
 
   QMenu* help = menuBar()->addMenu("&Help");
   help->addAction("&Keyboard shortcuts", QKeySequence::HelpContents, this, &MainWindow::show_shortcuts);
@@ -345,7 +488,7 @@ void MainWindow::show_message(const QString& text, bool error) {
 std::optional<TestSpec> MainWindow::spec_from_controls(std::string* why) {
   // What the controls do not show (dt, log interval, spawn, metrics, ...) comes from the test opened
   // last; the rest from the controls. Parsed like a test file, so the CLI's checks and messages apply.
-  json j = json::parse(resolved_json(file_base_, host_));
+  json j = json::parse(resolved_json(file_base_, *host_));
   j.erase("versions");
   j.erase("changes");
   j["behavior"] = {{"name", behavior_->currentText().toStdString()}, {"params", params_json(behavior_panel_)}};
@@ -358,10 +501,10 @@ std::optional<TestSpec> MainWindow::spec_from_controls(std::string* why) {
   else j["map"] = {{"name", map_->currentText().toStdString()}, {"params", params_json(map_panel_)}};
   const bool same_kind = target_kind_->currentText().toStdString() == file_base_.target.name;
   j["targets"] = {{"kind", target_kind_->currentText().toStdString()}, {"count", targets_->value()}};
-  if (same_kind) j["targets"]["params"] = json::parse(resolved_json(file_base_, host_))["targets"]["params"];
+  if (same_kind) j["targets"]["params"] = json::parse(resolved_json(file_base_, *host_))["targets"]["params"];
   j["seed"] = seed_->value();
   try {
-    return parse_test(j.dump(), "sandbox", host_);
+    return parse_test(j.dump(), "sandbox", *host_);
   } catch (const std::exception& e) {
     if (why) *why = e.what();
     return std::nullopt;
@@ -396,7 +539,7 @@ void MainWindow::show_test(const TestSpec& t) {
   const bool was = updating_;
   updating_ = true;
   behavior_->setCurrentText(q(t.behavior.name));
-  behavior_panel_->set_schema(host_.behavior(t.behavior.name).factory.parameters, t.behavior.params);
+  behavior_panel_->set_schema(host_->behavior(t.behavior.name).factory.parameters, t.behavior.params);
   if (t.map.name == "json") {
     map_file_ = q(t.map_file);
     map_file_label_->setText(QFileInfo(map_file_).fileName());
@@ -406,7 +549,7 @@ void MainWindow::show_test(const TestSpec& t) {
     map_file_.clear();
     map_file_label_->setText("(generated)");
     map_->setCurrentText(q(t.map.name));
-    map_panel_->set_schema(host_.map(t.map.name).factory.parameters, t.map.params);
+    map_panel_->set_schema(host_->map(t.map.name).factory.parameters, t.map.params);
   }
   target_kind_->setCurrentText(q(t.target.name));
   targets_->setValue(static_cast<int>(t.targets));
@@ -423,7 +566,7 @@ void MainWindow::show_test(const TestSpec& t) {
 std::string MainWindow::open_test(const QString& file) {
   std::vector<TestSpec> tests;
   try {
-    tests = load_tests(file.toStdString(), host_);
+    tests = load_tests(file.toStdString(), *host_);
   } catch (const std::exception& e) {
     show_message(q(e.what()));
     return e.what();
@@ -446,7 +589,7 @@ std::string MainWindow::open_test(const QString& file) {
 
 std::string MainWindow::open_map(const QString& file) {
   try {
-    load_map_file(file.toStdString(), host_, loaded_ ? loaded_->drone.radius : 1);  // the CLI's checks, before anything changes
+    load_map_file(file.toStdString(), *host_, loaded_ ? loaded_->drone.radius : 1);  // the CLI's checks, before anything changes
   } catch (const std::exception& e) {
     show_message(q(e.what()));
     return e.what();
@@ -474,7 +617,7 @@ std::string MainWindow::save_test(const QString& file) {
   const std::string stem = QFileInfo(file).completeBaseName().toStdString();
   if (name_problem(stem).empty()) test->name = stem;
   std::ofstream out(file.toStdString(), std::ios::binary);
-  out << resolved_json(*test, host_);
+  out << resolved_json(*test, *host_);
   out.close();
   if (!out) {
     why = file.toStdString() + ": cannot write the test";
@@ -713,29 +856,30 @@ void MainWindow::restore_settings() {
   QSettings settings;
   restoreGeometry(settings.value("window/geometry").toByteArray());
   restoreState(settings.value("window/state").toByteArray());
-  file_base_ = parse_test(first_test, "sandbox", host_);
+  file_base_ = parse_test(first_test, "sandbox", *host_);
   // The last session's start state, if it still parses with the plugins there are now.
   const QString last = settings.value("sandbox/test").toString();
   if (!last.isEmpty()) {
     try {
-      file_base_ = parse_test(last.toStdString(), "settings", host_);
+      file_base_ = parse_test(last.toStdString(), "settings", *host_);
     } catch (const std::exception&) {
       // A plugin gone or a value out of range: the first scene instead.
     }
   }
   if (!load(file_base_).empty()) {
-    file_base_ = parse_test(first_test, "sandbox", host_);
+    file_base_ = parse_test(first_test, "sandbox", *host_);
     load(file_base_);
   }
 }
 
 void MainWindow::save_settings() {
+  set_mode(Mode::sandbox);  // the window's layout is saved with the sandbox's docks where the user put them
   QSettings settings;
   settings.setValue("window/geometry", saveGeometry());
   settings.setValue("window/state", saveState());
   if (auto t = engine_.current_test()) {
     t->changes.clear();
-    settings.setValue("sandbox/test", q(resolved_json(*t, host_)));
+    settings.setValue("sandbox/test", q(resolved_json(*t, *host_)));
   }
 }
 

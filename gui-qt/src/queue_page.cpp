@@ -1,0 +1,567 @@
+#include "queue_page.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <QCheckBox>
+#include <QComboBox>
+#include <QCoreApplication>
+#include <QDateTime>
+#include <QDialog>
+#include <QDialogButtonBox>
+#include <QDir>
+#include <QElapsedTimer>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QLineEdit>
+#include <QListWidget>
+#include <QMessageBox>
+#include <QPlainTextEdit>
+#include <QProgressBar>
+#include <QPushButton>
+#include <QScrollArea>
+#include <QSpinBox>
+#include <QSplitter>
+#include <QTableView>
+#include <QTemporaryDir>
+#include <QThread>
+#include <QPixmap>
+#include <QDropEvent>
+#include <QVBoxLayout>
+#include <fstream>
+
+#include "salsa/core/queue.hpp"
+
+namespace salsa::gui {
+
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+QString q(const std::string& s) { return QString::fromStdString(s); }
+
+/// "1, 2, 3" → [1, 2, 3]; "0.5:2:0.5" → {"from": 0.5, "to": 2, "step": 0.5}.
+std::optional<json> values_of(const QString& text, std::string* why) {
+  const QString t = text.trimmed();
+  if (t.contains(':')) {
+    const QStringList parts = t.split(':');
+    bool ok[3] = {false, false, false};
+    if (parts.size() == 3) {
+      json range{{"from", parts[0].trimmed().toDouble(&ok[0])}, {"to", parts[1].trimmed().toDouble(&ok[1])},
+                 {"step", parts[2].trimmed().toDouble(&ok[2])}};
+      if (ok[0] && ok[1] && ok[2]) return range;
+    }
+    *why = "'" + t.toStdString() + "': a range is from:to:step, e.g. 0.5:2:0.5";
+    return std::nullopt;
+  }
+  json list = json::array();
+  for (const QString& part : t.split(',', Qt::SkipEmptyParts)) {
+    bool ok = false;
+    const double v = part.trimmed().toDouble(&ok);
+    if (!ok) {
+      *why = "'" + part.trimmed().toStdString() + "' is not a number (values: 1, 2, 3 or from:to:step)";
+      return std::nullopt;
+    }
+    list.push_back(v);
+  }
+  if (list.empty()) {
+    *why = "no values given (values: 1, 2, 3 or from:to:step)";
+    return std::nullopt;
+  }
+  return list;
+}
+
+/// A new-style dialog around `content`, OK / Cancel.
+QDialog* dialog_around(QWidget* content, QWidget* parent, const QString& title) {
+  auto* d = new QDialog(parent);
+  d->setWindowTitle(title);
+  auto* layout = new QVBoxLayout(d);
+  layout->addWidget(content);
+  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel, d);
+  QObject::connect(buttons, &QDialogButtonBox::accepted, d, &QDialog::accept);
+  QObject::connect(buttons, &QDialogButtonBox::rejected, d, &QDialog::reject);
+  layout->addWidget(buttons);
+  return d;
+}
+
+/// Rows dragged within the table are moved by the model (moveRows), not copied and removed.
+class QueueTable : public QTableView {
+ protected:
+  void dropEvent(QDropEvent* event) override {
+    auto* m = qobject_cast<QueueModel*>(model());
+    if (event->source() != this || !m) return QTableView::dropEvent(event);
+    const QModelIndex at = indexAt(event->position().toPoint());
+    int to = at.isValid() ? at.row() : m->rowCount();
+    if (at.isValid() && event->position().y() > visualRect(at).center().y()) ++to;  // the lower half: after it
+    std::vector<bool> picked(static_cast<std::size_t>(m->rowCount()), false);
+    for (const auto& i : selectionModel()->selectedRows()) picked[static_cast<std::size_t>(i.row())] = true;
+    // The order wanted: unpicked rows before the drop point, the picked rows, the rest.
+    std::vector<int> order, current;
+    for (int i = 0; i < m->rowCount(); ++i) current.push_back(i);
+    for (int i = 0; i < to; ++i) if (!picked[static_cast<std::size_t>(i)]) order.push_back(i);
+    for (int i = 0; i < m->rowCount(); ++i) if (picked[static_cast<std::size_t>(i)]) order.push_back(i);
+    for (int i = to; i < m->rowCount(); ++i) if (!picked[static_cast<std::size_t>(i)]) order.push_back(i);
+    // Filled from the top, so every move is upwards.
+    for (int pos = 0; pos < static_cast<int>(order.size()); ++pos) {
+      const int at_now = static_cast<int>(std::find(current.begin(), current.end(), order[static_cast<std::size_t>(pos)]) - current.begin());
+      if (at_now == pos) continue;
+      m->moveRows({}, at_now, 1, {}, pos);
+      current.erase(current.begin() + at_now);
+      current.insert(current.begin() + pos, order[static_cast<std::size_t>(pos)]);
+    }
+    event->setDropAction(Qt::CopyAction);  // the view must not remove the source rows
+    event->accept();
+  }
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------- the sweep
+
+SweepDialog::SweepDialog(std::shared_ptr<const PluginHost> host, const TestSpec& base, QWidget* parent)
+    : QWidget(parent), host_(std::move(host)), base_(base) {
+  auto* form = new QFormLayout(this);
+  form->addRow(new QLabel("Everything else (map, targets, drone, time) is the sandbox's test. Every behavior meets the "
+                          "same worlds: seeds are paired by repeat and world."));
+  behaviors_ = new QListWidget;
+  for (const auto& e : host_->behaviors()) {
+    auto* item = new QListWidgetItem(q(e.factory.name), behaviors_);
+    item->setCheckState(e.factory.name == base_.behavior.name ? Qt::Checked : Qt::Unchecked);
+  }
+  behaviors_->setMaximumHeight(110);
+  form->addRow("behaviors", behaviors_);
+  for (int i = 0; i < 3; ++i) {
+    auto* which = new QComboBox;
+    which->addItem("(no parameter)");
+    for (const auto& e : host_->behaviors())
+      for (const auto& p : e.factory.parameters)
+        which->addItem(q(e.factory.name + "." + p.name), q(p.range() + (p.description.empty() ? "" : ": " + p.description)));
+    auto* values = new QLineEdit;
+    values->setPlaceholderText("1, 2, 3  or  from:to:step");
+    auto* row = new QHBoxLayout;
+    row->addWidget(which, 1);
+    row->addWidget(values, 1);
+    form->addRow(QString("parameter %1").arg(i + 1), row);
+    connect(which, &QComboBox::currentIndexChanged, this, [which, values] { values->setToolTip(which->currentData().toString()); });
+    connect(which, &QComboBox::currentIndexChanged, this, &SweepDialog::update_count);
+    connect(values, &QLineEdit::textChanged, this, &SweepDialog::update_count);
+    axes_.emplace_back(which, values);
+  }
+  drones_ = new QLineEdit(QString::number(base_.drones));
+  drones_->setPlaceholderText("10, 20, 30  or  10:50:10");
+  form->addRow("swarm sizes", drones_);
+  repeats_ = new QSpinBox;
+  repeats_->setRange(1, 1000);
+  form->addRow("repeats", repeats_);
+  seed_ = new QSpinBox;
+  seed_->setRange(0, 2'000'000'000);
+  seed_->setValue(1);
+  seed_->setToolTip("the queue seed: each repeat's worlds come from it");
+  form->addRow("queue seed", seed_);
+  count_ = new QLabel;
+  count_->setWordWrap(true);
+  form->addRow(count_);
+  connect(behaviors_, &QListWidget::itemChanged, this, &SweepDialog::update_count);
+  connect(drones_, &QLineEdit::textChanged, this, &SweepDialog::update_count);
+  connect(repeats_, &QSpinBox::valueChanged, this, &SweepDialog::update_count);
+  connect(seed_, &QSpinBox::valueChanged, this, &SweepDialog::update_count);
+  update_count();
+}
+
+void SweepDialog::set_axis(int row, const QString& behavior_param, const QString& values) {
+  auto [which, text] = axes_.at(static_cast<std::size_t>(row));
+  which->setCurrentIndex(std::max(0, which->findText(behavior_param)));
+  text->setText(values);
+}
+
+std::string SweepDialog::queue_json(std::string* why) const {
+  json behaviors = json::array();
+  for (int i = 0; i < behaviors_->count(); ++i) {
+    const auto* item = behaviors_->item(i);
+    if (item->checkState() != Qt::Checked) continue;
+    const std::string name = item->text().toStdString();
+    json params = json::object();
+    for (const auto& [which, text] : axes_) {
+      const std::string key = which->currentText().toStdString();
+      if (which->currentIndex() == 0 || !key.starts_with(name + ".")) continue;
+      auto values = values_of(text->text(), why);
+      if (!values) {
+        *why = key + ": " + *why;
+        return {};
+      }
+      params[key.substr(name.size() + 1)] = *values;
+    }
+    behaviors.push_back(params.empty() ? json(name) : json{{"name", name}, {"params", params}});
+  }
+  if (behaviors.empty()) {
+    *why = "choose at least one behavior";
+    return {};
+  }
+  for (const auto& [which, text] : axes_)
+    if (which->currentIndex() != 0) {
+      const std::string key = which->currentText().toStdString();
+      bool used = false;
+      for (const auto& b : behaviors) used |= b.is_object() && key.starts_with(b["name"].get<std::string>() + ".");
+      if (!used) {
+        *why = key + ": its behavior is not chosen";
+        return {};
+      }
+    }
+  auto drones = values_of(drones_->text(), why);
+  if (!drones) {
+    *why = "swarm sizes: " + *why;
+    return {};
+  }
+  // The sandbox's test, less what the axes and the queue decide.
+  json test = json::parse(resolved_json(base_, *host_));
+  for (const char* key : {"name", "behavior", "drones", "seed", "repeat", "versions", "changes"}) test.erase(key);
+  const json queue{{"seed", seed_->value()}, {"repeats", repeats_->value()},
+                   {"sweep", {{"test", test}, {"behaviors", behaviors}, {"drones", *drones}}}};
+  return queue.dump(2);
+}
+
+std::optional<std::vector<TestSpec>> SweepDialog::expand(std::string* why) const {
+  const std::string text = queue_json(why);
+  if (text.empty()) return std::nullopt;
+  // Expanded by the core from a file, exactly as `salsa run` would expand it.
+  QTemporaryDir dir;
+  const fs::path file = fs::path(dir.path().toStdString()) / "sweep.json";
+  std::ofstream(file) << text;
+  try {
+    return load_queue(file, *host_, {}).tests;
+  } catch (const std::exception& e) {
+    *why = e.what();
+    if (auto at = why->find(file.string()); at != std::string::npos) why->replace(at, file.string().size(), "sweep");
+    return std::nullopt;
+  }
+}
+
+void SweepDialog::update_count() {
+  std::string why;
+  const auto tests = expand(&why);
+  count_->setStyleSheet(tests ? "" : "color: #b00020");
+  count_->setText(tests ? QString("makes <b>%1</b> tests").arg(tests->size()) : q(why));
+  Q_EMIT changed();
+}
+
+// ---------------------------------------------------------------- the page
+
+QueuePage::QueuePage(std::shared_ptr<const PluginHost> host, std::vector<fs::path> plugin_dirs, QWidget* parent)
+    : QWidget(parent), host_(std::move(host)), plugin_dirs_(std::move(plugin_dirs)) {
+  salsa_ = QCoreApplication::applicationDirPath() + "/salsa";
+  model_ = new QueueModel(host_, this);
+  auto* layout = new QVBoxLayout(this);
+
+  auto* edit_row = new QHBoxLayout;
+  auto button = [&](const char* text, const char* tip, auto&& fn) {
+    auto* b = new QPushButton(text);
+    b->setToolTip(tip);
+    connect(b, &QPushButton::clicked, this, fn);
+    edit_row->addWidget(b);
+    return b;
+  };
+  button("Add from sandbox", "the sandbox's test as it is set now (behavior, parameters, map, drones, seed)", [this] { add_from_sandbox(); });
+  button("Add sweep…", "behaviors × parameter values × swarm sizes × repeats, on the sandbox's world", [this] {
+    std::string why;
+    const auto base = sandbox_ ? sandbox_(&why) : std::nullopt;
+    if (!base) return show_message(q("no sandbox test to sweep over: " + why));
+    auto* sweep = new SweepDialog(host_, *base);
+    QDialog* d = dialog_around(sweep, this, "Add a sweep");
+    if (d->exec() == QDialog::Accepted) add_sweep(*sweep);
+    d->deleteLater();
+  });
+  button("Edit…", "the selected test as JSON (cells: double-click to edit name, drones, targets, time, seed)", [this] { edit_json(selected_row()); });
+  button("Remove", "remove the selected tests", [this] {
+    auto rows = table_->selectionModel()->selectedRows();
+    std::sort(rows.begin(), rows.end(), [](auto& a, auto& b) { return a.row() > b.row(); });
+    for (const auto& r : rows) model_->removeRow(r.row());
+  });
+  button("Up", "move the selected test earlier", [this] {
+    const int r = selected_row();
+    if (model_->move(r, -1)) table_->selectRow(r - 1);
+  });
+  button("Down", "move the selected test later", [this] {
+    const int r = selected_row();
+    if (model_->move(r, +1)) table_->selectRow(r + 1);
+  });
+  edit_row->addStretch();
+  button("Open…", "load a queue or test file (sweeps and repeats are expanded)", [this] {
+    const QString f = QFileDialog::getOpenFileName(this, "Open a queue", {}, "Queues and tests (*.json)");
+    if (!f.isEmpty()) open(f);
+  });
+  button("Save…", "save the queue: the file `salsa run` reads", [this] {
+    const QString f = QFileDialog::getSaveFileName(this, "Save the queue", "queue.json", "Queues (*.json)");
+    if (!f.isEmpty()) save(f);
+  });
+  layout->addLayout(edit_row);
+
+  table_ = new QueueTable;
+  table_->setModel(model_);
+  table_->setSelectionBehavior(QAbstractItemView::SelectRows);
+  table_->setDragDropMode(QAbstractItemView::InternalMove);
+  table_->setDragEnabled(true);
+  table_->setDropIndicatorShown(true);
+  table_->setDragDropOverwriteMode(false);
+  table_->setDefaultDropAction(Qt::MoveAction);
+  table_->horizontalHeader()->setSectionResizeMode(QHeaderView::Interactive);
+  table_->horizontalHeader()->setStretchLastSection(true);
+  table_->setAlternatingRowColors(true);
+  connect(model_, &QAbstractItemModel::rowsInserted, table_, [this] { table_->resizeColumnsToContents(); });
+  connect(model_, &QAbstractItemModel::modelReset, table_, [this] { table_->resizeColumnsToContents(); });
+  connect(table_, &QTableView::doubleClicked, this, [this](const QModelIndex& i) {
+    if (!(model_->flags(i) & Qt::ItemIsEditable) && model_->status(i.row()) == QueueModel::Status::done) show_plots(i.row());
+  });
+
+  auto* run_row = new QHBoxLayout;
+  run_button_ = new QPushButton("Run…");
+  run_button_->setToolTip("save the queue beside an output folder and run it there with salsa run, in the background");
+  stop_button_ = new QPushButton("Stop");
+  stop_button_->setEnabled(false);
+  jobs_ = new QSpinBox;
+  jobs_->setRange(1, 256);
+  jobs_->setValue(std::max(1, QThread::idealThreadCount()));
+  jobs_->setPrefix("jobs ");
+  plots_ = new QCheckBox("plots");
+  plots_->setChecked(true);
+  auto* plots_button = new QPushButton("Plots");
+  plots_button->setToolTip("the selected finished test's plots");
+  auto* sandbox_button = new QPushButton("Load into sandbox");
+  run_row->addWidget(run_button_);
+  run_row->addWidget(stop_button_);
+  run_row->addWidget(jobs_);
+  run_row->addWidget(plots_);
+  progress_ = new QProgressBar;
+  progress_->setFormat("%v / %m tests");
+  progress_->setValue(0);
+  run_row->addWidget(progress_, 1);
+  run_row->addWidget(plots_button);
+  run_row->addWidget(sandbox_button);
+  layout->addWidget(table_, 1);
+  layout->addLayout(run_row);
+  state_ = new QLabel("Add tests from the sandbox or a sweep, or open a queue file.");
+  state_->setWordWrap(true);
+  layout->addWidget(state_);
+  log_ = new QPlainTextEdit;
+  log_->setReadOnly(true);
+  log_->setMaximumBlockCount(2000);
+  log_->setMaximumHeight(140);
+  log_->setPlaceholderText("salsa run's output");
+  layout->addWidget(log_);
+
+  connect(run_button_, &QPushButton::clicked, this, [this] {
+    const QString base = QDir::homePath() + "/salsa-results/queue-" + QDateTime::currentDateTime().toString("yyyyMMdd-HHmmss");
+    const QString out = QFileDialog::getSaveFileName(this, "Output folder for the queue's results", base, {}, nullptr,
+                                                     QFileDialog::ShowDirsOnly);
+    if (!out.isEmpty()) run(out);
+  });
+  connect(stop_button_, &QPushButton::clicked, this, &QueuePage::stop);
+  connect(plots_button, &QPushButton::clicked, this, [this] { show_plots(selected_row()); });
+  connect(sandbox_button, &QPushButton::clicked, this, [this] {
+    const int r = selected_row();
+    if (r >= 0 && load_into_sandbox_) load_into_sandbox_(model_->test(r));
+  });
+  auto read = [this](QProcess::ProcessChannel channel) {
+    process_.setReadChannel(channel);
+    while (process_.canReadLine()) log_->appendPlainText(QString::fromUtf8(process_.readLine()).trimmed());
+    update_statuses();
+  };
+  connect(&process_, &QProcess::readyReadStandardOutput, this, [read] { read(QProcess::StandardOutput); });
+  connect(&process_, &QProcess::readyReadStandardError, this, [read] { read(QProcess::StandardError); });
+  connect(&process_, &QProcess::finished, this, [this, read](int code, QProcess::ExitStatus how) {
+    read(QProcess::StandardOutput);
+    read(QProcess::StandardError);
+    poll_.stop();
+    update_statuses();
+    run_button_->setEnabled(true);
+    stop_button_->setEnabled(false);
+    show_message(how == QProcess::CrashExit ? "salsa run crashed; run again to resume the rest"
+                 : code == 0                ? "queue finished: results in " + out_
+                                            : QString("salsa run ended with status %1 (see the log; failed tests show why in the table)").arg(code),
+                 false);
+  });
+  connect(&process_, &QProcess::errorOccurred, this, [this](QProcess::ProcessError e) {
+    if (e == QProcess::FailedToStart) {
+      run_button_->setEnabled(true);
+      stop_button_->setEnabled(false);
+      show_message("cannot start " + salsa_ + ": " + process_.errorString() + " (salsa is installed beside salsa-gui)");
+    }
+  });
+  poll_.setInterval(500);
+  connect(&poll_, &QTimer::timeout, this, &QueuePage::update_statuses);
+}
+
+QueuePage::~QueuePage() {
+  if (process_.state() != QProcess::NotRunning) {
+    process_.terminate();  // salsa stops between tests; --resume picks up the rest
+    if (!process_.waitForFinished(5000)) process_.kill();
+  }
+}
+
+void QueuePage::set_host(std::shared_ptr<const PluginHost> host) {
+  host_ = host;
+  model_->set_host(std::move(host));
+}
+
+int QueuePage::selected_row() const {
+  const auto rows = table_->selectionModel()->selectedRows();
+  return rows.isEmpty() ? (table_->currentIndex().isValid() ? table_->currentIndex().row() : -1) : rows.front().row();
+}
+
+void QueuePage::show_message(const QString& text, bool error) {
+  last_message_ = text;
+  state_->setText(text);
+  state_->setStyleSheet(error ? "color: #b00020" : "");
+  if (!error) return;
+  auto* box = new QMessageBox(QMessageBox::Warning, "salsa", text, QMessageBox::Ok, this);
+  box->setAttribute(Qt::WA_DeleteOnClose);
+  box->open();
+}
+
+std::string QueuePage::add_from_sandbox() {
+  std::string why;
+  auto test = sandbox_ ? sandbox_(&why) : std::nullopt;
+  if (!test) {
+    show_message(q("no sandbox test to add: " + why));
+    return why.empty() ? "no sandbox" : why;
+  }
+  test->changes.clear();
+  model_->add({std::move(*test)});
+  show_message(QString("%1 tests in the queue").arg(model_->rowCount()), false);
+  return {};
+}
+
+std::string QueuePage::add_sweep(const SweepDialog& sweep) {
+  std::string why;
+  auto tests = sweep.expand(&why);
+  if (!tests) {
+    show_message(q(why));
+    return why;
+  }
+  const auto n = tests->size();
+  model_->add(std::move(*tests));
+  show_message(QString("added %1 tests; %2 in the queue").arg(n).arg(model_->rowCount()), false);
+  return {};
+}
+
+std::string QueuePage::open(const QString& file) {
+  const std::string why = model_->load(file.toStdString());
+  show_message(why.empty() ? QString("%1: %2 tests").arg(file).arg(model_->rowCount()) : q(why), !why.empty());
+  return why;
+}
+
+std::string QueuePage::save(const QString& file) {
+  const std::string why = model_->save(file.toStdString());
+  show_message(why.empty() ? QString("saved %1 (salsa run %1 runs it)").arg(file) : q(why), !why.empty());
+  return why;
+}
+
+void QueuePage::edit_json(int row) {
+  if (row < 0 || row >= model_->rowCount()) return;
+  auto* text = new QPlainTextEdit(q(model_->test_json(row)));
+  text->setMinimumSize(560, 480);
+  QDialog* d = dialog_around(text, this, QString("Edit test %1").arg(row + 1));
+  while (d->exec() == QDialog::Accepted) {
+    const std::string why = model_->replace(row, text->toPlainText().toStdString());
+    if (why.empty()) break;
+    QMessageBox::warning(d, "salsa", q(why));  // the dialog stays open with the text as typed
+  }
+  d->deleteLater();
+}
+
+std::string QueuePage::run(const QString& out, const QStringList& extra_args) {
+  if (running()) return show_message("a queue is running; stop it first"), "a queue is running";
+  const QString dir = QFileInfo(out).absoluteFilePath();
+  const QString file = dir + ".queue.json";
+  if (const std::string why = model_->save(file.toStdString()); !why.empty()) return show_message(q(why)), why;
+  out_ = dir;
+  run_names_.clear();
+  for (int i = 0; i < model_->rowCount(); ++i) run_names_.push_back(model_->test(i).name);
+  model_->clear_statuses();
+  progress_->setRange(0, model_->rowCount());
+  progress_->setValue(0);
+  log_->clear();
+  QStringList args{"run", file, "--out", dir, "--jobs", QString::number(jobs_->value())};
+  if (!plots_->isChecked()) args << "--no-plots";
+  for (const auto& d : plugin_dirs_) args << "--plugin-dir" << q(d.string());
+  args << extra_args;
+  log_->appendPlainText("salsa " + args.join(' '));
+  process_.start(salsa_, args);
+  run_button_->setEnabled(false);
+  stop_button_->setEnabled(true);
+  poll_.start();
+  show_message("running " + QString::number(model_->rowCount()) + " tests into " + dir, false);
+  return {};
+}
+
+void QueuePage::stop() {
+  if (running()) process_.terminate();  // salsa stops before the next test; Run with the same folder resumes
+}
+
+bool QueuePage::running() const { return process_.state() != QProcess::NotRunning; }
+
+bool QueuePage::wait(int ms) {
+  QElapsedTimer t;
+  t.start();
+  while (running() && t.elapsed() < ms) {
+    QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
+    process_.waitForFinished(50);
+  }
+  QCoreApplication::processEvents();
+  return !running();
+}
+
+QString QueuePage::log_text() const { return log_->toPlainText(); }
+
+void QueuePage::update_statuses() {
+  if (out_.isEmpty()) return;
+  int finished = 0;
+  for (int row = 0; row < model_->rowCount(); ++row) {
+    const std::string name = model_->test(row).name;
+    if (std::find(run_names_.begin(), run_names_.end(), name) == run_names_.end()) continue;  // added since
+    const QString done = out_ + "/" + q(name), partial = out_ + "/." + q(name) + ".partial";
+    if (QFileInfo::exists(done + "/config.json")) {
+      model_->set_status(row, QueueModel::Status::done);
+      ++finished;
+    } else if (QFile error(partial + "/error.txt"); error.open(QIODevice::ReadOnly)) {
+      model_->set_status(row, QueueModel::Status::failed, QString::fromUtf8(error.readAll()).trimmed().toStdString());
+      ++finished;
+    } else if (QFileInfo::exists(partial)) {
+      model_->set_status(row, running() ? QueueModel::Status::running : QueueModel::Status::failed,
+                         running() ? "" : "interrupted (Run into the same folder resumes it)");
+      finished += running() ? 0 : 1;
+    }
+  }
+  progress_->setValue(finished);
+}
+
+void QueuePage::show_plots(int row) {
+  if (row < 0 || row >= model_->rowCount()) return;
+  const QDir folder(out_ + "/" + q(model_->test(row).name));
+  const QStringList pngs = folder.entryList({"*.png"}, QDir::Files, QDir::Name);
+  if (out_.isEmpty() || pngs.isEmpty()) return show_message("no plots yet for this test: run the queue (with plots) first");
+  auto* d = new QDialog(this);
+  d->setAttribute(Qt::WA_DeleteOnClose);
+  d->setWindowTitle("Plots of " + q(model_->test(row).name));
+  d->resize(1100, 760);
+  auto* split = new QSplitter(d);
+  auto* list = new QListWidget;
+  list->addItems(pngs);
+  list->setMaximumWidth(260);
+  auto* image = new QLabel;
+  image->setAlignment(Qt::AlignCenter);
+  auto* scroll = new QScrollArea;
+  scroll->setWidget(image);
+  scroll->setWidgetResizable(true);
+  split->addWidget(list);
+  split->addWidget(scroll);
+  (new QVBoxLayout(d))->addWidget(split);
+  connect(list, &QListWidget::currentTextChanged, d, [image, folder](const QString& f) { image->setPixmap(QPixmap(folder.filePath(f))); });
+  list->setCurrentRow(0);
+  d->show();
+}
+
+}  // namespace salsa::gui

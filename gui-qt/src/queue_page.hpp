@@ -1,0 +1,121 @@
+#pragma once
+// Queue mode: the table of tests (QueueModel) with add / sweep / edit / remove / reorder / save / load,
+// and a run of the queue in the background. A run is `salsa run` of the saved queue file (the
+// experiments layer, not a second implementation): its data equals the CLI's by construction; the page
+// shows its progress and each test's status from the output folder.
+#include <QProcess>
+#include <QTimer>
+#include <QWidget>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "queue_model.hpp"
+
+class QTableView;
+class QProgressBar;
+class QLabel;
+class QPlainTextEdit;
+class QPushButton;
+class QSpinBox;
+class QCheckBox;
+class QLineEdit;
+class QListWidget;
+class QComboBox;
+class QDialog;
+
+namespace salsa::gui {
+
+/// "Add sweep": behaviors, parameter values, swarm sizes, repeats and the queue seed over the sandbox's
+/// test; shows how many tests it makes (or why it is refused) as you type.
+class SweepDialog : public QWidget {
+  Q_OBJECT
+ public:
+  SweepDialog(std::shared_ptr<const PluginHost> host, const TestSpec& base, QWidget* parent = nullptr);
+  /// The sweep as a queue file's JSON.
+  std::string queue_json(std::string* why) const;
+  /// The tests it makes, expanded by the core (load_queue), or nullopt with `why`.
+  std::optional<std::vector<TestSpec>> expand(std::string* why) const;
+  // For tests and the dialog's owner.
+  QListWidget* behaviors() const { return behaviors_; }
+  void set_axis(int row, const QString& behavior_param, const QString& values);  ///< "flocking.cohesion_weight", "1, 2"
+  QLineEdit* drones() const { return drones_; }
+  QSpinBox* repeats() const { return repeats_; }
+  QSpinBox* seed() const { return seed_; }
+  QLabel* count_label() const { return count_; }
+
+ Q_SIGNALS:
+  void changed();
+
+ private:
+  void update_count();
+  std::shared_ptr<const PluginHost> host_;
+  TestSpec base_;
+  QListWidget* behaviors_ = nullptr;
+  std::vector<std::pair<QComboBox*, QLineEdit*>> axes_;
+  QLineEdit* drones_ = nullptr;
+  QSpinBox* repeats_ = nullptr;
+  QSpinBox* seed_ = nullptr;
+  QLabel* count_ = nullptr;
+};
+
+class QueuePage : public QWidget {
+  Q_OBJECT
+ public:
+  QueuePage(std::shared_ptr<const PluginHost> host, std::vector<std::filesystem::path> plugin_dirs, QWidget* parent = nullptr);
+  ~QueuePage() override;
+  void set_host(std::shared_ptr<const PluginHost> host);
+  /// Where "Add from sandbox" and "Add sweep" take their test from.
+  void set_sandbox(std::function<std::optional<TestSpec>(std::string*)> current) { sandbox_ = std::move(current); }
+  /// Called by "Load into sandbox".
+  void set_load_into_sandbox(std::function<void(const TestSpec&)> load) { load_into_sandbox_ = std::move(load); }
+  /// The `salsa` program a run starts (default: the one beside this program).
+  void set_salsa_program(QString program) { salsa_ = std::move(program); }
+
+  // ---- What the buttons do, callable without dialogs. "" or the one-line reason (also shown).
+  std::string add_from_sandbox();
+  std::string add_sweep(const SweepDialog& sweep);
+  std::string open(const QString& file);
+  std::string save(const QString& file);
+  /// Saves the queue beside `out` as <out>.queue.json and starts `salsa run` of it into `out`.
+  std::string run(const QString& out, const QStringList& extra_args = {});
+  void stop();
+  bool running() const;
+  bool wait(int ms);  ///< waits for a run to end, handling events (tests)
+  void show_plots(int row);
+  void edit_json(int row);
+
+  QueueModel* model() const { return model_; }
+  QTableView* table() const { return table_; }
+  QString output_dir() const { return out_; }
+  QString log_text() const;
+  const QString& last_message() const { return last_message_; }
+
+ private:
+  void update_statuses();
+  void show_message(const QString& text, bool error = true);
+  int selected_row() const;
+  std::shared_ptr<const PluginHost> host_;
+  std::vector<std::filesystem::path> plugin_dirs_;
+  QueueModel* model_ = nullptr;
+  QTableView* table_ = nullptr;
+  QProgressBar* progress_ = nullptr;
+  QLabel* state_ = nullptr;
+  QPlainTextEdit* log_ = nullptr;
+  QSpinBox* jobs_ = nullptr;
+  QCheckBox* plots_ = nullptr;
+  QPushButton* run_button_ = nullptr;
+  QPushButton* stop_button_ = nullptr;
+  QProcess process_;
+  QTimer poll_;
+  QString out_, salsa_;
+  std::vector<std::string> run_names_;  ///< the tests of the running (or last) run, in order
+  std::function<std::optional<TestSpec>(std::string*)> sandbox_;
+  std::function<void(const TestSpec&)> load_into_sandbox_;
+  QString last_message_;
+};
+
+}  // namespace salsa::gui
