@@ -30,10 +30,7 @@
 #include <nlohmann/json.hpp>
 
 #include "live_charts.hpp"
-#if __has_include("map_editor.hpp")
 #include "map_editor.hpp"
-#define SALSA_HAS_MAP_EDITOR 1
-#endif
 #include "plugins.hpp"
 #include "queue_page.hpp"
 #include "param_panel.hpp"
@@ -95,20 +92,17 @@ MainWindow::MainWindow(std::shared_ptr<const PluginHost> host, std::vector<std::
     return t;
   });
   queue_->set_load_into_sandbox([this](const TestSpec& t) { open_test_spec(t); });
-#ifdef SALSA_HAS_MAP_EDITOR
   map_editor_ = new MapEditor(*editor_host_);
   connect(map_editor_, &MapEditor::map_saved, this, [this](const QString& file) {
-    show_message("saved " + file + ": Open map in the sandbox, or a test's \"map\": {\"file\": ...}, uses it", false);
+    show_message("saved " + file + ": \"Map file…\" in the sandbox, or a test's \"map\": {\"file\": ...}, uses it", false);
   });
-#endif
+  connect(map_editor_, &MapEditor::use_in_sandbox, this, [this](const QString& file) {
+    if (open_map(file).empty()) set_mode(Mode::sandbox);
+  });
   pages_ = new QStackedWidget;
   pages_->addWidget(view_);
   pages_->addWidget(queue_);
-#ifdef SALSA_HAS_MAP_EDITOR
   pages_->addWidget(map_editor_);
-#else
-  pages_->addWidget(new QLabel("map creator: not yet"));
-#endif
   setCentralWidget(pages_);
   build_controls();
   build_menus();
