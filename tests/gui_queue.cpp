@@ -14,7 +14,11 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include <QPushButton>
+#include <QUndoStack>
+
 #include "main_window.hpp"
+#include "map_editor.hpp"
 #include "queue_page.hpp"
 #include "salsa/core/queue.hpp"
 
@@ -208,11 +212,34 @@ class GuiQueue : public QObject {
     QVERIFY(w.queue_page()->isVisible());
     QVERIFY(w.queue_page()->open(q(source_dir() / "examples/sweep-queue.json")).empty());
     w.set_mode(MainWindow::Mode::map_creator);
+    MapEditor& editor = *w.map_editor();
+    QVERIFY(editor.isVisible());
+    editor.set_tool(MapEditor::Tool::line);
+    QTest::mousePress(editor.canvas(), Qt::LeftButton, Qt::NoModifier, editor.to_px({20, 20}));
+    QTest::mouseMove(editor.canvas(), editor.to_px({60, 20}));
+    QTest::mouseRelease(editor.canvas(), Qt::LeftButton, Qt::NoModifier, editor.to_px({60, 20}));
+    QCOMPARE(editor.map().lines.size(), std::size_t{1});
     w.set_mode(MainWindow::Mode::sandbox);
     QVERIFY(w.view()->isVisible());
     QCOMPARE(w.engine().snapshot()->time, t);  // the sandbox kept its run
     w.set_mode(MainWindow::Mode::queue);
     QCOMPARE(w.queue_page()->model()->rowCount(), 12);  // the queue kept its rows
+    w.set_mode(MainWindow::Mode::map_creator);
+    QCOMPARE(editor.map().lines.size(), std::size_t{1});  // the map creator kept its drawing
+    QVERIFY(editor.undo_stack()->canUndo());
+    // "Save and use in sandbox": the sandbox flies in the drawn map at once.
+    QTemporaryDir dir;
+    const QString map_file = dir.filePath("drawn.json");
+    QVERIFY(editor.save(map_file).empty());
+    QPushButton* use = nullptr;
+    for (auto* b : editor.findChildren<QPushButton*>())
+      if (b->text().contains("use in sandbox")) use = b;
+    QVERIFY(use);
+    use->click();
+    QCOMPARE(w.mode(), MainWindow::Mode::sandbox);
+    QCOMPARE(q(w.engine().current_test()->map_file), map_file);
+    w.set_mode(MainWindow::Mode::queue);
+    QCOMPARE(w.queue_page()->model()->rowCount(), 12);
     // A queue row into the sandbox: its start state, in sandbox mode.
     w.queue_page()->table()->selectRow(4);
     const TestSpec row = w.queue_page()->model()->test(4);
