@@ -1,4 +1,4 @@
-// salsa-gui: the sandbox window; `--headless FILE...` runs tests like `salsa run`; `--bench-render`
+// salsa-gui: the desktop (sandbox, queue mode, map creator); `--headless FILE...` runs tests like `salsa run`; `--bench-render`
 // measures drawing. Plugins come from the same folders as the CLI's.
 #include <unistd.h>
 
@@ -18,6 +18,8 @@
 
 #include "bench_render.hpp"
 #include "main_window.hpp"
+#include "map_editor.hpp"
+#include "queue_page.hpp"
 #include "salsa/core/plugin_host.hpp"
 
 namespace {
@@ -32,6 +34,11 @@ options:
   --view LIST          what the view shows, e.g. heat,camera,-trails (camera, obstacle, detection,
                        targets, trails, heat, obstacles, spawn; a leading - hides)
   --select ID          inspect drone ID
+  --mode MODE          start in sandbox, queue or map (the map creator)
+  --queue FILE         open a queue file in queue mode (implies --mode queue)
+  --run-queue DIR      run the opened queue into DIR at once
+  --edit-map FILE      open a map file in the map creator (implies --mode map)
+  --show-plugins       open the Plugins dialog
   --screenshot FILE    save a screenshot of the window (or, under X, of the screen) after --after seconds, then quit
   --after SECONDS      when to take the screenshot (default 3)
   -h, --help           this text
@@ -61,7 +68,8 @@ int main(int argc, char** argv) {
   }
 
   std::vector<std::filesystem::path> plugin_dirs;
-  std::string test, screenshot, view;
+  std::string test, screenshot, view, mode, queue, run_queue, edit_map;
+  bool show_plugins = false;
   std::optional<std::uint32_t> select;
   double after = 3;
   bool start = false, bench = false;
@@ -92,6 +100,20 @@ int main(int argc, char** argv) {
         std::cerr << "salsa-gui: --select: '" << v << "' is not a drone id (allowed: whole number ≥ 0)\n";
         return 2;
       }
+    } else if (a == "--mode") {
+      mode = value("sandbox, queue or map");
+      if (mode != "sandbox" && mode != "queue" && mode != "map") {
+        std::cerr << "salsa-gui: --mode: '" << mode << "' is not a mode (allowed: sandbox, queue, map)\n";
+        return 2;
+      }
+    } else if (a == "--queue") {
+      queue = value("a queue file");
+    } else if (a == "--run-queue") {
+      run_queue = value("an output folder");
+    } else if (a == "--edit-map") {
+      edit_map = value("a map file");
+    } else if (a == "--show-plugins") {
+      show_plugins = true;
     } else if (a == "--screenshot") {
       screenshot = value("a file name");
     } else if (a == "--after") {
@@ -176,6 +198,19 @@ int main(int argc, char** argv) {
   }
   if (select) window.engine().select(select);
   if (start) window.start();
+  using Mode = salsa::gui::MainWindow::Mode;
+  if (!queue.empty()) {
+    if (!window.queue_page()->open(QString::fromStdString(queue)).empty() && !screenshot.empty()) return 1;
+    if (mode.empty()) mode = "queue";
+  }
+  if (!run_queue.empty() && !window.queue_page()->run(QString::fromStdString(run_queue)).empty() && !screenshot.empty()) return 1;
+  if (!edit_map.empty()) {
+    if (!window.map_editor()->load(QString::fromStdString(edit_map)).empty() && !screenshot.empty()) return 1;
+    if (mode.empty()) mode = "map";
+  }
+  if (mode == "queue") window.set_mode(Mode::queue);
+  if (mode == "map") window.set_mode(Mode::map_creator);
+  if (show_plugins) window.show_plugins();
   if (!screenshot.empty()) {
     QTimer::singleShot(static_cast<int>(after * 1000), &window, [&] {
       // Under X (xvfb-run) grab the screen as a person sees it; offscreen, the window draws itself.

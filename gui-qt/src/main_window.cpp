@@ -115,6 +115,12 @@ MainWindow::MainWindow(std::shared_ptr<const PluginHost> host, std::vector<std::
 MainWindow::MainWindow(const PluginHost& host, QWidget* parent)
     : MainWindow(std::shared_ptr<const PluginHost>(&host, [](const PluginHost*) {}), {}, parent) {}
 
+void MainWindow::show_plugins() {
+  auto* d = new PluginsDialog(*plugins_, this);
+  d->setAttribute(Qt::WA_DeleteOnClose);
+  d->show();
+}
+
 void MainWindow::set_mode(Mode m) {
   if (m == mode_) return;
   // The sandbox's docks go with it (the simulation keeps its state, running or paused).
@@ -125,6 +131,8 @@ void MainWindow::set_mode(Mode m) {
   if (m == Mode::sandbox)
     for (auto& [dock, shown] : docks_) dock->setVisible(shown);
   for (QAction* a : sandbox_actions_) a->setEnabled(m == Mode::sandbox);
+  for (QLabel* l : {status_time_, status_speed_, status_fps_, status_found_}) l->setVisible(m == Mode::sandbox);  // the sandbox's figures
+  if (m != Mode::sandbox) status_inexact_->hide();
   mode_actions_[static_cast<std::size_t>(m)]->setChecked(true);
   static const char* const titles[] = {"salsa — sandbox", "salsa — queue", "salsa — map creator"};
   setWindowTitle(titles[static_cast<int>(m)]);
@@ -429,11 +437,7 @@ void MainWindow::build_menus() {
   mode_actions_.front()->setChecked(true);
 
   QMenu* plugins = menuBar()->addMenu("&Plugins");
-  plugins->addAction("&Plugins…", this, [this] {
-    auto* d = new PluginsDialog(*plugins_, this);
-    d->setAttribute(Qt::WA_DeleteOnClose);
-    d->show();
-  });
+  plugins->addAction("&Plugins…", this, &MainWindow::show_plugins);
   plugins->addAction("&Rescan plugin folders", QKeySequence(Qt::Key_F5), plugins_, &PluginManager::rescan);
   QAction* auto_reload = plugins->addAction("Reload rebuilt plugins &automatically");
   auto_reload->setCheckable(true);
@@ -819,7 +823,7 @@ void MainWindow::refresh() {
   status_found_->setText(targets ? QString("found %1 / %2 (%3 %)").arg(snap->targets_found).arg(targets)
                                        .arg(100.0 * static_cast<double>(snap->targets_found) / static_cast<double>(targets), 0, 'f', 1)
                                  : QString("no targets"));
-  status_inexact_->setVisible(snap->inexact);
+  status_inexact_->setVisible(snap->inexact && mode_ == Mode::sandbox);
   if (snap->state == RunState::failed && snap->error != last_error_shown_) {
     last_error_shown_ = snap->error;
     run_button_->setText("Start");

@@ -54,6 +54,8 @@ class MainWindow : public QMainWindow {
   /// Loads `test` into the sandbox (queue mode's "Load into sandbox") and switches to it.
   std::string open_test_spec(const TestSpec& test);
   std::string open_map(const QString& file);
+  /// The Plugins dialog: what loaded, what was refused and why, the folders searched; Rescan.
+  void show_plugins();
   std::string save_test(const QString& file);
   std::string save_screenshot(const QString& file);
   void start();

@@ -7,7 +7,6 @@
 #include <QDoubleSpinBox>
 #include <QFileDialog>
 #include <QFileInfo>
-#include <QFormLayout>
 #include <QHBoxLayout>
 #include <QKeyEvent>
 #include <QLabel>
@@ -162,6 +161,11 @@ class MapCanvas final : public QWidget {
     p.drawLine(s - QPointF(0, 12), s + QPointF(0, 12));
 
     draw_draft(p);
+    if (hover_) {  // where the cursor is, and where a click would land
+      p.setPen(QColor(60, 60, 60));
+      p.drawText(rect().adjusted(8, 0, 0, -6), Qt::AlignLeft | Qt::AlignBottom,
+                 QString("x %1 m, y %2 m  →  [%3, %4]").arg(hover_->x, 0, 'f', 1).arg(hover_->y, 0, 'f', 1).arg(cursor_.x).arg(cursor_.y));
+    }
   }
 
   void mousePressEvent(QMouseEvent* e) override {
@@ -218,7 +222,7 @@ class MapCanvas final : public QWidget {
     }
     const Vec2 at = editor_.to_world(e->position());
     cursor_ = snapped(at);
-    editor_.status_->setText(QString("x %1 m, y %2 m").arg(at.x, 0, 'f', 1).arg(at.y, 0, 'f', 1));
+    hover_ = at;
     if (drag_ && editor_.tool() == MapEditor::Tool::select && editor_.selection()) {
       // A live preview of the move; the edit is made on release.
       editor_.map_ = moved(drag_->before, cursor_ - drag_->from);
@@ -368,7 +372,8 @@ class MapCanvas final : public QWidget {
   std::vector<Vec2> draft_;  ///< the polygon being clicked in
   std::optional<Drag> drag_;
   std::optional<QPointF> pan_from_;
-  Vec2 cursor_;
+  Vec2 cursor_;                ///< the snapped point under the mouse (m)
+  std::optional<Vec2> hover_;  ///< the point under the mouse, not snapped (m)
 };
 
 // ---------------------------------------------------------------- the editor
@@ -398,6 +403,7 @@ MapEditor::MapEditor(const PluginHost& host, QWidget* parent) : QWidget(parent),
     tools_->addAction(a);
     addAction(a);
     connect(a, &QAction::triggered, this, [this, tool = tool] { set_tool(tool); });
+    hints_[static_cast<int>(tool)] = QString("<b>%1</b>: %2").arg(text, tip);
   }
   tools_->actions().front()->setChecked(true);
   bar->addSeparator();
@@ -415,7 +421,7 @@ MapEditor::MapEditor(const PluginHost& host, QWidget* parent) : QWidget(parent),
 
   // The side panel: file, grid, problems.
   auto* side = new QWidget;
-  side->setMaximumWidth(320);
+  side->setFixedWidth(340);
   auto* column = new QVBoxLayout(side);
   auto* files = new QHBoxLayout;
   auto* new_button = new QPushButton("New");
@@ -427,17 +433,18 @@ MapEditor::MapEditor(const PluginHost& host, QWidget* parent) : QWidget(parent),
   auto* use = new QPushButton("Save and use in sandbox");
   use->setToolTip("saves the map and opens it in the sandbox");
   column->addWidget(use);
-  auto* form = new QFormLayout;
   auto* size_row = new QHBoxLayout;
   auto* width = new QDoubleSpinBox;
   auto* height = new QDoubleSpinBox;
+  size_row->addWidget(new QLabel("New map"));
   for (auto* box : {width, height}) {
     box->setRange(10, 100000);
     box->setValue(300);
+    box->setDecimals(0);
     box->setSuffix(" m");
     size_row->addWidget(box);
   }
-  form->addRow("New map size", size_row);
+  column->addLayout(size_row);
   snap_on_ = new QCheckBox("Snap to grid");
   snap_on_->setChecked(true);
   snap_step_ = new QDoubleSpinBox;
@@ -447,12 +454,19 @@ MapEditor::MapEditor(const PluginHost& host, QWidget* parent) : QWidget(parent),
   auto* snap_row = new QHBoxLayout;
   snap_row->addWidget(snap_on_);
   snap_row->addWidget(snap_step_);
-  form->addRow(snap_row);
-  column->addLayout(form);
-  column->addWidget(new QLabel("Problems (drawn red; a map with problems is not saved):"));
+  column->addLayout(snap_row);
+  auto* problems_title = new QLabel("<b>Problems</b> (drawn red; a map with problems is not saved)");
+  problems_title->setWordWrap(true);
+  column->addWidget(problems_title);
   problem_list_ = new QListWidget;
+  problem_list_->setWordWrap(true);
+  problem_list_->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
   column->addWidget(problem_list_, 1);
+  hint_ = new QLabel;
+  hint_->setWordWrap(true);
+  column->addWidget(hint_);
   status_ = new QLabel;
+  status_->setWordWrap(true);
   column->addWidget(status_);
 
   auto* body = new QHBoxLayout;
@@ -486,6 +500,7 @@ MapEditor::MapEditor(const PluginHost& host, QWidget* parent) : QWidget(parent),
 
   map_.bounds = {{0, 0}, {300, 300}};
   map_.spawn = map_.bounds.centre();
+  set_tool(Tool::select);
   refresh();
 }
 
@@ -502,6 +517,7 @@ void MapEditor::set_tool(Tool tool) {
   for (QAction* a : tools_->actions())
     if (a->data().toInt() == static_cast<int>(tool)) a->setChecked(true);
   if (tool != Tool::select) select(std::nullopt);
+  hint_->setText(hints_[static_cast<int>(tool)]);
 }
 
 void MapEditor::set_snap(double metres) {

@@ -89,7 +89,9 @@ class MapEditor : public QWidget {
   QUndoStack* undo_ = nullptr;
   MapCanvas* canvas_ = nullptr;
   QListWidget* problem_list_ = nullptr;
-  QLabel* status_ = nullptr;
+  QLabel* status_ = nullptr;  ///< cursor position, file, counts
+  QLabel* hint_ = nullptr;    ///< what the current tool does
+  QString hints_[6];
   QCheckBox* snap_on_ = nullptr;
   QDoubleSpinBox* snap_step_ = nullptr;
   QActionGroup* tools_ = nullptr;

@@ -91,7 +91,7 @@ void PluginManager::arm() {
 
 PluginsDialog::PluginsDialog(PluginManager& manager, QWidget* parent) : QDialog(parent), manager_(manager) {
   setWindowTitle("Plugins");
-  resize(900, 520);
+  resize(1150, 560);
   auto* layout = new QVBoxLayout(this);
   summary_ = new QLabel(this);
   summary_->setWordWrap(true);

@@ -1,5 +1,7 @@
 #include "queue_model.hpp"
 
+#include <QColor>
+
 #include <nlohmann/json.hpp>
 
 #include <fstream>
@@ -56,6 +58,14 @@ QVariant QueueModel::data(const QModelIndex& index, int role) const {
     if (index.column() == col_map && !t.map_file.empty()) return q(t.map_file);
     return {};
   }
+  if (role == Qt::BackgroundRole && index.column() == col_status) {
+    switch (r.status) {
+      case Status::done: return QColor(214, 240, 214);
+      case Status::failed: return QColor(250, 210, 210);
+      case Status::running: return QColor(210, 226, 250);
+      default: return {};
+    }
+  }
   if (role == Qt::TextAlignmentRole) {
     switch (index.column()) {
       case col_drones: case col_targets: case col_time: case col_seed: return int(Qt::AlignRight | Qt::AlignVCenter);
@@ -68,7 +78,8 @@ QVariant QueueModel::data(const QModelIndex& index, int role) const {
     case col_behavior: return q(t.behavior.name);
     case col_parameters: {
       try {
-        return q(non_default(t.behavior, host_->behavior(t.behavior.name).factory.parameters));
+        const std::string changed = non_default(t.behavior, host_->behavior(t.behavior.name).factory.parameters);
+        return changed.empty() ? QString("defaults") : q(changed);
       } catch (const std::exception&) {
         return {};  // the plugin is gone since (a rescan): the row still runs where it is installed
       }

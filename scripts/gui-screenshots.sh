@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Takes the screenshots in docs/img/gui-*.png from a real window under xvfb-run (Debian: xvfb xauth),
+# with the committed build: ./scripts/gui-screenshots.sh [BUILD_DIR] (default build/release).
+# Look at every image before committing it.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build/release}
+gui=$build/bin/salsa-gui
+img=docs/img
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+export HOME=$work/home  # no settings from earlier sessions
+mkdir -p "$HOME"
+shot() { xvfb-run -a -s "-screen 0 1700x1100x24" "$gui" "$@"; }
+
+# The sandbox, and a drone inspected.
+shot examples/flocking-forest.json --start --screenshot $img/gui-sandbox.png --after 12
+shot examples/dynamic-space-partitioning-forest.json --start --view heat,camera,-trails --select 4 \
+  --screenshot $img/gui-inspect.png --after 14
+
+# Queue mode, 1.6 s into a run of the comparison queue.
+shot --queue examples/comparison-queue.json --run-queue "$work/results" --screenshot $img/gui-queue.png --after 1.6
+
+# The map creator: the warehouse map with one self-crossing polygon added (flagged red).
+python3 - "$work/warehouse-edited.json" <<'PY'
+import json, sys
+m = json.load(open("examples/maps/warehouse.json"))
+m["obstacles"].append([[240, 40], [280, 70], [280, 40], [240, 70]])
+json.dump(m, open(sys.argv[1], "w"))
+PY
+shot --edit-map "$work/warehouse-edited.json" --screenshot $img/gui-map-creator.png --after 1.5
+
+# Plugins: the dialog with a refused plugin, then a behavior rebuilt while it runs (tests/plugins/reload.cpp,
+# version 1 flies along +x, version 2 along -x), written over the loaded file 6 s in.
+plugins=$work/plugins
+mkdir -p "$plugins"
+cp "$build"/tests/test-plugins/reload-v1/*.so "$plugins/reload.so"
+cp "$build"/tests/test-plugins/abi99/*.so "$plugins/"
+shot --plugin-dir "$plugins" --show-plugins --screenshot $img/gui-plugins.png --after 2
+rm "$plugins"/libtest_abi99.so
+cat > "$work/reload.json" <<'JSON'
+{"name": "reload", "behavior": "test_reload", "drones": 12, "map": {"name": "empty", "params": {"size": 200}},
+ "targets": {"kind": "tree", "count": 300, "params": {"radius": 1.5}}, "time": 600, "seed": 3, "decision_lag": 0}
+JSON
+shot "$work/reload.json" --plugin-dir "$plugins" --start --select 0 --screenshot $img/gui-reload.png --after 12 &
+sleep 6
+cat "$build"/tests/test-plugins/reload-v2/*.so > "$plugins/reload.so"  # in place, as a linker writes it
+wait
+ls -l $img/gui-*.png
