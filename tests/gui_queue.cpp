@@ -195,6 +195,12 @@ class GuiQueue : public QObject {
     QVERIFY(a.size() > 10);
     QCOMPARE(a.keys(), b.keys());
     for (const QString& k : a.keys()) QVERIFY2(a[k] == b[k], qPrintable(k));
+    // Run again into the same folder: it resumes (nothing is left to do) and changes nothing.
+    QVERIFY(p->run(gui_out, {"--no-plots"}).empty());
+    QVERIFY2(p->wait(300000), qPrintable(p->log_text()));
+    QVERIFY(p->log_text().contains("--resume"));
+    for (int i = 0; i < 3; ++i) QCOMPARE(p->model()->status(i), QueueModel::Status::done);
+    QCOMPARE(results_snapshot(gui_out), a);
   }
 
   void load_into_sandbox_and_mode_switches_keep_state() {

@@ -70,6 +70,8 @@ const char* const shortcuts[][2] = {
     {"click a drone", "inspect it"},  {"Ctrl+O", "open a test"},        {"Ctrl+M", "open a map"},
     {"Ctrl+S", "save as test"},       {"Ctrl+P", "screenshot"},         {"Ctrl+R", "start / stop recording"},
     {"Ctrl+1 / 2 / 3", "sandbox / queue / map creator"}, {"F5", "rescan plugin folders"},
+    {"V L P O S B", "map creator: select, line, polygon, hollow, spawn, bounds"},
+    {"Ctrl+Z / Ctrl+Shift+Z", "map creator: undo / redo"}, {"Delete / Esc", "map creator: delete the selection / drop the polygon being drawn"},
     {"Ctrl+Q", "quit"},
 };
 

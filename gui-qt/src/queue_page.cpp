@@ -486,6 +486,8 @@ std::string QueuePage::run(const QString& out, const QStringList& extra_args) {
   log_->clear();
   QStringList args{"run", file, "--out", dir, "--jobs", QString::number(jobs_->value())};
   if (!plots_->isChecked()) args << "--no-plots";
+  // A folder with results: finish it (salsa refuses one whose tests differ from these, naming the difference).
+  if (QDir(dir).exists() && !QDir(dir).isEmpty()) args << "--resume";
   for (const auto& d : plugin_dirs_) args << "--plugin-dir" << q(d.string());
   args << extra_args;
   log_->appendPlainText("salsa " + args.join(' '));
