@@ -14,7 +14,10 @@ int sign(double v) { return (v > 0) - (v < 0); }
 bool within(Vec2 a, Vec2 b, Vec2 p) {  // p, collinear with a-b, lies on the segment
   return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y && p.y <= std::max(a.y, b.y);
 }
-std::string text(Vec2 p) { return "[" + num(p.x) + ", " + num(p.y) + "]"; }
+std::string text(Vec2 p) {  // appended, not "[" + ...: GCC 12 warns falsely (-Wrestrict) on that
+  std::string s = "[";
+  return s.append(num(p.x)).append(", ").append(num(p.y)).append("]");
+}
 std::string bounds_text(const Rect& b) { return "the bounds (min " + text(b.min) + ", max " + text(b.max) + ")"; }
 
 }  // namespace

@@ -23,13 +23,12 @@
 #include <QWheelEvent>
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <functional>
 #include <filesystem>
-#include <fstream>
 
 #include "salsa/core/runner.hpp"
 #include "salsa/core/test_spec.hpp"
+#include "save_checked.hpp"
 
 namespace fs = std::filesystem;
 
@@ -615,29 +614,12 @@ std::string MapEditor::save(const QString& file) {
     show_message(q(why));
     return why;
   }
-  // Written aside and read back by the core: a file `salsa run` would refuse never replaces the old one.
-  const fs::path target(path);
-  const fs::path aside = target.parent_path() / ("." + target.filename().string() + ".saving");
-  std::string why;
-  {
-    std::ofstream out(aside, std::ios::binary | std::ios::trunc);
-    out << map_json(map_, map_.spawn);
-    out.close();
-    if (!out) why = path + ": cannot write (" + std::strerror(errno) + ")";
-  }
-  if (why.empty()) try {
-      (void)load_map_file(aside, host_);
-    } catch (const std::exception& e) {
-      why = e.what();
-      if (auto at = why.find(aside.string()); at != std::string::npos) why.replace(at, aside.string().size(), path);
-    }
-  std::error_code ec;
-  if (why.empty()) {
-    fs::rename(aside, target, ec);
-    if (ec) why = path + ": cannot write (" + ec.message() + ")";
-  }
-  if (!why.empty()) {
-    fs::remove(aside, ec);
+  // Read back by the core, as `salsa run` reads it.
+  if (const std::string why = save_checked(path, map_json(map_, map_.spawn), [this](const fs::path& aside) {
+        (void)load_map_file(aside, host_);
+        return std::string();
+      });
+      !why.empty()) {
     show_message(q(why));
     return why;
   }

@@ -4,10 +4,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include <fstream>
 #include <set>
 
 #include "salsa/core/queue.hpp"
+#include "save_checked.hpp"
 
 namespace salsa::gui {
 
@@ -218,36 +218,14 @@ std::string QueueModel::load(const fs::path& file) {
 std::string QueueModel::save(const fs::path& file) const {
   last_error_.clear();
   if (rows_.empty()) return last_error_ = file.string() + ": the queue holds no tests (add one first)";
-  // Written aside and read back as `salsa run` reads it: a file it would refuse never replaces the old one.
-  const fs::path aside = file.parent_path() / ("." + file.filename().string() + ".saving");
-  {
-    std::ofstream out(aside, std::ios::binary | std::ios::trunc);
-    out << queue_json();
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(aside, ec);
-      return last_error_ = file.string() + ": cannot write (" + std::strerror(errno) + ")";
-    }
-  }
-  std::string why;
-  try {
+  // Read back as `salsa run` reads it, and compared row by row.
+  return last_error_ = save_checked(file, queue_json(), [this](const fs::path& aside) -> std::string {
     const auto back = load_queue(aside, *host_, {}).tests;
-    for (std::size_t i = 0; i < back.size() && why.empty(); ++i)
-      if (resolved_json(back[i], *host_) != resolved_json(rows_[i].test, *host_)) why = "row " + std::to_string(i + 1) + " reads back differently";
-    if (why.empty() && back.size() != rows_.size()) why = "the file reads back as " + std::to_string(back.size()) + " tests";
-  } catch (const std::exception& e) {
-    why = e.what();
-    const std::string shown = aside.string();
-    if (auto at = why.find(shown); at != std::string::npos) why.replace(at, shown.size(), file.string());
-  }
-  std::error_code ec;
-  if (why.empty()) fs::rename(aside, file, ec);
-  if (!why.empty() || ec) {
-    fs::remove(aside, ec);
-    return last_error_ = why.empty() ? file.string() + ": cannot write (" + ec.message() + ")" : why;
-  }
-  return {};
+    if (back.size() != rows_.size()) return "the file reads back as " + std::to_string(back.size()) + " tests";
+    for (std::size_t i = 0; i < back.size(); ++i)
+      if (resolved_json(back[i], *host_) != resolved_json(rows_[i].test, *host_)) return "row " + std::to_string(i + 1) + " reads back differently";
+    return {};
+  });
 }
 
 void QueueModel::set_status(int row, Status s, const std::string& message) {
