@@ -5,7 +5,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libbox2d-dev
   libboost-dev libboost-program-options-dev libboost-filesystem-dev
-  nlohmann-json3-dev libtbb-dev
+  nlohmann-json3-dev libtbb-dev libssl-dev
   qt6-base-dev qt6-charts-dev libqt6opengl6-dev libgl-dev
   libopenmpi-dev openmpi-bin
   libbenchmark-dev

@@ -2,6 +2,7 @@
 // files, folder entries that are not files, private snapshots, names decided per registration,
 // declarations, exceptions of any type, the search order, and object lifetime across the host's.
 // Uses the test plugins built by tests/CMakeLists.txt, each in its own folder under test-plugins/.
+#include <QCryptographicHash>
 #include <QtTest>
 
 #include <elf.h>
@@ -12,6 +13,8 @@
 #include <filesystem>
 #include <functional>
 #include <random>
+
+#include <nlohmann/json.hpp>
 
 #include "common.hpp"
 #include "salsa/core/plugin_host.hpp"
@@ -431,6 +434,34 @@ class TestLoader : public QObject {
     QVERIFY2(run.err.contains("plugins/libx.so") && run.err.contains("(a half-copied file?)"), describe(run));
     const CliResult validate = run_salsa({"validate", "test.json", "--plugin-dir", "plugins"}, dir.path());
     QVERIFY2(!validate.crashed && validate.exit_code == 0, describe(validate));
+  }
+
+  // Provenance: config.json names each plugin's file and the SHA-256 of its bytes, so two builds of one
+  // plugin version are told apart; --resume refuses a test made with other bytes, not one whose
+  // plugin folder merely moved.
+  void config_json_records_each_plugins_file_and_hash() {
+    QTemporaryDir dir;
+    QVERIFY(dir.isValid());
+    const QByteArray bytes = read_file(q(plugin_file("metric", "libtest_metric.so")));  // behavior test_straight
+    const QString a = dir.path() + "/a/straight.so", b = dir.path() + "/b/straight.so";
+    QVERIFY(write_file(a, bytes));
+    QVERIFY(write_file(dir.path() + "/test.json", R"({"name": "t", "behavior": "test_straight", "drones": 2, "time": 0.5})"));
+    const CliResult first = run_salsa({"run", "test.json", "--out", "out", "--no-plots", "--plugin-dir", "a"}, dir.path());
+    QVERIFY2(first.exit_code == 0, describe(first));
+    const auto config = nlohmann::json::parse(read_file(dir.path() + "/out/t/config.json").toStdString());
+    const auto& behavior = config["versions"]["behavior"];
+    QCOMPARE(q(behavior["file"].get<std::string>()), a);
+    QCOMPARE(q(behavior["sha256"].get<std::string>()), QString(QCryptographicHash::hash(bytes, QCryptographicHash::Sha256).toHex()));
+    QCOMPARE(config["versions"]["map"]["sha256"].get<std::string>().size(), std::size_t{64});
+    // Another build of the same name and version (a byte more): not the same test.
+    QVERIFY(write_file(a, bytes + QByteArray(1, '\0')));
+    const CliResult rebuilt = run_salsa({"run", "test.json", "--out", "out", "--no-plots", "--resume", "--plugin-dir", "a"}, dir.path());
+    QVERIFY2(rebuilt.exit_code != 0 && rebuilt.err.contains("versions.behavior.sha256"), describe(rebuilt));
+    // The same bytes found elsewhere: the same test, skipped.
+    QVERIFY(write_file(b, bytes));
+    QVERIFY(QFile::remove(a));
+    const CliResult moved = run_salsa({"run", "test.json", "--out", "out", "--no-plots", "--resume", "--plugin-dir", "b"}, dir.path());
+    QVERIFY2(moved.exit_code == 0, describe(moved));
   }
 
   // Replacing a plugin file while it was in use crashed the process (issue 6, item 3): each file is

@@ -20,6 +20,8 @@
 #include <sstream>
 #include <tuple>
 
+#include <openssl/evp.h>
+
 #include "elf_check.hpp"
 
 namespace salsa {
@@ -169,6 +171,17 @@ std::string entry_problem(const fs::path& file) {
   if (fs::is_directory(target)) return "a folder, not a shared library";
   if (!fs::is_regular_file(target)) return "not a regular file (a pipe, socket or device), not a shared library";
   return {};
+}
+
+/// SHA-256 of `bytes`, as 64 lowercase hex digits (OpenSSL's libcrypto).
+std::string sha256_hex(const std::vector<unsigned char>& bytes) {
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int size = 0;
+  if (EVP_Digest(bytes.data(), bytes.size(), digest, &size, EVP_sha256(), nullptr) != 1) return {};
+  static constexpr char hex[] = "0123456789abcdef";
+  std::string out;
+  for (unsigned int i = 0; i < size; ++i) (out += hex[digest[i] >> 4]) += hex[digest[i] & 15];
+  return out;
 }
 
 /// The whole file, read once through one descriptor, or why not. O_NONBLOCK: a file swapped for a
@@ -394,9 +407,11 @@ bool PluginHost::load_file(const fs::path& file) {
   // Phase 1: read the file once, check the bytes, write them to a private copy and map that copy.
   if (std::string why = entry_problem(file); !why.empty()) return fail(why);
   auto lib = std::make_shared<Library>();
+  std::string sha256;
   {
     std::vector<unsigned char> bytes;
     if (std::string why = read_whole(file, bytes); !why.empty()) return fail(why);
+    sha256 = sha256_hex(bytes);  // of the bytes that get mapped: two builds of one version differ here
     if (std::string why = elf_problem(bytes.data(), bytes.size()); !why.empty()) return fail(why);
     Snapshot snapshot;
     if (std::string why = snapshot.make(file, bytes); !why.empty()) return fail(why);
@@ -423,7 +438,7 @@ bool PluginHost::load_file(const fs::path& file) {
                 " aligned to " + std::to_string(alignof(PluginDescriptor)));
   if (d->toolchain != toolchain_tag()) return fail(toolchain_difference(d->toolchain, toolchain_tag()));
   if (!d->register_all) return fail("descriptor has no registration function");
-  lib->info = {file, one_line(d->name), one_line(d->version), one_line(d->author), one_line(d->brief)};
+  lib->info = {file, one_line(d->name), one_line(d->version), one_line(d->author), one_line(d->brief), sha256};
 
   // Phase 3: registration. A throw refuses the whole file: the registrations after it never ran, so
   // what it provides would depend on their order.

@@ -119,8 +119,12 @@ void flatten(const json& v, const std::string& prefix, std::vector<std::pair<std
 
 /// "flocking 0.1.0" for {"plugin": "flocking", "version": "0.1.0"}; lists joined by ';'.
 std::string version_text(const json& v) {
-  if (v.is_object() && v.contains("plugin") && v.contains("version"))
-    return cell_text(v["plugin"]) + " " + cell_text(v["version"]);
+  if (v.is_object() && v.contains("plugin") && v.contains("version")) {
+    // "flocking 0.1.0 #1a2b3c4d5e6f": the hash's start tells two builds of one version apart.
+    std::string text = cell_text(v["plugin"]) + " " + cell_text(v["version"]);
+    if (v.contains("sha256") && v["sha256"].is_string()) text += " #" + v["sha256"].get<std::string>().substr(0, 12);
+    return text;
+  }
   if (v.is_array()) {
     std::string joined;
     for (const auto& e : v) joined += (joined.empty() ? "" : ";") + version_text(e);

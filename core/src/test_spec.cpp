@@ -279,7 +279,10 @@ json params_json(const ParameterValues& v) {
 }
 template <class Base>
 json plugin_json(const Entry<Base>& e) {
-  return {{"plugin", e.plugin().name}, {"version", e.plugin().version}};
+  std::error_code ec;  // absolute: config.json is read later, from anywhere
+  const fs::path file = fs::absolute(e.plugin().file, ec).lexically_normal();
+  return {{"plugin", e.plugin().name}, {"version", e.plugin().version}, {"file", (ec ? e.plugin().file : file).string()},
+          {"sha256", e.plugin().sha256}};
 }
 }  // namespace
 

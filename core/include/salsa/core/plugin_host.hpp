@@ -17,8 +17,9 @@ namespace fs = std::filesystem;
 struct Library;  // a loaded plugin library
 
 struct PluginInfo {
-  fs::path file;
+  fs::path file;  ///< as found in the plugin folder
   std::string name, version, author, brief;
+  std::string sha256;  ///< of the file's bytes as loaded: tells two builds of one version apart
 };
 
 template <class Base>
