@@ -8,6 +8,8 @@ cmake --install "$build_dir" --prefix "$work/prefix" >/dev/null
 cmake -S "$source_dir/examples/plugin" -B "$work/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
       -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
 cmake --build "$work/build" >/dev/null
+# Its test, on the installed stepping fixture (salsa::fixture).
+(cd "$work/build" && ctest --output-on-failure >/dev/null)
 listing=$("$work/prefix/bin/salsa" plugins --plugin-dir "$work/build")
 echo "$listing"
 grep -E "behavior +wander +1\.0\.0" <<<"$listing"

@@ -73,6 +73,26 @@ class SdkFlock final : public salsa::Behavior {
   }
 };
 
+/// Parameters written once, as members; one declared the old way too (declared first, then members).
+class SdkBound final : public salsa::Behavior {
+  salsa::Param speed{this, "speed", 4.0, 1.0, 8.0, "m/s", "how fast"};
+  salsa::Param count{this, {"count", 3, 1, 10, "", "how many", 1}};
+
+ public:
+  static salsa::Parameters declare() { return {{"legacy", 0.5, 0.0, 1.0, "", "read by name"}}; }
+  Vec2 decide(const salsa::Perception&, salsa::Rng&) override { return {speed, count + param("legacy")}; }
+  double seen_in_configure = 0;
+
+ protected:
+  void configure() override { seen_in_configure = speed; }  // members are set before configure runs
+};
+
+/// Draws one number per decision: the stream goes on between calls.
+class SdkDraw final : public salsa::Behavior {
+ public:
+  Vec2 decide(const salsa::Perception&, salsa::Rng& rng) override { return {rng.uniform(0, 1), 0}; }
+};
+
 /// Counts its decisions per drone in its memory.
 class SdkCounter final : public salsa::BehaviorWithMemory<int> {
  public:
@@ -653,6 +673,53 @@ class TestSdk : public QObject {
     QCOMPARE(seen.perception().targets.size(), std::size_t(1));
     QCOMPARE(seen.perception().targets[0].distance, 12.0);
     QVERIFY(seen.perception().targets[0].found);
+  }
+
+  // A Param member is its declaration (the factory probes an instance) and holds the value decide reads.
+  void param_members() {
+    const auto f = salsa::detail::make_factory<salsa::Behavior, SdkBound>("bound", "");
+    QCOMPARE(f.parameters.size(), std::size_t(3));
+    QCOMPARE(f.parameters[0].name, std::string("legacy"));  // declare() first, then members in order
+    QCOMPARE(f.parameters[1].name, std::string("speed"));
+    QCOMPARE(f.parameters[1].unit, std::string("m/s"));
+    QCOMPARE(f.parameters[2].name, std::string("count"));
+    QVERIFY(f.parameters[2].is_integer());
+    auto made = f.create();  // the defaults
+    salsa::testing::Scene scene;
+    QCOMPARE(scene.decide(*made), Vec2(4, 3.5));
+    salsa::ParameterValues values(f.parameters);
+    values.set("speed", 7);
+    values.set("count", 2);
+    made->set_parameters(values);
+    QCOMPARE(scene.decide(*made), Vec2(7, 2.5));
+    QCOMPARE(dynamic_cast<SdkBound&>(*made).seen_in_configure, 7.0);
+    // A value the caller leaves out keeps the member's current value.
+    salsa::ParameterValues only_count;
+    only_count.set("count", 9);
+    only_count.set("legacy", 0);
+    made->set_parameters(only_count);
+    QCOMPARE(scene.decide(*made), Vec2(7, 9));
+  }
+
+  // Scene: the random stream goes on between decisions; step() flies as the core does without physics.
+  void scene_steps() {
+    SdkDraw draw;
+    salsa::testing::Scene scene;
+    const double a = scene.decide(draw).x, b = scene.decide(draw).x;
+    QVERIFY(a != b);
+    salsa::Rng same(1, 0);
+    QCOMPARE(a, same.uniform(0, 1));
+    QCOMPARE(b, same.uniform(0, 1));
+    SdkBehavior fly;  // steers (4, 0) every step; the small drone's max speed is 10 m/s
+    salsa::testing::Scene flying;
+    flying.step(fly);
+    QCOMPARE(flying.me().velocity, Vec2(4, 0));
+    VEC_COMPARE(flying.me().position, Vec2(4.0 / 60, 0), 1e-12);
+    flying.step(fly);
+    flying.step(fly);
+    QCOMPARE(flying.me().velocity, Vec2(10, 0));  // clamped to max speed
+    QCOMPARE(flying.me().time, 3.0 / 60);
+    VEC_COMPARE(flying.me().position, Vec2(22.0 / 60, 0), 1e-12);
   }
 
   void steering_edge_cases() {

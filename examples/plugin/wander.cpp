@@ -1,4 +1,4 @@
-// An out-of-tree behavior plugin: the whole of it. Build with examples/plugin/CMakeLists.txt against an
+// An out-of-tree behavior plugin: the whole of it. Build with this folder's CMakeLists.txt against an
 // installed salsa, then `salsa plugins --plugin-dir build` lists it.
 #include <salsa/sdk.hpp>
 
@@ -7,14 +7,13 @@ struct Heading {
 };
 
 class Wander final : public salsa::BehaviorWithMemory<Heading> {
+  salsa::Param turn_interval{this, "turn_interval", 2.0, 0.1, 30.0, "s", "time between heading changes"};
+  salsa::Param avoidance{this, "avoidance", 2.0, 0.0, 10.0, "", "weight of obstacle avoidance"};
+
  public:
-  static salsa::Parameters declare() {
-    return {{"turn_interval", 2.0, 0.1, 30.0, "s", "time between heading changes"},
-            {"avoidance", 2.0, 0.0, 10.0, "", "weight of obstacle avoidance"}};
-  }
   salsa::Vec2 decide(const salsa::Perception& me, Heading& h, salsa::Rng& rng) override {
-    if ((h.since += me.dt) > param("turn_interval")) h = {rng.angle(), 0};
-    return steer_towards(me, salsa::Vec2::polar(me.max_speed, h.angle)) + param("avoidance") * avoid_obstacles(me);
+    if ((h.since += me.dt) > turn_interval) h = {rng.angle(), 0};
+    return steer_towards(me, salsa::Vec2::polar(me.max_speed, h.angle)) + avoidance * avoid_obstacles(me);
   }
 };
 SALSA_BEHAVIOR(Wander, "wander", "Random heading changes, avoids obstacles")

@@ -26,18 +26,15 @@ struct Sweep {
 };
 
 class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Sweep> {
- public:
-  static salsa::Parameters declare() {
-    return {
-        {"point_speed", 8.0, 0.1, 100.0, "m/s", "top speed of the virtual points while they spread"},
-        {"cutoff", 1.5, 0.5, 3.0, "", "points repel within this multiple of the equilibrium spacing"},
-        {"cell_size", 20.0, 1.0, 1000.0, "m",
-         "side of a coverage cell; a drone at its centre sees all of it up to camera range × 1.41"},
-        {"repartition_interval", 1.0, 0.0, 60.0, "s", "time between re-floods of the regions (0: every step)"},
-        {"obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"},
-    };
-  }
+  using Param = salsa::Param;  // each parameter once: its declaration, and its value in decide
+  Param point_speed{this, "point_speed", 8.0, 0.1, 100.0, "m/s", "top speed of the virtual points while they spread"};
+  Param cutoff{this, "cutoff", 1.5, 0.5, 3.0, "", "points repel within this multiple of the equilibrium spacing"};
+  Param cell_size{this, "cell_size", 20.0, 1.0, 1000.0, "m",
+                  "side of a coverage cell; a drone at its centre sees all of it up to camera range × 1.41"};
+  Param repartition_interval{this, "repartition_interval", 1.0, 0.0, 60.0, "s", "time between re-floods of the regions (0: every step)"};
+  Param obstacle_weight{this, "obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"};
 
+ public:
   void reset(std::size_t drones) override {
     BehaviorWithMemory::reset(drones);
     points_.clear();  // re-seeded at the drones' positions by the next prepare
@@ -47,7 +44,7 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Sweep> {
   void prepare(const salsa::WorldView& world) override {
     const auto drones = world.drone_positions();
     if (points_.size() != drones.size()) points_.assign(drones.begin(), drones.end()), next_flood_ = 0;
-    if (cells_.empty() || world.bounds() != bounds_ || cell_size_ != built_cell_size_) build(world);
+    if (cells_.empty() || world.bounds() != bounds_ || cell_size != built_cell_size_) build(world);
     if (points_.empty()) return;
     spread(world);
     // Visits: the cell under a drone close to its centre; cells a drone could not reach count too.
@@ -57,7 +54,7 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Sweep> {
       if (salsa::distance_squared(drones[i], centre(c)) <= arrive2) cells_[c].visited = t;
       if (i < memory().size() && memory()[i].given_up != kNone) cells_[memory()[i].given_up].visited = t;
     }
-    if (t >= next_flood_) flood(), next_flood_ = t + repartition_interval_;
+    if (t >= next_flood_) flood(), next_flood_ = t + repartition_interval;
   }
 
   salsa::Vec2 decide(const salsa::Perception& me, Sweep& s, salsa::Rng&) override {
@@ -69,7 +66,7 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Sweep> {
       if (me.time > s.deadline && s.goal != kNone) s.given_up = s.goal;
       steer = salsa::seek(me, s.goal != kNone ? centre(s.goal) : points_[me.id]);
     }
-    return steer + obstacle_weight_ * salsa::avoid_near_obstacles(me, kAvoidFade);
+    return steer + obstacle_weight * salsa::avoid_near_obstacles(me, kAvoidFade);
   }
 
   salsa::Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only
@@ -86,15 +83,6 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Sweep> {
     return text;
   }
 
- protected:
-  void configure() override {
-    point_speed_ = param("point_speed");
-    cutoff_ = param("cutoff");
-    cell_size_ = param("cell_size");
-    repartition_interval_ = param("repartition_interval");
-    obstacle_weight_ = param("obstacle_avoidance_weight");
-  }
-
  private:
   struct Cell {
     double visited = -1;        // s, last visit; -1: never
@@ -108,8 +96,8 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Sweep> {
 
   void build(const salsa::WorldView& world) {
     bounds_ = world.bounds();
-    built_cell_size_ = cell_size_;
-    cell_ = std::max(cell_size_, std::sqrt(bounds_.area() / kMaxCells));
+    built_cell_size_ = cell_size;
+    cell_ = std::max(cell_size.value(), std::sqrt(bounds_.area() / kMaxCells));
     cols_ = std::max(1, static_cast<int>(std::ceil(bounds_.width() / cell_)));
     rows_ = std::max(1, static_cast<int>(std::ceil(bounds_.height() / cell_)));
     cells_.assign(static_cast<std::size_t>(cols_) * rows_, Cell{});
@@ -131,17 +119,17 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Sweep> {
   void spread(const salsa::WorldView& world) {
     const salsa::Rect b = bounds_;
     const double spacing = std::sqrt(b.area() / static_cast<double>(points_.size()));
-    const double cutoff = cutoff_ * spacing, step = point_speed_ * world.dt();
+    const double reach = cutoff * spacing, step = point_speed * world.dt();
     const double margin = std::min({cell_ / 2, b.width() / 2, b.height() / 2});
-    grid_.build(points_, cutoff);
+    grid_.build(points_, reach);
     next_.resize(points_.size());
     for (std::uint32_t i = 0; i < points_.size(); ++i) {  // from old positions only: order-independent
       const salsa::Vec2 p = points_[i];
       salsa::Vec2 push;
-      grid_.query(p, cutoff, [&](std::uint32_t j, salsa::Vec2 q, double d2) {
+      grid_.query(p, reach, [&](std::uint32_t j, salsa::Vec2 q, double d2) {
         if (j == i) return;
         const double d = std::sqrt(d2);  // coincident points part along a fixed per-point direction
-        push += (d > 0 ? (p - q) / d : salsa::Vec2::polar(1, 2.39996 * i)) * (1 - d / cutoff);
+        push += (d > 0 ? (p - q) / d : salsa::Vec2::polar(1, 2.39996 * i)) * (1 - d / reach);
       });
       const salsa::Vec2 m = p + push.clamped(1) * step;
       next_[i] = {std::clamp(m.x, b.min.x + margin, b.max.x - margin), std::clamp(m.y, b.min.y + margin, b.max.y - margin)};
@@ -172,7 +160,7 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Sweep> {
   // region lies within reach of its point; scanning that square costs about the region's size.
   void choose_goal(const salsa::Perception& me, Sweep& s) const {
     const std::uint32_t home = index(points_[me.id]);
-    const int reach = static_cast<int>(std::ceil(cutoff_ * std::sqrt(bounds_.area() / static_cast<double>(points_.size())) / cell_)) + 1;
+    const int reach = static_cast<int>(std::ceil(cutoff * std::sqrt(bounds_.area() / static_cast<double>(points_.size())) / cell_)) + 1;
     const int hx = static_cast<int>(home % cols_), hy = static_cast<int>(home / cols_);
     double best = std::numeric_limits<double>::infinity();
     s.goal = kNone;
@@ -188,7 +176,6 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Sweep> {
     if (s.goal != kNone) s.deadline = me.time + 2 * salsa::distance(me.position, centre(s.goal)) / me.max_speed + 10;
   }
 
-  double point_speed_ = 0, cutoff_ = 0, cell_size_ = 0, repartition_interval_ = 0, obstacle_weight_ = 0;
   std::vector<salsa::Vec2> points_, next_;
   salsa::PointGrid grid_;
   salsa::Rect bounds_;

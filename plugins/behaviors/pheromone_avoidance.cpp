@@ -9,26 +9,23 @@
 namespace {
 
 class PheromoneAvoidance final : public salsa::Behavior {
- public:
-  static salsa::Parameters declare() {
-    return {
-        {"cell_size", 10.0, 1.0, 1000.0, "m", "side of one cell of the pheromone field"},
-        {"deposit", 1.0, 0.001, 1000.0, "", "pheromone a drone adds to its cell each step"},
-        {"evaporation_rate", 0.01, 0.0, 10.0, "1/s", "exponential decay rate of the pheromone"},
-        {"look_ahead", 30.0, 1.0, 1000.0, "m", "how far ahead the field is sampled"},
-        {"directions", 8, 3, 64, "", "directions sampled around the current heading", 1},
-        {"turn_cost", 2.0, 0.0, 20.0, "",
-         "penalty of a 90 degree turn against log(1 + marks / deposit): higher flies straighter"},
-        {"obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"},
-    };
-  }
+  using Param = salsa::Param;  // each parameter once: its declaration, and its value in decide
+  Param cell_size{this, "cell_size", 10.0, 1.0, 1000.0, "m", "side of one cell of the pheromone field"};
+  Param deposit{this, "deposit", 1.0, 0.001, 1000.0, "", "pheromone a drone adds to its cell each step"};
+  Param evaporation_rate{this, "evaporation_rate", 0.01, 0.0, 10.0, "1/s", "exponential decay rate of the pheromone"};
+  Param look_ahead{this, "look_ahead", 30.0, 1.0, 1000.0, "m", "how far ahead the field is sampled"};
+  Param directions{this, "directions", 8, 3, 64, "", "directions sampled around the current heading", 1};
+  Param turn_cost{this, "turn_cost", 2.0, 0.0, 20.0, "",
+                  "penalty of a 90 degree turn against log(1 + marks / deposit): higher flies straighter"};
+  Param obstacle_weight{this, "obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"};
 
+ public:
   void prepare(const salsa::WorldView& world) override {
-    if (cells_.empty() || world.bounds() != bounds_ || cell_size_ != built_cell_size_) build(world.bounds());
+    if (cells_.empty() || world.bounds() != bounds_ || cell_size != built_cell_size_) build(world.bounds());
     const double t = world.time();
     for (salsa::Vec2 p : world.drone_positions()) {  // O(drones): cells decay lazily, never swept
       Cell& c = cells_[index(p)];
-      c.value = c.value * decay(t - c.time) + deposit_;
+      c.value = c.value * decay(t - c.time) + deposit;
       c.time = t;
     }
   }
@@ -43,7 +40,7 @@ class PheromoneAvoidance final : public salsa::Behavior {
                             heading.x * turns_[k].y + heading.y * turns_[k].x};  // heading rotated by turn k
       // Sample short of any obstacle that direction (the ground beyond is out of reach); a direction
       // blocked right ahead, or leading out of the area, counts as maximally marked.
-      double reach = look_ahead_;
+      double reach = look_ahead;
       for (const auto& h : me.obstacles)
         if (dir.dot(h.point - me.position) > cone_ * h.distance)
           reach = std::min(reach, h.distance - margin_);
@@ -51,27 +48,21 @@ class PheromoneAvoidance final : public salsa::Behavior {
       // Log scale: fresh ground beats marked ground clearly, but among marked directions the turn cost
       // wins, so drones cross trodden ground in straight lines instead of circling in it.
       double score = reach >= margin_ && bounds_.contains(ahead)
-                         ? std::log1p(marks(ahead, me.time) / deposit_)
+                         ? std::log1p(marks(ahead, me.time) / deposit)
                          : kBlocked;
-      score += turn_cost_ * (1 - turns_[k].x) + rng.uniform(0, 0.1);  // jitter breaks symmetric ties
+      score += turn_cost * (1 - turns_[k].x) + rng.uniform(0, 0.1);  // jitter breaks symmetric ties
       if (k == 0 || score < best_score) best_score = score, best = dir;
     }
-    return salsa::steer_along(me, best) + obstacle_weight_ * salsa::avoid_near_obstacles(me);
+    return salsa::steer_along(me, best) + obstacle_weight * salsa::avoid_near_obstacles(me);
   }
 
   salsa::Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only
   void reset(std::size_t) override { cells_.clear(); }  // a fresh run starts with a clean field
 
  protected:
-  void configure() override {
-    cell_size_ = param("cell_size");
-    deposit_ = param("deposit");
-    rate_ = param("evaporation_rate");
-    look_ahead_ = param("look_ahead");
-    margin_ = look_ahead_ / 3;
-    turn_cost_ = param("turn_cost");
-    obstacle_weight_ = param("obstacle_avoidance_weight");
-    const auto n = static_cast<int>(param("directions"));
+  void configure() override {  // what decide derives from the parameters
+    margin_ = look_ahead / 3;
+    const auto n = static_cast<int>(directions);
     turns_.clear();  // (cos, sin) of each sampled turn, so decide needs no trigonometry
     for (int k = 0; k < n; ++k) turns_.push_back(salsa::Vec2::polar(1, 2 * salsa::pi * k / n));
     cone_ = std::cos(2 * salsa::pi / n);  // a hit within one sector of a direction blocks it
@@ -87,8 +78,8 @@ class PheromoneAvoidance final : public salsa::Behavior {
 
   void build(const salsa::Rect& b) {
     bounds_ = b;
-    built_cell_size_ = cell_size_;
-    cell_ = std::max(cell_size_, std::sqrt(b.area() / kMaxCells));
+    built_cell_size_ = cell_size;
+    cell_ = std::max(cell_size.value(), std::sqrt(b.area() / kMaxCells));
     cols_ = static_cast<int>(std::ceil(b.width() / cell_)) + 1;
     rows_ = static_cast<int>(std::ceil(b.height() / cell_)) + 1;
     cells_.assign(static_cast<std::size_t>(cols_) * rows_, Cell{});
@@ -98,14 +89,13 @@ class PheromoneAvoidance final : public salsa::Behavior {
     const int y = std::clamp(static_cast<int>((p.y - bounds_.min.y) / cell_), 0, rows_ - 1);
     return static_cast<std::size_t>(y) * cols_ + x;
   }
-  double decay(double elapsed) const { return rate_ > 0 ? std::exp(-rate_ * elapsed) : 1.0; }
+  double decay(double elapsed) const { return evaporation_rate > 0 ? std::exp(-evaporation_rate * elapsed) : 1.0; }
   double marks(salsa::Vec2 p, double t) const {
     const Cell& c = cells_[index(p)];
     return c.value > 0 ? c.value * decay(t - c.time) : 0.0;
   }
 
-  double cell_size_ = 10, deposit_ = 1, rate_ = 0, look_ahead_ = 30, margin_ = 10, turn_cost_ = 2, cone_ = 0,
-         obstacle_weight_ = 0;
+  double margin_ = 10, cone_ = 0;
   std::vector<salsa::Vec2> turns_;
   salsa::Rect bounds_;
   double cell_ = 10, built_cell_size_ = 0;

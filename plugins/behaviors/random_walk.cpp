@@ -15,17 +15,14 @@ struct Walk {
 };
 
 class RandomWalk final : public salsa::BehaviorWithMemory<Walk> {
- public:
-  static salsa::Parameters declare() {
-    return {
-        {"min_duration", 2.0, 0.1, 600.0, "s", "shortest time a heading is kept"},
-        {"max_duration", 10.0, 0.1, 600.0, "s", "longest time a heading is kept"},
-        {"turn_distance", 0.33, 0.0, 1.0, "",
-         "obstacle hits closer than this fraction of obstacle range make the drone turn away"},
-        {"obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"},
-    };
-  }
+  using Param = salsa::Param;  // each parameter once: its declaration, and its value in decide
+  Param min_duration{this, "min_duration", 2.0, 0.1, 600.0, "s", "shortest time a heading is kept"};
+  Param max_duration{this, "max_duration", 10.0, 0.1, 600.0, "s", "longest time a heading is kept"};
+  Param turn_distance{this, "turn_distance", 0.33, 0.0, 1.0, "",
+                      "obstacle hits closer than this fraction of obstacle range make the drone turn away"};
+  Param obstacle_weight{this, "obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"};
 
+ public:
   salsa::Vec2 decide(const salsa::Perception& me, Walk& w, salsa::Rng& rng) override {
     if (!w.started) {  // keep the spawn velocity's heading so the first step has no jolt
       w = {me.velocity.is_zero() ? rng.angle() : me.velocity.angle(), duration(rng), true};
@@ -36,12 +33,12 @@ class RandomWalk final : public salsa::BehaviorWithMemory<Walk> {
     // Close hits: if we are heading into them, pick a new heading within ±60° of straight away.
     salsa::Vec2 away;
     for (const auto& h : me.obstacles)
-      if (h.distance < turn_fraction_ * me.obstacle_range) away += (me.position - h.point).normalized();
+      if (h.distance < turn_distance * me.obstacle_range) away += (me.position - h.point).normalized();
     if (!away.is_zero() && salsa::Vec2::polar(1, w.heading).dot(away) < 0)
       w = {away.angle() + rng.uniform(-salsa::pi / 3, salsa::pi / 3), duration(rng), true};
 
     return salsa::steer_towards(me, salsa::Vec2::polar(me.max_speed, w.heading)) +
-           obstacle_weight_ * salsa::avoid_near_obstacles(me);
+           obstacle_weight * salsa::avoid_near_obstacles(me);
   }
 
   salsa::Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only
@@ -54,18 +51,10 @@ class RandomWalk final : public salsa::BehaviorWithMemory<Walk> {
     return text;
   }
 
- protected:
-  void configure() override {
-    min_duration_ = param("min_duration");
-    max_duration_ = std::max(min_duration_, param("max_duration"));
-    turn_fraction_ = param("turn_distance");
-    obstacle_weight_ = param("obstacle_avoidance_weight");
-  }
-
  private:
-  double duration(salsa::Rng& rng) const { return rng.uniform(min_duration_, max_duration_); }
-
-  double min_duration_ = 0, max_duration_ = 0, turn_fraction_ = 0, obstacle_weight_ = 0;
+  double duration(salsa::Rng& rng) const {  // a max below the min means "exactly the min"
+    return rng.uniform(min_duration, std::max(min_duration.value(), max_duration.value()));
+  }
 };
 
 }  // namespace

@@ -4,11 +4,10 @@
 namespace {
 
 class EmptyMap final : public salsa::MapGenerator {
- public:
-  static salsa::Parameters declare() { return {{"size", 1000.0, 10.0, 1e6, "m", "side of the square"}}; }
+  salsa::Param size{this, "size", 1000.0, 10.0, 1e6, "m", "side of the square"};
 
+ public:
   salsa::MapData generate(const std::string&, salsa::Rng&) const override {
-    const double size = param("size");
     salsa::MapData map;
     map.bounds = {{0, 0}, {size, size}};
     map.spawn = map.bounds.centre();

@@ -13,26 +13,21 @@
 namespace {
 
 class ForestMap final : public salsa::MapGenerator {
- public:
-  static salsa::Parameters declare() {
-    return {
-        {"size", 500.0, 50.0, 1e5, "m", "side of the square"},
-        {"clusters", 0, 0, kMaxClusters, "", "number of obstacle clusters; 0: cluster_density × area", 1},
-        {"cluster_density", 48.0, 0.0, 10000.0, "1/km^2", "clusters per square kilometre when clusters is 0"},
-        {"obstacles_per_cluster", 4, 1, 100, "", "obstacles tried per cluster (fewer if they do not fit)", 1},
-        {"min_obstacle_size", 8.0, 1.0, 1000.0, "m", "smallest obstacle diameter"},
-        {"max_obstacle_size", 25.0, 1.0, 1000.0, "m", "largest obstacle diameter"},
-        {"cluster_radius", 40.0, 0.0, 1e4, "m",
-         "obstacles lie within this distance of their cluster's centre"},
-        {"clear_radius", 30.0, 0.0, 1e4, "m", "no obstacle within this distance of the spawn point"},
-        {"gap", 4.0, 0.0, 100.0, "m", "least free space between obstacles, and between obstacles and walls"},
-    };
-  }
+  using Param = salsa::Param;
+  Param size{this, "size", 500.0, 50.0, 1e5, "m", "side of the square"};
+  Param clusters{this, "clusters", 0, 0, kMaxClusters, "", "number of obstacle clusters; 0: cluster_density × area", 1};
+  Param cluster_density{this, "cluster_density", 48.0, 0.0, 10000.0, "1/km^2", "clusters per square kilometre when clusters is 0"};
+  Param obstacles_per_cluster{this, "obstacles_per_cluster", 4, 1, 100, "", "obstacles tried per cluster (fewer if they do not fit)", 1};
+  Param min_obstacle_size{this, "min_obstacle_size", 8.0, 1.0, 1000.0, "m", "smallest obstacle diameter"};
+  Param max_obstacle_size{this, "max_obstacle_size", 25.0, 1.0, 1000.0, "m", "largest obstacle diameter"};
+  Param cluster_radius{this, "cluster_radius", 40.0, 0.0, 1e4, "m", "obstacles lie within this distance of their cluster's centre"};
+  Param clear_radius{this, "clear_radius", 30.0, 0.0, 1e4, "m", "no obstacle within this distance of the spawn point"};
+  Param gap{this, "gap", 4.0, 0.0, 100.0, "m", "least free space between obstacles, and between obstacles and walls"};
 
+ public:
   salsa::MapData generate(const std::string&, salsa::Rng& rng) const override {
-    const double size = param("size"), min_size = param("min_obstacle_size"), gap = param("gap");
-    const double max_size = std::max(min_size, param("max_obstacle_size"));
-    const double cluster_radius = param("cluster_radius"), clear = param("clear_radius");
+    const double min_size = min_obstacle_size, max_size = std::max(min_size, max_obstacle_size.value());
+    const double clear = clear_radius;
     salsa::MapData map;
     map.bounds = {{0, 0}, {size, size}};
     map.spawn = map.bounds.centre();
@@ -61,10 +56,10 @@ class ForestMap final : public salsa::MapGenerator {
       return true;
     };
 
-    const double scaled = std::min(param("cluster_density") * size * size / 1e6, double(kMaxClusters));
-    const auto clusters = static_cast<int>(param("clusters") > 0 ? param("clusters") : std::round(scaled));
-    const auto per_cluster = static_cast<int>(param("obstacles_per_cluster"));
-    for (int k = 0; k < clusters; ++k) {
+    const double scaled = std::min(cluster_density * size * size / 1e6, double(kMaxClusters));
+    const auto cluster_count = static_cast<int>(clusters > 0 ? clusters.value() : std::round(scaled));
+    const auto per_cluster = static_cast<int>(obstacles_per_cluster);
+    for (int k = 0; k < cluster_count; ++k) {
       const salsa::Vec2 centre = rng.in_rect(map.bounds);
       for (int i = 0; i < per_cluster; ++i)
         for (int attempt = 0; attempt < 20; ++attempt) {

@@ -15,10 +15,10 @@
 namespace {
 
 class AreaCoverage final : public salsa::Metric {
+  salsa::Param cell_size{this, "cell_size", 0.0, 0.0, 1000.0, "m",
+                         "grid cell edge; 0: a quarter of the camera range (larger if the map would need over 2^24 cells)", 0.05};
+
  public:
-  static salsa::Parameters declare() {
-    return {{"cell_size", 0.0, 0.0, 1000.0, "m", "grid cell edge; 0: a quarter of the camera range (larger if the map would need over 2^24 cells)", 0.05}};
-  }
   std::vector<salsa::Column> step_columns() const override {
     return {{"coverage", "", "fraction of the free area seen so far (0 to 1)", 6}};
   }
@@ -28,7 +28,7 @@ class AreaCoverage final : public salsa::Metric {
     const salsa::Rect b = world.bounds();
     range_ = world.drone().camera_range;
     const double side = std::max(b.width(), b.height());
-    cell_ = param("cell_size") > 0 ? param("cell_size") : range_ > 0 ? range_ / 4 : side / 1000;
+    cell_ = cell_size > 0 ? cell_size.value() : range_ > 0 ? range_ / 4 : side / 1000;
     cell_ = std::max(cell_, std::sqrt(b.area() / max_cells));  // a byte per cell: at most 16 MB
     origin_ = b.min;
     cols_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(b.width() / cell_)));

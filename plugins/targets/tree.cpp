@@ -5,17 +5,10 @@
 namespace {
 
 class Tree final : public salsa::TargetKind {
+  salsa::Param radius_{this, "radius", 5.0, 0.1, 100.0, "m", "radius of a tree's crown"};
+
  public:
-  static salsa::Parameters declare() {
-    return {{"radius", 5.0, 0.1, 100.0, "m", "radius of a tree's crown"}};
-  }
   double radius() const override { return radius_; }
-
- protected:
-  void configure() override { radius_ = param("radius"); }
-
- private:
-  double radius_ = 5;
 };
 
 }  // namespace

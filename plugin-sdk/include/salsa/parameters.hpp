@@ -73,23 +73,65 @@ class ParameterValues {
   std::vector<std::pair<std::string, double>> values_;
 };
 
-/// Base of everything a plugin makes: holds its parameter values; `configure()` runs after they change
-/// (cache them in members there when `decide` is hot).
+class Param;
+
+/// Base of everything a plugin makes: holds its parameter values; `configure()` runs after they change.
+/// A parameter is declared either once, as a `Param` member (below), or in `static Parameters declare()`
+/// and read with `param("name")` (a lookup by name: cache it in `configure()` when `decide` is hot).
 class Configurable {
  public:
+  Configurable() = default;
+  Configurable(const Configurable&) = delete;  // Param members point into the object
+  Configurable& operator=(const Configurable&) = delete;
   virtual ~Configurable() = default;
   double param(std::string_view name) const { return values_.get(name); }
   const ParameterValues& parameters() const { return values_; }
   void set_parameters(ParameterValues values) {
     values_ = std::move(values);
+    for (const auto& b : bound_)
+      if (values_.has(b.declaration.name)) *b.value = values_.get(b.declaration.name);
     configure();
+  }
+  /// The declarations of the Param members, in member order.
+  Parameters bound_parameters() const {
+    Parameters out;
+    for (const auto& b : bound_) out.push_back(b.declaration);
+    return out;
   }
 
  protected:
+  /// Runs after every change of values, Param members already set: derive state, or throw
+  /// std::invalid_argument to refuse a combination of values (the message is shown with the plugin's name).
   virtual void configure() {}
 
  private:
+  friend class Param;
+  struct Binding {
+    Parameter declaration;
+    double* value;
+  };
   ParameterValues values_;
+  std::vector<Binding> bound_;
+};
+
+/// A parameter written once: the member is its declaration and holds its current value, so `decide`
+/// reads a plain double (no lookup).
+///   salsa::Param turn_interval{this, "turn_interval", 2.0, 0.1, 30.0, "s", "time between heading changes"};
+class Param {
+ public:
+  Param(Configurable* owner, Parameter declaration) : value_(declaration.value) {
+    owner->bound_.push_back({std::move(declaration), &value_});
+  }
+  Param(Configurable* owner, std::string name, double value, double min, double max, std::string unit = "",
+        std::string description = "", double step = 0)
+      : Param(owner, Parameter{std::move(name), value, min, max, std::move(unit), std::move(description), step}) {}
+  Param(const Param&) = delete;
+  Param& operator=(const Param&) = delete;
+  operator double() const { return value_; }
+  double value() const { return value_; }
+
+ private:
+  double value_;
 };
 
 }  // namespace salsa

@@ -2,6 +2,8 @@
 // Plugin registration. A plugin library registers any number of behaviors, target kinds, maps, contact
 // handlers and metrics with one macro each; the library exports one C symbol, `salsa_plugin_descriptor`,
 // that the loader reads and checks before it calls anything else.
+#include <type_traits>
+
 #include "salsa/registry.hpp"
 
 namespace salsa {
@@ -14,10 +16,17 @@ __attribute__((visibility("hidden"))) inline std::vector<void (*)(Registrar&)>& 
   return list;
 }
 
+/// `T::declare()` if it has one, then the Param members of a probe instance (constructed once, at
+/// registration).
 template <class T>
 Parameters declared_parameters() {
-  if constexpr (requires { T::declare(); }) return T::declare();
-  else return {};
+  Parameters out;
+  if constexpr (requires { T::declare(); }) out = T::declare();
+  if constexpr (std::is_default_constructible_v<T>) {
+    T probe;
+    for (auto& p : static_cast<const Configurable&>(probe).bound_parameters()) out.push_back(std::move(p));
+  }
+  return out;
 }
 
 template <class Base, class T>

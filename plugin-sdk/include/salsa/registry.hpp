@@ -18,7 +18,7 @@
 namespace salsa {
 
 /// Bumped whenever a type a plugin sees changes layout or meaning.
-inline constexpr std::uint32_t abi_version = 3;  // 2: metrics (Registrar::add(Factory<Metric>)), Behavior::senses; 3: Behavior::inspect
+inline constexpr std::uint32_t abi_version = 4;  // 2: metrics, Behavior::senses; 3: Behavior::inspect; 4: Param members, plugin authors' kit (docs/plugins.md#abi-policy)
 
 /// Types cross the library boundary (std::string, std::function, vectors), so plugin and host must
 /// agree on the C++ library ABI as well; this tag folds the relevant facts into one number. The loader

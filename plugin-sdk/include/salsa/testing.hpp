@@ -1,6 +1,7 @@
 #pragma once
-// A small fixture for plugin authors: build one drone's Perception by hand and call `decide`, no
-// simulation needed.
+// A unit fixture for plugin authors: build one drone's Perception by hand and call `decide`, no
+// simulation and no library needed. For a behavior with shared state (prepare), many drones, a map,
+// targets or metrics, use the stepping simulation of salsa/fixture.hpp.
 //
 //   salsa::testing::Scene scene;                    // a "small" drone at the origin, at rest
 //   scene.neighbour({10, 0}, {1, 0});               // another drone 10 m east, flying east
@@ -53,17 +54,28 @@ class Scene {
     me_.targets = targets_;
     return me_;
   }
-  /// One `decide` for this drone (id 0) with a fresh Rng. The first time, a behavior without parameter
-  /// values gets its declared defaults and memory for one drone.
+  /// One `decide` for this drone (id 0). The first time, a behavior without parameter values gets its
+  /// declared defaults and memory for one drone. The random stream goes on from call to call, as a
+  /// drone's does in a run (`seed` picks the stream at the first call).
   template <class B>
   Vec2 decide(B& behavior, std::uint64_t seed = 1) {
     if (!reset_) {
       if (behavior.parameters().items().empty()) behavior.set_parameters(ParameterValues(detail::declared_parameters<B>()));
       behavior.reset(1);
+      rng_ = Rng(seed, 0);
       reset_ = true;
     }
-    Rng rng(seed, 0);
-    return static_cast<Behavior&>(behavior).decide(perception(), rng);
+    return static_cast<Behavior&>(behavior).decide(perception(), rng_);
+  }
+  /// decide, then fly the step as the core does without physics: velocity += steering, clamped to max
+  /// speed; position += velocity × dt; time += dt. Neighbours, obstacles and targets stay where they are.
+  template <class B>
+  Vec2 step(B& behavior, std::uint64_t seed = 1) {
+    const Vec2 steering = decide(behavior, seed);
+    me_.velocity = (me_.velocity + steering).clamped(me_.max_speed);
+    me_.position += me_.velocity * me_.dt;
+    me_.time += me_.dt;
+    return steering;
   }
 
  private:
@@ -71,6 +83,7 @@ class Scene {
   std::vector<Neighbour> neighbours_;
   std::vector<ObstacleHit> obstacles_;
   std::vector<TargetSeen> targets_;
+  Rng rng_{1, 0};
   bool reset_ = false;
 };
 
