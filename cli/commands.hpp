@@ -2,6 +2,7 @@
 // Subcommands implemented outside main.cpp.
 int cmd_bench(int argc, char** argv);
 int cmd_plot(int argc, char** argv);
+int cmd_new_plugin(int argc, char** argv);
 
 #include <boost/program_options/variables_map.hpp>
 #include <string>

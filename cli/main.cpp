@@ -50,6 +50,7 @@ commands:
   describe NAME      print a plugin's parameters (name, default, min, max, unit, meaning)
   bench WORKLOAD     measure speed (table1, scale)
   plot FOLDER|FILE   redraw the plots of a results or test folder; chart a bench JSON or summary.csv
+  new-plugin KIND NAME  write NAME/: a plugin (behavior, target, map, contact-handler, metric), its test and CMakeLists.txt
 
 'salsa <command> --help' shows the options of a command.
 )";
@@ -594,7 +595,8 @@ int main(int argc, char** argv) {
     if (command == "describe") return cmd_describe(argc - 1, argv + 1);
     if (command == "bench") return cmd_bench(argc - 1, argv + 1);
     if (command == "plot") return cmd_plot(argc - 1, argv + 1);
-    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, summarize, validate, queue, plugins, describe, bench, plot)\n";
+    if (command == "new-plugin") return cmd_new_plugin(argc - 1, argv + 1);
+    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, summarize, validate, queue, plugins, describe, bench, plot, new-plugin)\n";
     return 2;
   } catch (const po::error& e) {
     std::cerr << "salsa " << command << ": " << e.what() << " (see 'salsa " << command << " --help')\n";

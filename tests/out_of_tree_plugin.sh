@@ -1,18 +1,102 @@
 #!/usr/bin/env bash
-# The plugin author's path: install salsa, build examples/plugin against it with find_package(salsa)
-# + salsa_add_plugin, and load the result with `salsa plugins --plugin-dir`.
+# The plugin author's path, against an installed salsa only:
+# 1. `cmake --install` salsa into a temporary prefix;
+# 2. `salsa new-plugin` of every kind; each folder configures against that prefix alone
+#    (CMAKE_PREFIX_PATH), builds, passes its ctest (its own test + the <name>_loads smoke test) and
+#    `cmake --install`s into a user plugin folder;
+# 3. examples/plugin builds the same way;
+# 4. `salsa plugins` loads them all, from their build folders and from the user folder;
+# 5. new-plugin refuses an existing folder, a bad name and an unknown kind in one line each.
 set -euo pipefail
 build_dir=$1 source_dir=$2 work=$3
 rm -rf "$work" && mkdir -p "$work"
-cmake --install "$build_dir" --prefix "$work/prefix" >/dev/null
-cmake -S "$source_dir/examples/plugin" -B "$work/build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
-      -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
-cmake --build "$work/build" >/dev/null
-# Its test, on the installed stepping fixture (salsa::fixture).
-(cd "$work/build" && ctest --output-on-failure >/dev/null)
-listing=$("$work/prefix/bin/salsa" plugins --plugin-dir "$work/build")
+prefix=$work/prefix
+cmake --install "$build_dir" --prefix "$prefix" >/dev/null
+salsa=$prefix/bin/salsa
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+user=$work/user-plugins
+
+# configure_build_test SOURCE BUILD: the author's three commands, against $prefix only.
+configure_build_test() {
+  cmake -S "$1" -B "$2" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" -DSALSA_USER_PLUGIN_DIR="$user" "${launcher[@]}" >"$2.log" 2>&1 ||
+    { cat "$2.log"; echo "FAIL: configure $1"; exit 1; }
+  # find_package found the temporary prefix, not another salsa on this machine.
+  grep -q "^salsa_DIR:PATH=$prefix/" "$2/CMakeCache.txt" || { grep salsa_DIR "$2/CMakeCache.txt"; echo "FAIL: $1 found another salsa"; exit 1; }
+  cmake --build "$2" -j2 >>"$2.log" 2>&1 || { cat "$2.log"; echo "FAIL: build $1"; exit 1; }
+}
+
+kinds=(behavior target map contact-handler metric)
+dirs=()
+for kind in "${kinds[@]}"; do
+  name=my_${kind//-/_}
+  "$salsa" new-plugin "$kind" "$name" --dir "$work/new" >/dev/null
+  configure_build_test "$work/new/$name" "$work/new/$name/build"
+  # Optimised by default: no build type was given.
+  grep -q -- "-O2" "$work/new/$name/build/build.ninja" || { echo "FAIL: $name is not built with -O2"; exit 1; }
+  out=$(ctest --test-dir "$work/new/$name/build" --output-on-failure 2>&1) || { echo "$out"; echo "FAIL: ctest of $name"; exit 1; }
+  grep -q "${name}_test .*Passed" <<<"$out" && grep -q "${name}_loads .*Passed" <<<"$out" ||
+    { echo "$out"; echo "FAIL: $name: expected ${name}_test and ${name}_loads to pass"; exit 1; }
+  cmake --install "$work/new/$name/build" >/dev/null
+  test -f "$user/lib$name.so" || { echo "FAIL: cmake --install did not put lib$name.so in $user"; exit 1; }
+  dirs+=(--plugin-dir "$work/new/$name/build")
+  echo "ok: new-plugin $kind $name: built, tested, installed"
+done
+
+# The smoke test of the behavior ran it: a test folder with its data.
+test -s "$work/new/my_behavior/build/my_behavior_loads/out/smoke-behavior-my_behavior/summary.csv" ||
+  { echo "FAIL: the smoke test did not run my_behavior"; exit 1; }
+
+# The smoke test fails a plugin that loads but cannot run: a map whose defaults it refuses.
+"$salsa" new-plugin map bad_map --dir "$work/new" >/dev/null
+sed -i 's/{"pillar", 8.0,/{"pillar", 80.0,/' "$work/new/bad_map/bad_map.cpp"
+configure_build_test "$work/new/bad_map" "$work/new/bad_map/build"
+if out=$(ctest --test-dir "$work/new/bad_map/build" --output-on-failure -R bad_map_loads 2>&1); then
+  echo "$out"; echo "FAIL: bad_map_loads passed"; exit 1
+fi
+grep -q "pillar: must be smaller than spacing" <<<"$(tr -d '\n' <<<"$out" | tr -s ' ')" ||
+  { echo "$out"; echo "FAIL: bad_map_loads failed without naming the map's error"; exit 1; }
+echo "ok: the smoke test fails bad_map"
+
+configure_build_test "$source_dir/examples/plugin" "$work/example"
+# Its test steps the installed fixture (salsa::fixture, salsa_add_plugin_test).
+out=$(ctest --test-dir "$work/example" --output-on-failure 2>&1) || { echo "$out"; echo "FAIL: ctest of examples/plugin"; exit 1; }
+grep -q "wander_test .*Passed" <<<"$out" || { echo "$out"; echo "FAIL: wander_test did not run"; exit 1; }
+dirs+=(--plugin-dir "$work/example")
+# A build type the author chose is kept (only configured: the flags are in build.ninja).
+cmake -S "$source_dir/examples/plugin" -B "$work/example-debug" -G Ninja -DCMAKE_BUILD_TYPE=Debug \
+      -DCMAKE_PREFIX_PATH="$prefix" >/dev/null
+flags=$(grep -A3 "^build CMakeFiles/wander.dir/wander.cpp.o" "$work/example-debug/build.ninja" | grep FLAGS)
+grep -q -- "-g" <<<"$flags" && ! grep -q -- "-O2" <<<"$flags" || { echo "$flags"; echo "FAIL: Debug build of the example got -O2"; exit 1; }
+
+listing=$("$salsa" plugins "${dirs[@]}")
 echo "$listing"
+grep -q "Refused" <<<"$listing" && { echo "FAIL: refusals"; exit 1; }
+grep -E "^  behavior +my_behavior " <<<"$listing"
+grep -E "^  target +my_target " <<<"$listing"
+grep -E "^  map +my_map " <<<"$listing"
+grep -E "^  contact handler +my_contact_handler " <<<"$listing"
+grep -E "^  metric +my_metric " <<<"$listing"
 grep -E "behavior +wander +1\.0\.0" <<<"$listing"
-"$work/prefix/bin/salsa" describe wander --plugin-dir "$work/build" | grep turn_interval
+"$salsa" describe wander --plugin-dir "$work/example" | grep turn_interval
 # The installed salsa finds its own built-in plugins in <prefix>/lib/salsa/plugins.
 grep -E "behavior +flocking" <<<"$listing"
+# cmake --install put them in the user folder; salsa finds them there (HOME set by the test).
+SALSA_PLUGIN_PATH=$user "$salsa" plugins | grep -E "^  metric +my_metric .*$user/libmy_metric.so"
+
+# Refusals: one line each, exit status 2, nothing written.
+refuse() {
+  local expected=$1; shift
+  set +e; said=$("$salsa" new-plugin "$@" --dir "$work/new" 2>&1); status=$?; set -e
+  [ "$status" -eq 2 ] && [ "$(wc -l <<<"$said")" -eq 1 ] && grep -q -- "$expected" <<<"$said" ||
+    { echo "FAIL: new-plugin $* said ($status): $said"; exit 1; }
+  echo "refused: $said"
+}
+refuse "already exists" behavior my_behavior
+refuse "not a C identifier" behavior my-behavior
+refuse "not a C identifier" metric 2fast
+refuse "starts with '_'" map _hidden
+refuse "unknown kind 'robot'" robot r2d2
+refuse "missing NAME" target
+test ! -e "$work/new/my-behavior" && test ! -e "$work/new/r2d2"
+echo "out_of_tree_plugin: ok"
