@@ -59,6 +59,30 @@ class TestBadInput : public QObject {
          {"test.json", "drone", "'huge'", "known: small, medium, large"});
     both("unknown contact handler", R"({"behavior": "flocking", "contact_handlers": ["explode"]})",
          {"test.json", "contact_handlers[0]", "'explode'", "known:", "detect_targets"});
+    // A contact handler's parameters (the test suite's test_dwell declares dwell in [0, 60] s).
+    auto with_handler = [](const char* name, const QByteArray& test, const QStringList& expected) {
+      for (const char* command : {"run", "validate"})
+        QTest::newRow(qPrintable(QString("%1 (%2)").arg(name, command)))
+            << command << "test.json" << test << QByteArray() << QStringList{"--plugin-dir", q(test_plugins_dir() / "contact")}
+            << expected;
+    };
+    with_handler("contact handler parameter out of range",
+                 R"({"behavior": "flocking", "contact_handlers": [{"name": "test_dwell", "params": {"dwell": -1}}]})",
+                 {"test.json: contact_handlers[0].params.dwell: -1 is out of range (allowed: [0, 60] s)"});
+    with_handler("contact handler parameter not a number",
+                 R"({"behavior": "flocking", "contact_handlers": [{"name": "test_dwell", "params": {"dwell": "long"}}]})",
+                 {"test.json: contact_handlers[0].params.dwell: \"long\" is not a number (allowed: [0, 60] s)"});
+    with_handler("unknown contact handler parameter",
+                 R"({"behavior": "flocking", "contact_handlers": ["detect_targets", {"name": "test_dwell", "params": {"dwel": 1}}]})",
+                 {"test.json: contact_handlers[1].params.dwel: unknown parameter of contact handler 'test_dwell' (declared: dwell, drones_at_least)"});
+    with_handler("parameter of a handler that declares none",
+                 R"({"behavior": "flocking", "contact_handlers": [{"name": "detect_targets", "params": {"dwell": 1}}]})",
+                 {"test.json: contact_handlers[0].params.dwell: unknown parameter of contact handler 'detect_targets' (declared: none)"});
+    with_handler("contact handler with an unknown key",
+                 R"({"behavior": "flocking", "contact_handlers": [{"name": "test_dwell", "param": {"dwell": 1}}]})",
+                 {"test.json: contact_handlers[0].param: unknown key (allowed: name, params)"});
+    with_handler("contact handlers not a list", R"({"behavior": "flocking", "contact_handlers": "detect_targets"})",
+                 {"test.json: contact_handlers: \"detect_targets\" must be a list of handler names or {\"name\", \"params\"} objects"});
     both("parameter out of range", R"({"behavior": {"name": "flocking", "params": {"alignment_weight": 99}}})",
          {"test.json", "behavior.params.alignment_weight", "99", "[0, 10]"});
     both("parameter not a number", R"({"behavior": {"name": "flocking", "params": {"alignment_weight": "high"}}})",

@@ -78,6 +78,18 @@ class Coverage {
   std::vector<char> state_;  // per cell: 0 blocked, 1 free, 2 free and seen
 };
 
+/// Records what prepare() is shown of the drones and the map, and steers nowhere.
+class PrepareRecorder final : public salsa::Behavior {
+ public:
+  std::vector<salsa::DroneProperties> drones;  // one per prepare
+  salsa::MapData map;
+  void prepare(const salsa::WorldView& world) override {
+    drones.push_back(world.drone());
+    map = world.map();
+  }
+  Vec2 decide(const salsa::Perception&, salsa::Rng&) override { return {}; }
+};
+
 }  // namespace
 
 class TestBehaviors : public QObject {
@@ -94,6 +106,43 @@ class TestBehaviors : public QObject {
   void initTestCase() {
     host_ = builtin_host();
     QVERIFY(host_->failures().empty());
+  }
+
+  // A behavior's prepare() sees the test's drone configuration and its map (here a map file with two
+  // obstacles), before any drone decides; a live drone configuration change shows in the next step.
+  void prepare_sees_the_drone_configuration_and_the_map() {
+    QTemporaryDir dir;
+    QVERIFY(write_file(dir.filePath("map.json"), R"({"bounds": {"min": [0, 0], "max": [200, 100]}, "spawn": [20, 50],
+      "obstacles": [[[40, 40], [60, 40], [60, 60], [40, 60]], [[100, 10], [130, 10], [115, 30]]]})"));
+    const QString json = R"({"behavior": "random_walk", "drones": 4, "map": "%1",
+      "drone": {"base": "medium", "max_speed": 7, "camera_range": 33, "radius": 0.8}})";
+    const salsa::TestSpec test = salsa::parse_test(json.arg(dir.filePath("map.json")).toStdString(), "t.json", *host_);
+    salsa::SimulationSetup setup = salsa::make_setup(test, *host_, 1);
+    auto recorder = std::make_shared<PrepareRecorder>();
+    setup.behavior = recorder;
+    salsa::Simulation sim(setup);
+    sim.step();
+    QCOMPARE(recorder->drones.size(), std::size_t(1));
+    const salsa::DroneProperties& d = recorder->drones[0];
+    QCOMPARE(d.max_speed, 7.0);
+    QCOMPARE(d.camera_range, 33.0);
+    QCOMPARE(d.radius, 0.8);
+    QCOMPARE(d.max_force, test.drone.max_force);  // the rest from "medium"
+    QCOMPARE(d.mass, test.drone.mass);
+    QCOMPARE(d.obstacle_range, test.drone.obstacle_range);
+    QCOMPARE(d.detection_range, test.drone.detection_range);
+    QCOMPARE(recorder->map.bounds, (salsa::Rect{{0, 0}, {200, 100}}));
+    QCOMPARE(recorder->map.spawn, Vec2(20, 50));
+    QCOMPARE(recorder->map.obstacles.size(), std::size_t(2));
+    QCOMPARE(recorder->map.obstacles[0], (salsa::Polyline{{40, 40}, {60, 40}, {60, 60}, {40, 60}}));
+    QCOMPARE(recorder->map.obstacles[1], (salsa::Polyline{{100, 10}, {130, 10}, {115, 30}}));
+
+    salsa::DroneConfig slower = test.drone;
+    slower.max_speed = 5;
+    sim.set_drone_config(slower);
+    sim.step();
+    QCOMPARE(recorder->drones.size(), std::size_t(2));
+    QCOMPARE(recorder->drones[1].max_speed, 5.0);
   }
 
   // The flocking plugin's decision is the weighted sum of table1.md, computed by hand (see

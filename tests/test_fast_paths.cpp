@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include "common.hpp"
 #include "salsa/core/simulation.hpp"
@@ -46,6 +48,23 @@ class Recorder final : public salsa::Behavior {
     ++s.decisions;
     return steering;
   }
+};
+
+/// A target kind whose camera sees twice as far as the drones' camera range; with `widened`, it says
+/// so through view_range, without it the core's default query distance (camera range + radius) cuts
+/// its view short.
+class FarSight final : public salsa::TargetKind {
+ public:
+  explicit FarSight(bool widened, double range_factor = 2) : widened_(widened), factor_(range_factor) {}
+  double radius() const override { return 0.5; }
+  bool in_view(double distance, double camera_range) const override { return distance < 2 * camera_range; }
+  double view_range(double camera_range) const override {
+    return widened_ ? factor_ * camera_range : TargetKind::view_range(camera_range);
+  }
+
+ private:
+  bool widened_;
+  double factor_;
 };
 
 /// Circles the spawn point: a behavior whose result depends on every drone's neighbours and its RNG,
@@ -274,6 +293,81 @@ class TestFastPaths : public QObject {
     qInfo("checked %zu neighbour pairs, %zu ray hits, %zu targets in view, %zu targets found", neighbour_pairs, hits,
           seen_targets, found);
     if (drones > 2) QVERIFY(neighbour_pairs > 0 && hits > 0 && seen_targets > 0);
+  }
+
+  // A target kind's view_range is how far the detect phase looks: an in_view of 2 × camera range
+  // with a matching view_range sees every target within that (as the brute force does), one without
+  // it only those within camera range + radius.
+  void view_range_sets_how_far_targets_are_seen_data() {
+    QTest::addColumn<bool>("widened");
+    QTest::addColumn<int>("lag");
+    QTest::newRow("view_range 2 × camera range") << true << 1;
+    QTest::newRow("view_range 2 × camera range, no lag") << true << 0;
+    QTest::newRow("default view_range") << false << 1;
+  }
+  void view_range_sets_how_far_targets_are_seen() {
+    QFETCH(bool, widened);
+    QFETCH(int, lag);
+    auto recorder = std::make_shared<Recorder>();
+    recorder->steering = {0.05, -0.03};
+    salsa::SimulationSetup setup;
+    setup.map = random_map(7, 500, 20);
+    setup.spawn_mode = salsa::SpawnMode::uniform;
+    setup.drone.camera_range = 20;
+    setup.drones = 150;
+    setup.behavior = recorder;
+    setup.target_kind = std::make_shared<FarSight>(widened);
+    setup.targets = 600;
+    setup.contact_handlers = {detect_targets()};
+    setup.seed = 11;
+    setup.threads = 2;
+    setup.decision_lag = lag;
+    salsa::Simulation sim(setup);
+    const double camera = sim.drone_config().camera_range;
+    const double reach = widened ? 2 * camera : camera + 0.5;
+    std::size_t seen = 0, beyond_camera = 0;
+    for (int step = 0; step < 10; ++step) {
+      const std::vector<Vec2> pos(sim.drone_positions().begin(), sim.drone_positions().end());
+      sim.step();
+      for (std::size_t i = 0; i < sim.drone_count(); ++i) {
+        std::vector<std::uint32_t> expected, perceived;
+        for (std::size_t t = 0; t < sim.targets().size(); ++t)
+          if (salsa::distance(pos[i], sim.targets()[t].position) < reach) expected.push_back(static_cast<std::uint32_t>(t));
+        for (const auto& t : recorder->seen[i].targets) {
+          perceived.push_back(t.id);
+          if (t.distance >= camera + 0.5) ++beyond_camera;
+        }
+        std::sort(perceived.begin(), perceived.end());
+        QVERIFY2(perceived == expected, qPrintable(QString("step %1, drone %2: %3 targets in view, brute force %4")
+                                                       .arg(step).arg(i).arg(perceived.size()).arg(expected.size())));
+        seen += perceived.size();
+      }
+    }
+    QVERIFY2(seen > 100, qPrintable(QString("only %1 sightings: the test shows little").arg(seen)));
+    if (widened) QVERIFY2(beyond_camera > 50, qPrintable(QString("%1 sightings beyond camera range").arg(beyond_camera)));
+    else QCOMPARE(beyond_camera, std::size_t(0));
+  }
+
+  // A view_range that is not a finite distance >= 0 is the plugin's bad data: refused, naming it.
+  void bad_view_range_is_refused_data() {
+    QTest::addColumn<double>("factor");
+    QTest::newRow("negative") << -1.0;
+    QTest::newRow("NaN") << std::nan("");
+    QTest::newRow("infinite") << std::numeric_limits<double>::infinity();
+  }
+  void bad_view_range_is_refused() {
+    QFETCH(double, factor);
+    salsa::SimulationSetup setup;
+    setup.map = random_map(3, 200, 0);
+    setup.behavior = std::make_shared<Recorder>();
+    setup.target_kind = std::make_shared<FarSight>(true, factor);
+    setup.targets = 10;
+    try {
+      salsa::Simulation sim(setup);
+      QFAIL("a bad view_range was accepted");
+    } catch (const std::invalid_argument& e) {
+      QVERIFY2(QString(e.what()).startsWith("view_range: ") && QString(e.what()).contains("allowed: a finite distance"), e.what());
+    }
   }
 
   void senses_limit_perception_data() {

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "salsa/core/simulation.hpp"
 #include "salsa/core/test_spec.hpp"
@@ -29,6 +31,40 @@ class Picky final : public BehaviorWithMemory<double> {
 
  private:
   std::size_t most_;
+};
+
+/// A contact handler that records its resets and checks the world of every event against them; its
+/// reset throws for more than `most` drones.
+class Watcher final : public ContactHandler {
+ public:
+  struct Reset {
+    double dt, time;
+    std::size_t drones;
+    Rect bounds;
+    double max_speed;
+  };
+  std::vector<Reset> resets;
+  std::size_t sightings = 0;
+  std::vector<std::string> problems;
+  std::size_t most = 1'000'000;
+
+  void reset(const WorldView& world) override {
+    if (world.drone_positions().size() > most) throw std::runtime_error("too many drones");
+    resets.push_back({world.dt(), world.time(), world.drone_positions().size(), world.bounds(), world.drone().max_speed});
+  }
+  void on_contact(const ContactEvent& e, ContactActions& actions) override {
+    if (resets.empty()) return problems.push_back("an event before any reset");
+    const WorldView& w = actions.world();
+    if (w.time() != e.time) problems.push_back("world time " + std::to_string(w.time()) + " s for an event at " + std::to_string(e.time) + " s");
+    if (w.dt() != resets.back().dt) problems.push_back("world dt " + std::to_string(w.dt()));
+    if (w.drone_positions().size() != resets.back().drones) problems.push_back("drones " + std::to_string(w.drone_positions().size()));
+    if (w.bounds() != resets.back().bounds) problems.push_back("other bounds");
+    // A sighting counts at the end of its step: a whole number of steps after the last reset.
+    const double steps = (e.time - resets.back().time) / w.dt();
+    if (!(steps >= 0.999 && std::abs(steps - std::round(steps)) < 1e-6))
+      problems.push_back("event time " + std::to_string(e.time) + " s is not the end of a step");
+    sightings += e.kind == ContactKind::target_in_view;
+  }
 };
 
 }  // namespace
@@ -108,6 +144,61 @@ class TestLiveChanges : public QObject {
     QCOMPARE(sim->behavior().param("separation_distance"), 30.0);
     sim->run_steps(20);
     check_sound(*sim);
+  }
+
+  // Contact handlers are reset with the world when a test starts and whenever drones are re-spawned or
+  // targets re-placed, not for other changes; during an event their world is at the event's time.
+  void contact_handlers_are_reset_with_the_world() {
+    const std::string json = R"({"behavior": "random_walk", "drones": 15, "drone": {"base": "small", "camera_range": 60},
+                                 "map": {"name": "forest", "params": {"size": 400}}, "targets": {"kind": "tree", "count": 200},
+                                 "dt": 0.05, "seed": 3})";
+    SimulationSetup setup = make_setup(parse_test(json, "live", *host_), *host_, 2);
+    auto watcher = std::make_shared<Watcher>();
+    setup.contact_handlers.push_back(watcher);  // after detect_targets
+    Simulation sim(setup);
+    QCOMPARE(watcher->resets.size(), std::size_t(1));
+    QCOMPARE(watcher->resets[0].dt, 0.05);
+    QCOMPARE(watcher->resets[0].time, 0.0);
+    QCOMPARE(watcher->resets[0].drones, std::size_t(15));
+    QCOMPARE(watcher->resets[0].bounds, sim.bounds());
+    QCOMPARE(watcher->resets[0].max_speed, 10.0);
+    sim.run_steps(40);
+    QVERIFY2(watcher->sightings > 0, "no target was ever in view: the test shows nothing");
+
+    auto last = [&] { return watcher->resets.back(); };
+    sim.set_drone_count(20);
+    QCOMPARE(watcher->resets.size(), std::size_t(2));
+    QCOMPARE(last().drones, std::size_t(20));
+    QCOMPARE(last().time, sim.time());
+    sim.run_steps(10);
+    const auto& tree = host_->target_kind("tree");
+    sim.set_targets(PluginHost::create(tree, ParameterValues(tree.factory.parameters)), 50);
+    QCOMPARE(watcher->resets.size(), std::size_t(3));
+    sim.run_steps(10);
+    MapData map;
+    map.bounds = {{0, 0}, {200, 100}};
+    map.spawn = {20, 50};
+    sim.set_map(map);
+    QCOMPARE(watcher->resets.size(), std::size_t(4));
+    QCOMPARE(last().bounds, map.bounds);
+    QCOMPARE(last().drones, std::size_t(20));
+    // Other changes keep the handlers' state.
+    sim.set_behavior(std::make_shared<Picky>(100));
+    DroneConfig config = sim.drone_config();
+    config.max_speed = 8;
+    sim.set_drone_config(config);
+    QCOMPARE(watcher->resets.size(), std::size_t(4));
+    sim.run_steps(20);
+
+    // A handler whose reset refuses the change leaves the simulation as it was.
+    watcher->most = 25;
+    const std::size_t before = watcher->resets.size();
+    QVERIFY_THROWS_EXCEPTION(std::runtime_error, sim.set_drone_count(30));
+    QCOMPARE(sim.drone_count(), std::size_t(20));
+    QCOMPARE(watcher->resets.size(), before);
+    sim.run_steps(5);
+    check_sound(sim);
+    QVERIFY2(watcher->problems.empty(), watcher->problems.empty() ? "" : watcher->problems.front().c_str());
   }
 
   void targets_and_map_change() {

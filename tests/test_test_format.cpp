@@ -2,11 +2,32 @@
 // configurations from a JSON file, and config.json rereading to the very same test.
 #include "common.hpp"
 
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+
+#include <cmath>
+
 #include "salsa/core/queue.hpp"
+#include "salsa/core/simulation.hpp"
 #include "salsa/core/test_spec.hpp"
 
 using namespace salsa;
 using namespace salsa_test;
+
+namespace {
+
+fs::path contact_plugin_dir() { return test_plugins_dir() / "contact"; }
+
+/// One drone whose camera covers the whole 100 m map, so it has all 3 targets in view from the first
+/// step on; dt 0.1 s. `handlers` is the test's "contact_handlers" value.
+std::string dwell_test(const std::string& handlers) {
+  return R"({"name": "dwell", "behavior": "random_walk", "drones": 1, "drone": {"base": "small", "camera_range": 500},
+             "map": {"name": "empty", "params": {"size": 100}}, "targets": {"count": 3}, "dt": 0.1, "time": 2,
+             "seed": 4, "contact_handlers": )" + handlers + "}";
+}
+
+}  // namespace
 
 class TestTestFormat : public QObject {
   Q_OBJECT
@@ -19,7 +40,8 @@ class TestTestFormat : public QObject {
     QCOMPARE(t.drones, std::size_t(10));
     QCOMPARE(t.drone.name, std::string("small"));
     QCOMPARE(t.map.name, std::string("empty"));
-    QCOMPARE(t.contact_handlers, std::vector<std::string>{"detect_targets"});
+    QCOMPARE(t.contact_handlers.size(), std::size_t(1));
+    QCOMPARE(t.contact_handlers[0].name, std::string("detect_targets"));
     QCOMPARE(t.dt, 1.0 / 60);
     QCOMPARE(t.decision_lag, 1);
     QCOMPARE(t.behavior.params.get("alignment_weight"), 1.6);  // declared default
@@ -70,6 +92,77 @@ class TestTestFormat : public QObject {
     QCOMPARE(tests[0].seed, paired_seed(1, 0, world_key(tests[0])));  // not the position: docs/test-format.md
     QCOMPARE(tests[1].name, std::string("queue-2"));
     QCOMPARE(tests[1].seed, std::uint64_t(99));
+  }
+
+  // A contact handler's parameters come from the test file (its "dwell" s in view before a target counts
+  // as found), and those not given get their defaults.
+  void contact_handler_parameters_reach_the_handler_data() {
+    QTest::addColumn<QString>("handlers");
+    QTest::addColumn<double>("dwell");
+    QTest::addColumn<double>("found_time");  // the end of the step in which the dwell is reached
+    QTest::newRow("default (1 s)") << R"(["test_dwell"])" << 1.0 << 1.0;
+    QTest::newRow("0.5 s") << R"([{"name": "test_dwell", "params": {"dwell": 0.5}}])" << 0.5 << 0.5;
+    QTest::newRow("0: the first step") << R"([{"name": "test_dwell", "params": {"dwell": 0}}])" << 0.0 << 0.1;
+    QTest::newRow("1.5 s, given twice") << R"([{"name": "test_dwell", "params": {"dwell": 1.5}}, {"name": "test_dwell", "params": {"dwell": 1.5}}])"
+                                        << 1.5 << 1.5;
+  }
+  void contact_handler_parameters_reach_the_handler() {
+    QFETCH(QString, handlers);
+    QFETCH(double, dwell);
+    QFETCH(double, found_time);
+    PluginHost host;
+    host.load({{plugin_dir(), "test"}, {contact_plugin_dir(), "test"}});
+    const TestSpec t = parse_test(dwell_test(handlers.toStdString()), "t.json", host);
+    QVERIFY(!t.contact_handlers.empty());
+    QCOMPARE(t.contact_handlers[0].name, std::string("test_dwell"));
+    QCOMPARE(t.contact_handlers[0].params.get("dwell"), dwell);
+    QCOMPARE(t.contact_handlers[0].params.get("drones_at_least"), 0.0);  // the default filled in
+    Simulation sim(make_setup(t, host, 1));
+    sim.run_steps(t.steps());
+    QCOMPARE(sim.targets().size(), std::size_t(3));
+    for (const TargetState& target : sim.targets()) {
+      QVERIFY2(target.found(), qPrintable(QString("dwell %1 s").arg(dwell)));
+      QVERIFY2(std::abs(target.found_time - found_time) < 1e-9,
+               qPrintable(QString("found at %1 s, expected %2 s").arg(target.found_time).arg(found_time)));
+    }
+    // config.json holds every handler with all its values, and rereads to the same test.
+    const std::string config = resolved_json(t, host);
+    QCOMPARE(resolved_json(parse_test(config, "config.json", host), host), config);
+  }
+
+  // `salsa run` records a handler's parameters in config.json (and its plugin's version), and the
+  // targets it found after the dwell time in targets.csv.
+  void contact_handler_parameters_in_config_json() {
+    QTemporaryDir dir;
+    QVERIFY(write_file(dir.filePath("t.json"), QByteArray::fromStdString(dwell_test(
+        R"(["detect_targets", {"name": "test_dwell", "params": {"dwell": 0.7, "drones_at_least": 1}}])"))));
+    const CliResult r = run_salsa({"run", "t.json", "--out", "out", "--quiet", "--plugin-dir", q(contact_plugin_dir())}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const QJsonObject config = QJsonDocument::fromJson(read_file(dir.filePath("out/dwell/config.json"))).object();
+    const QJsonArray handlers = config["contact_handlers"].toArray();
+    QCOMPARE(handlers.size(), 2);
+    QCOMPARE(handlers[0].toObject()["name"].toString(), QString("detect_targets"));
+    QCOMPARE(handlers[0].toObject()["params"].toObject().size(), 0);
+    QCOMPARE(handlers[1].toObject()["name"].toString(), QString("test_dwell"));
+    const QJsonObject params = handlers[1].toObject()["params"].toObject();
+    QCOMPARE(params.size(), 2);
+    QCOMPARE(params["dwell"].toDouble(), 0.7);
+    QCOMPARE(params["drones_at_least"].toDouble(), 1.0);
+    const QJsonArray versions = config["versions"].toObject()["contact_handlers"].toArray();
+    QCOMPARE(versions.size(), 2);
+    QCOMPARE(versions[1].toObject()["plugin"].toString(), QString("test_contact"));
+    // The queue summary: names joined, each parameter its own column.
+    const QStringList summary = non_empty_lines(QString::fromUtf8(read_file(dir.filePath("out/summary.csv"))));
+    QCOMPARE(summary.size(), 2);
+    const QStringList header = summary[0].split(','), row = summary[1].split(',');
+    QCOMPARE(row.value(static_cast<int>(header.indexOf("contact_handlers"))), QString("detect_targets;test_dwell"));
+    QCOMPARE(row.value(static_cast<int>(header.indexOf("contact_handler.test_dwell.dwell"))), QString("0.7"));
+    // detect_targets comes first and finds every target in the first step, before test_dwell's turn.
+    const QStringList targets = non_empty_lines(QString::fromUtf8(read_file(dir.filePath("out/dwell/targets.csv"))));
+    QCOMPARE(targets.size(), 4);
+    const int found_time = static_cast<int>(targets[0].split(',').indexOf("found_time"));
+    QVERIFY(found_time >= 0);
+    for (int i = 1; i < targets.size(); ++i) QCOMPARE(targets[i].split(',').value(found_time).toDouble(), 0.1);
   }
 
   // config.json is the whole test: read back, it resolves to the same JSON, byte for byte.

@@ -58,7 +58,6 @@ struct MetricSet::Slot {
 class MetricSet::View final : public MetricView {
  public:
   const Simulation* sim = nullptr;
-  DroneProperties drone_;
 
   Rect bounds() const override { return sim->bounds(); }
   double time() const override { return sim->time(); }
@@ -70,7 +69,8 @@ class MetricSet::View final : public MetricView {
   std::span<const TargetState> targets() const override { return sim->targets(); }
   std::size_t targets_found() const override { return sim->targets_found(); }
   std::uint64_t collisions() const override { return sim->collisions(); }
-  const DroneProperties& drone() const override { return drone_; }
+  const DroneProperties& drone() const override { return sim->drone(); }
+  const MapData& map() const override { return sim->map(); }
 };
 
 MetricSet::MetricSet(const std::vector<PluginChoice>& metrics, const PluginHost& host) : view_(std::make_unique<View>()) {
@@ -154,8 +154,6 @@ void MetricSet::each(const Simulation& sim, const char* what, Call call) {
 }
 
 void MetricSet::start(const Simulation& sim) {
-  const DroneConfig& d = sim.drone_config();
-  view_->drone_ = {d.camera_range, d.obstacle_range, d.detection_range, d.max_speed, d.max_force, d.radius, d.mass};
   stepped_ = sim.step_count();
   each(sim, "reset", [&](Slot& s) { s.metric->reset(*view_); });
 }

@@ -149,16 +149,18 @@ std::vector<std::pair<std::string, std::string>> inputs_of(const json& config) {
           for (const auto& [p, pv] : v.items()) out.emplace_back(group + "." + p, cell_text(pv));
         else flatten(v, group + "." + k, out);
       }
-    } else if (key == "metrics" && value.is_array()) {
-      // metrics = the names joined by ';', each parameter as metric.<name>.<p>
+    } else if ((key == "metrics" || key == "contact_handlers") && value.is_array()) {
+      // metrics = the names joined by ';', each parameter as metric.<name>.<p>; contact handlers alike
+      // (contact_handler.<name>.<p>)
+      const std::string each = key == "metrics" ? "metric." : "contact_handler.";
       std::string names;
       for (const auto& m : value) {
         const std::string name = m.is_object() ? cell_text(m.value("name", json())) : cell_text(m);
         names += (names.empty() ? "" : ";") + name;
         if (m.is_object() && m.contains("params") && m["params"].is_object())
-          for (const auto& [p, pv] : m["params"].items()) out.emplace_back("metric." + name + "." + p, cell_text(pv));
+          for (const auto& [p, pv] : m["params"].items()) out.emplace_back(each + name + "." + p, cell_text(pv));
       }
-      out.emplace_back("metrics", names);
+      out.emplace_back(key, names);
     } else if (key == "versions" && value.is_object()) {
       for (const auto& [k, v] : value.items()) out.emplace_back("versions." + k, version_text(v));
     } else {

@@ -419,7 +419,7 @@ RunningNote* prepare_note(const TestSpec& test, const PluginHost& host, const fs
   std::string plugins = plugin("behavior", test.behavior.name, host.behavior(test.behavior.name)) + ", " +
                         plugin("map", test.map.name, host.map(test.map.name));
   if (test.targets > 0) plugins += ", " + plugin("target kind", test.target.name, host.target_kind(test.target.name));
-  for (const auto& h : test.contact_handlers) plugins += ", " + plugin("contact handler", h, host.contact_handler(h));
+  for (const auto& h : test.contact_handlers) plugins += ", " + plugin("contact handler", h.name, host.contact_handler(h.name));
   for (const auto& m : test.metrics) plugins += ", " + plugin("metric", m.name, host.metric(m.name));
   note->head = "salsa: test '" + test.name + "' (" + test.source + ") ";
   // One line, whatever the names hold.

@@ -46,22 +46,50 @@ double quoted_limit(double x) {
   return std::floor(x * (1 + 1e-9) / scale) * scale;
 }
 
-/// The world as target placement sees it at the start: the map alone, no drones yet.
-class MapView final : public WorldView {
+/// A world that is not (yet) the simulation's: the map alone when targets are placed at the start (no
+/// drones), or the state a live change builds aside, shown to the contact handlers before it is
+/// swapped in.
+class StateView final : public WorldView {
  public:
-  MapView(const Rect& bounds, const StaticGeometry& geometry, double dt) : bounds_(bounds), geometry_(geometry), dt_(dt) {}
-  Rect bounds() const override { return bounds_; }
-  double time() const override { return 0; }
+  StateView(const MapData& map, const StaticGeometry& geometry, const DroneProperties& drone, double time, double dt,
+            std::span<const Vec2> positions = {}, std::span<const Vec2> velocities = {})
+      : map_(map), geometry_(geometry), drone_(drone), time_(time), dt_(dt), positions_(positions), velocities_(velocities) {}
+  Rect bounds() const override { return map_.bounds; }
+  double time() const override { return time_; }
   double dt() const override { return dt_; }
-  std::span<const Vec2> drone_positions() const override { return {}; }
-  std::span<const Vec2> drone_velocities() const override { return {}; }
+  std::span<const Vec2> drone_positions() const override { return positions_; }
+  std::span<const Vec2> drone_velocities() const override { return velocities_; }
   bool is_free(Vec2 p, double clearance) const override { return geometry_.is_free(p, clearance); }
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return geometry_.ray_cast(from, to); }
+  const DroneProperties& drone() const override { return drone_; }
+  const MapData& map() const override { return map_; }
 
  private:
-  Rect bounds_;
+  const MapData& map_;
   const StaticGeometry& geometry_;
-  double dt_;
+  DroneProperties drone_;
+  double time_, dt_;
+  std::span<const Vec2> positions_, velocities_;
+};
+
+/// The simulation as a contact handler sees it during an event: as it is, at the event's time (a
+/// sighting's time is the end of the step it was seen in, one dt after the snapshot it was seen on).
+class EventView final : public WorldView {
+ public:
+  EventView(const WorldView& world, double time) : world_(world), time_(time) {}
+  Rect bounds() const override { return world_.bounds(); }
+  double time() const override { return time_; }
+  double dt() const override { return world_.dt(); }
+  std::span<const Vec2> drone_positions() const override { return world_.drone_positions(); }
+  std::span<const Vec2> drone_velocities() const override { return world_.drone_velocities(); }
+  bool is_free(Vec2 p, double clearance) const override { return world_.is_free(p, clearance); }
+  std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return world_.ray_cast(from, to); }
+  const DroneProperties& drone() const override { return world_.drone(); }
+  const MapData& map() const override { return world_.map(); }
+
+ private:
+  const WorldView& world_;
+  double time_;
 };
 
 /// Ids are 32-bit (and Box2D's user data holds id + 1).
@@ -158,12 +186,33 @@ Problem check_targets(std::span<const Vec2> positions, std::size_t count, double
   return {};
 }
 
+Problem check_view_range(const TargetKind& kind, const DroneConfig& drone) {
+  const double range = kind.view_range(drone.camera_range);
+  if (std::isfinite(range) && range >= 0) return {};
+  return {"view_range", num(range) + " m for a camera range of " + num(drone.camera_range) +
+                            " m (allowed: a finite distance ≥ 0 m)"};
+}
+
+DroneProperties drone_properties(const DroneConfig& d) {
+  DroneProperties p;
+  p.camera_range = d.camera_range;
+  p.obstacle_range = d.obstacle_range;
+  p.detection_range = d.detection_range;
+  p.max_speed = d.max_speed;
+  p.max_force = d.max_force;
+  p.radius = d.radius;
+  p.mass = d.mass;
+  return p;
+}
+
 std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, const MapData& map,
-                                  const StaticGeometry& geometry, double dt, std::uint64_t seed) {
+                                  const StaticGeometry& geometry, const DroneConfig& drone, double dt,
+                                  std::uint64_t seed) {
   if (count == 0) return {};
   // The radius first: placement keeps targets `radius` clear of obstacles.
   if (auto p = check_targets({}, 0, kind.radius(), map.bounds)) throw std::invalid_argument(p.text());
-  const MapView view(map.bounds, geometry, dt);
+  if (auto p = check_view_range(kind, drone)) throw std::invalid_argument(p.text());
+  const StateView view(map, geometry, drone_properties(drone), 0, dt);
   Rng rng(seed, targets_stream);
   std::vector<Vec2> positions = kind.place(count, view, rng);
   if (auto p = check_targets(positions, count, kind.radius(), map.bounds)) throw std::invalid_argument(p.text());
@@ -236,6 +285,8 @@ Simulation::Simulation(SimulationSetup setup)
   World world = build_world(setup_);
   setup_.behavior->reset(setup_.drones);
   install(std::move(world));
+  drone_properties_ = drone_properties(setup_.drone);
+  reset_handlers(*this);
 }
 
 Simulation::~Simulation() = default;
@@ -287,7 +338,7 @@ Simulation::World Simulation::build_world(const SimulationSetup& s) {
                                 " is inside an obstacle or outside the map bounds (it needs a free disc of the drone radius)");
   // Targets go on the map before any drone exists, so make_setup can check them without spawning.
   std::vector<Vec2> targets;
-  if (s.target_kind) targets = initial_targets(*s.target_kind, s.targets, s.map, w.geometry, s.dt, s.seed);
+  if (s.target_kind) targets = initial_targets(*s.target_kind, s.targets, s.map, w.geometry, s.drone, s.dt, s.seed);
   w.targets = make_targets(std::move(targets), s.drone, s.target_kind.get());
   w.physics = std::make_unique<PhysicsWorld>(w.geometry);
   w.spawn_rng = Rng(s.seed, spawn_stream);
@@ -327,11 +378,19 @@ Simulation::Drones Simulation::resized(const Drones& from, std::size_t n, const 
 
 Simulation::Targets Simulation::make_targets(std::vector<Vec2> positions, const DroneConfig& drone, const TargetKind* kind) {
   Targets t;
+  if (kind && !positions.empty()) {
+    if (auto p = check_view_range(*kind, drone)) throw std::invalid_argument(p.text());
+    t.reach = kind->view_range(drone.camera_range);
+  }
   t.states.reserve(positions.size());
   for (Vec2 p : positions) t.states.push_back({p});
-  const double reach = drone.camera_range + (kind ? kind->radius() : 0);
-  t.grid.build(positions, std::max(reach, 1.0));
+  // Cells of the query radius: a query touches 3 × 3 cells whatever the kind's view range.
+  t.grid.build(positions, std::max(t.reach, 1.0));
   return t;
+}
+
+void Simulation::reset_handlers(const WorldView& world) const {
+  for (const auto& handler : setup_.contact_handlers) handler->reset(world);
 }
 
 void Simulation::install(World&& w) noexcept {
@@ -349,6 +408,7 @@ void Simulation::set_drone_count(std::size_t n) {
   Drones next = resized(drones_, n, setup_, geometry_, spawn_, rng);
   physics_->bodies.reserve(n);
   setup_.behavior->reset(n);
+  reset_handlers(StateView(setup_.map, geometry_, drone_properties_, time(), setup_.dt, next.positions, next.velocities));
   // Nothing below throws.
   const std::size_t before = drones_.positions.size();
   physics_->remove_drones_from(n);
@@ -368,16 +428,18 @@ void Simulation::set_drone_config(const DroneConfig& config) {
   std::vector<Vec2> points;  // the camera range sizes the target grid
   points.reserve(targets_.states.size());
   for (const auto& t : targets_.states) points.push_back(t.position);
-  PointGrid grid;
-  grid.build(points, std::max(config.camera_range + (setup_.target_kind ? setup_.target_kind->radius() : 0), 1.0));
+  Targets regridded = make_targets(std::move(points), config, setup_.target_kind.get());
+  const DroneProperties properties = drone_properties(config);
   // Nothing below throws.
   physics_->remove_drones_from(0);
   for (std::size_t i = 0; i < drones_.positions.size(); ++i)
     physics_->add_drone(static_cast<std::uint32_t>(i), drones_.positions[i], drones_.velocities[i].clamped(config.max_speed), config);
   drones_.ray_directions = std::move(rays);
   drones_.hits = std::move(hits);
-  targets_.grid = std::move(grid);
+  targets_.grid = std::move(regridded.grid);
+  targets_.reach = regridded.reach;
   setup_.drone = std::move(next);
+  drone_properties_ = properties;
 }
 
 void Simulation::set_dt(double dt) {
@@ -401,6 +463,8 @@ void Simulation::set_map(const MapData& map, std::optional<Vec2> spawn) {
   next.drones = drones_.positions.size();
   World world = build_world(next);
   setup_.behavior->reset(next.drones);
+  reset_handlers(StateView(next.map, world.geometry, drone_properties_, time(), next.dt, world.drones.positions,
+                           world.drones.velocities));
   // Nothing below throws.
   install(std::move(world));
   setup_ = std::move(next);
@@ -408,8 +472,9 @@ void Simulation::set_map(const MapData& map, std::optional<Vec2> spawn) {
 
 void Simulation::set_targets(std::shared_ptr<TargetKind> kind, std::size_t count) {
   std::vector<Vec2> positions;
-  if (kind) positions = initial_targets(*kind, count, setup_.map, geometry_, setup_.dt, setup_.seed);
+  if (kind) positions = initial_targets(*kind, count, setup_.map, geometry_, setup_.drone, setup_.dt, setup_.seed);
   Targets next = make_targets(std::move(positions), setup_.drone, kind.get());
+  reset_handlers(*this);  // what a handler sees of the world (no targets) is as it will be
   // Nothing below throws.
   targets_ = std::move(next);
   setup_.target_kind = std::move(kind);
@@ -458,7 +523,7 @@ void Simulation::sense() {
   const std::size_t rays = drones_.ray_directions.size();
   seen_.resize(drones_.positions.size());
   const TargetKind* kind = targets_.states.empty() ? nullptr : setup_.target_kind.get();
-  const double reach = kind ? cfg.camera_range + kind->radius() : 0;
+  const double reach = targets_.reach;  // the kind's view_range
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
     const Vec2 p = drones_.positions[i];
     std::uint8_t count = 0;
@@ -551,7 +616,8 @@ void Simulation::read_back() {
 namespace {
 class Actions final : public ContactActions {
  public:
-  Actions(std::vector<TargetState>& targets, std::size_t& found, double time) : targets_(targets), found_(found), time_(time) {}
+  Actions(std::vector<TargetState>& targets, std::size_t& found, const WorldView& world, double time)
+      : targets_(targets), found_(found), world_(world, time), time_(time) {}
   void mark_found(std::uint32_t target, std::uint32_t drone) override {
     if (target >= targets_.size() || targets_[target].found()) return;
     targets_[target].found_by = drone;
@@ -559,10 +625,12 @@ class Actions final : public ContactActions {
     ++found_;
   }
   bool is_found(std::uint32_t target) const override { return target < targets_.size() && targets_[target].found(); }
+  const WorldView& world() const override { return world_; }
 
  private:
   std::vector<TargetState>& targets_;
   std::size_t& found_;
+  EventView world_;
   double time_;
 };
 }  // namespace
@@ -573,7 +641,7 @@ class Actions final : public ContactActions {
 // what was in view on the snapshot at t is found at t + dt, so a row never misses a found target.
 void Simulation::dispatch_sightings() {
   const double step_end = time_at(steps_ + 1);  // time() once this step is counted
-  Actions actions(targets_.states, targets_.found, step_end);
+  Actions actions(targets_.states, targets_.found, *this, step_end);
   for (std::uint32_t i = 0; i < seen_.size(); ++i) {
     // Targets lie scattered in memory: ask for a drone's all at once rather than miss on each in turn.
     for (const auto& [t, d] : seen_[i]) __builtin_prefetch(&targets_.states[t], 1);
@@ -586,7 +654,7 @@ void Simulation::dispatch_sightings() {
 }
 
 void Simulation::dispatch_contacts() {
-  Actions actions(targets_.states, targets_.found, time());
+  Actions actions(targets_.states, targets_.found, *this, time());
   for (ContactEvent e : physics_->begun) {
     e.time = time();
     ++collisions_;

@@ -178,20 +178,24 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
     }
   }
 
-  if (j.contains("contact_handlers")) {
-    const json& h = j["contact_handlers"];
-    if (!h.is_array()) r.fail("contact_handlers", show(h) + " must be a list of handler names");
-    t.contact_handlers.clear();
-    for (std::size_t i = 0; i < h.size(); ++i) {
+  // contact_handlers: ["name", {"name": ..., "params": {...}}, ...], called in this order; absent: the
+  // default list (detect_targets), with its declared defaults.
+  {
+    const bool given = j.contains("contact_handlers");
+    const json h = given ? j["contact_handlers"] : json::array();
+    if (!h.is_array()) r.fail("contact_handlers", show(h) + " must be a list of handler names or {\"name\", \"params\"} objects");
+    if (given) t.contact_handlers.assign(h.size(), {});
+    for (std::size_t i = 0; i < t.contact_handlers.size(); ++i) {
       const std::string field = "contact_handlers[" + std::to_string(i) + "]";
-      t.contact_handlers.push_back(r.string(h[i], field));
-    }
-  }
-  for (std::size_t i = 0; i < t.contact_handlers.size(); ++i) {
-    try {
-      host.contact_handler(t.contact_handlers[i]);
-    } catch (const UnknownPlugin& e) {
-      r.fail("contact_handlers[" + std::to_string(i) + "]", e.what());
+      PluginChoice& c = t.contact_handlers[i];
+      json params;  // none for the default list: its declared defaults
+      if (given) std::tie(c.name, params) = name_and_params(h[i], r, field);
+      try {
+        c.params = r.params(params, field + ".params", host.contact_handler(c.name).factory.parameters,
+                            "contact handler '" + c.name + "'");
+      } catch (const UnknownPlugin& e) {
+        r.fail(field, e.what());
+      }
     }
   }
 
@@ -277,6 +281,12 @@ json params_json(const ParameterValues& v) {
   for (const auto& [k, x] : v.items()) out[k] = x;
   return out;
 }
+/// A contact handler's values over its declared defaults (a TestSpec made in code may give none).
+ParameterValues handler_params(const PluginChoice& c, const PluginHost& host) {
+  ParameterValues values(host.contact_handler(c.name).factory.parameters);
+  for (const auto& [k, x] : c.params.items()) values.set(k, x);
+  return values;
+}
 template <class Base>
 json plugin_json(const Entry<Base>& e) {
   std::error_code ec;  // absolute: config.json is read later, from anywhere
@@ -300,7 +310,9 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   j["spawn"] = {{"mode", t.spawn_mode == SpawnMode::disc ? "disc" : "uniform"}, {"radius", t.spawn_radius}};
   if (t.spawn) j["spawn"]["point"] = {t.spawn->x, t.spawn->y};
   j["targets"] = {{"kind", t.target.name}, {"count", t.targets}, {"params", params_json(t.target.params)}};
-  j["contact_handlers"] = t.contact_handlers;
+  j["contact_handlers"] = json::array();
+  for (const auto& h : t.contact_handlers)
+    j["contact_handlers"].push_back({{"name", h.name}, {"params", params_json(handler_params(h, host))}});
   j["metrics"] = json::array();
   for (const auto& m : t.metrics) j["metrics"].push_back({{"name", m.name}, {"params", params_json(m.params)}});
   j["time"] = t.time;
@@ -323,7 +335,7 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
                    {"map", plugin_json(host.map(t.map.name))}};
   if (t.targets > 0) versions["target"] = plugin_json(host.target_kind(t.target.name));
   json handlers = json::array();
-  for (const auto& h : t.contact_handlers) handlers.push_back(plugin_json(host.contact_handler(h)));
+  for (const auto& h : t.contact_handlers) handlers.push_back(plugin_json(host.contact_handler(h.name)));
   versions["contact_handlers"] = handlers;
   json metrics = json::array();
   for (const auto& m : t.metrics) metrics.push_back(plugin_json(host.metric(m.name)));
@@ -350,7 +362,7 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
     s.behavior = PluginHost::create(host.behavior(t.behavior.name), t.behavior.params);
     if (t.targets > 0) s.target_kind = PluginHost::create(host.target_kind(t.target.name), t.target.params);
     for (const auto& h : t.contact_handlers)
-      s.contact_handlers.push_back(PluginHost::create(host.contact_handler(h), ParameterValues(host.contact_handler(h).factory.parameters)));
+      s.contact_handlers.push_back(PluginHost::create(host.contact_handler(h.name), handler_params(h, host)));
   } catch (const std::exception& e) {
     throw InputError(t.source + ": " + e.what());
   }
@@ -393,7 +405,7 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   // The targets, placed as the simulation will place them: the kind's radius and positions are input too.
   if (s.target_kind) {
     try {
-      initial_targets(*s.target_kind, t.targets, s.map, geometry, t.dt, t.seed);
+      initial_targets(*s.target_kind, t.targets, s.map, geometry, t.drone, t.dt, t.seed);
     } catch (const std::exception& e) {
       throw InputError(t.source + ": " + provider("target kind", host.target_kind(t.target.name)) + ": " + e.what());
     }

@@ -26,6 +26,7 @@ struct Replay final : MetricView {
   std::size_t targets_found() const override { return sim->targets_found(); }
   std::uint64_t collisions() const override { return sim->collisions(); }
   const DroneProperties& drone() const override { return d; }
+  const MapData& map() const override { return sim->map(); }
 };
 int main(int argc, char** argv) {
   if (argc != 4) {

@@ -1,10 +1,12 @@
 #pragma once
 // Contact handlers: react to drones seeing targets and to collisions (e.g. mark trees found, count or
-// penalise crashes). Called serially in the detect phase, in a fixed order.
+// penalise crashes). Called serially in the detect phase, in a fixed order. A handler's parameters come
+// from the test file: "contact_handlers": [{"name": "dwell_detect", "params": {"dwell": 2}}].
 #include <cstdint>
 
 #include "salsa/parameters.hpp"
 #include "salsa/vec2.hpp"
+#include "salsa/world.hpp"
 
 namespace salsa {
 
@@ -22,17 +24,28 @@ struct ContactEvent {
   double time;    ///< s: when the step the event happened in ends (what was in view at its start counts then)
 };
 
-/// What a handler may change.
+/// What a handler may change, and what it may read of the world.
 class ContactActions {
  public:
   virtual ~ContactActions() = default;
   /// Mark a target found (for good) by a drone; later calls for the same target do nothing.
   virtual void mark_found(std::uint32_t target, std::uint32_t drone) = 0;
   virtual bool is_found(std::uint32_t target) const = 0;
+  /// The world as the event saw it, so a handler can weigh an event by time (dwell, rates: `dt()` is
+  /// the step the event covers, which the GUI's larger time step may change mid-run) or by the drones'
+  /// state and properties. `time()` is the event's time (`ContactEvent::time`); the drones are where
+  /// they were when the event was detected (for `target_in_view`, the start of the step). Valid only
+  /// during `on_contact`.
+  virtual const WorldView& world() const = 0;
 };
 
 class ContactHandler : public Configurable {
  public:
+  /// The test starts, or the simulation re-spawned its drones or re-placed its targets (in the GUI: a
+  /// new drone count, map or target set): drop any per-drone or per-target state, since ids now name
+  /// other drones and targets. `world` is the world from then on (its `time()` need not be 0). Called
+  /// before the first `on_contact` that follows, on the stepping thread. Default: nothing.
+  virtual void reset(const WorldView& world) { (void)world; }
   virtual void on_contact(const ContactEvent& event, ContactActions& actions) = 0;
 };
 

@@ -25,26 +25,13 @@ struct TargetState {
   bool found() const { return found_by >= 0; }
 };
 
-/// The properties every drone of the test shares.
-struct DroneProperties {
-  double camera_range = 0;     ///< m
-  double obstacle_range = 0;   ///< m
-  double detection_range = 0;  ///< m
-  double max_speed = 0;        ///< m/s
-  double max_force = 0;        ///< largest velocity change per step, m/s
-  double radius = 0;           ///< m
-  double mass = 0;             ///< kg
-};
-
-/// What a metric sees: the world (drones, time, static geometry) plus targets, collisions and the
-/// drones' properties.
+/// What a metric sees: the world (drones, their properties, time, the map) plus targets and collisions.
 class MetricView : public WorldView {
  public:
   virtual std::span<const TargetState> targets() const = 0;  ///< indexed by target id
   virtual std::size_t targets_found() const = 0;
   /// Contacts begun so far, drone–drone and drone–obstacle.
   virtual std::uint64_t collisions() const = 0;
-  virtual const DroneProperties& drone() const = 0;
 };
 
 /// A column a metric fills. Its name follows the plugin naming rule (a letter, then letters, digits,

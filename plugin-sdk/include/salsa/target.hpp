@@ -19,6 +19,11 @@ class TargetKind : public Configurable {
   /// Whether a drone whose centre is `distance` m from the target's centre sees it with a camera of
   /// `camera_range` m. Default: the target's disc overlaps the camera's disc.
   virtual bool in_view(double distance, double camera_range) const { return distance < camera_range + radius(); }
+  /// The farthest centre distance (m) at which `in_view` may be true for a camera of `camera_range` m.
+  /// The core keeps targets in a grid and asks `in_view` only about those closer than this, so an
+  /// `in_view` that sees farther than the default must widen this too (or it is never asked about the
+  /// far targets). Keep it tight: it sets the grid's cell size and the work per drone. Finite, >= 0.
+  virtual double view_range(double camera_range) const { return camera_range + radius(); }
   /// Where `count` targets go (exactly `count` points inside the bounds; throw when they cannot be
   /// placed). Default: uniform over free space (never inside obstacles); it gives up, with an error,
   /// when fewer than 1 in 1,000 random points so far had room for a target.

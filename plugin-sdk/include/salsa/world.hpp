@@ -4,6 +4,7 @@
 #include <optional>
 #include <span>
 
+#include "salsa/map.hpp"
 #include "salsa/vec2.hpp"
 
 namespace salsa {
@@ -30,7 +31,20 @@ struct TargetSeen {
   bool found;        ///< already found by any drone
 };
 
-/// Read-only query of the whole world, for `prepare()` and for target placement.
+/// The properties every drone of the test shares (its drone configuration).
+struct DroneProperties {
+  double camera_range = 0;     ///< m
+  double obstacle_range = 0;   ///< m
+  double detection_range = 0;  ///< m
+  double max_speed = 0;        ///< m/s
+  double max_force = 0;        ///< largest velocity change of one steering term per step, m/s
+  double radius = 0;           ///< m
+  double mass = 0;             ///< kg
+};
+
+/// Read-only query of the whole world: for a behavior's `prepare()`, a target kind's placement, a
+/// contact handler (`reset`, `ContactActions::world()`) and a metric. Valid only during the call it is
+/// passed to.
 class WorldView {
  public:
   virtual ~WorldView() = default;
@@ -43,6 +57,14 @@ class WorldView {
   virtual bool is_free(Vec2 p, double clearance) const = 0;
   /// First hit of static geometry on the segment from `from` to `to`, if any.
   virtual std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const = 0;
+  /// The drones' shared properties, so that state sized by them (a grid of camera-range cells, a
+  /// partition by detection range) can be built in `prepare()` before any drone decides. They change
+  /// when the GUI changes the drone configuration live: compare, do not cache for good.
+  virtual const DroneProperties& drone() const = 0;
+  /// The map as generated (bounds, solid obstacles, hollow outlines, open lines, spawn point; m), for
+  /// plugins that lay out their own structures over it (a pheromone field that skips obstacles, a
+  /// route around rooms). A live map change in the GUI re-spawns the drones, which calls `reset`.
+  virtual const MapData& map() const = 0;
 };
 
 /// Everything one drone knows when it decides, valid only during that `decide` call.

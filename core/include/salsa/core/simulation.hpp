@@ -84,11 +84,20 @@ Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt
 /// the bounds).
 Problem check_targets(std::span<const Vec2> positions, std::size_t count, double radius, const Rect& bounds);
 
+/// The kind's view_range for the drone's camera (m), checked finite and >= 0: how far the detect phase
+/// looks for targets (TargetKind::view_range). Field "view_range".
+Problem check_view_range(const TargetKind& kind, const DroneConfig& drone);
+
 /// Where a Simulation puts `count` targets of `kind` on `map` at the start: on the map alone, before
-/// any drone is spawned, with the targets' own Rng stream of `seed`. Throws what the plugin throws, or
-/// std::invalid_argument with check_targets' problem.
+/// any drone is spawned (the kind's WorldView has the drone properties but no drones), with the
+/// targets' own Rng stream of `seed`. Throws what the plugin throws, or std::invalid_argument with
+/// check_targets' or check_view_range's problem.
 std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, const MapData& map,
-                                  const StaticGeometry& geometry, double dt, std::uint64_t seed);
+                                  const StaticGeometry& geometry, const DroneConfig& drone, double dt,
+                                  std::uint64_t seed);
+
+/// What plugins see of a drone configuration (WorldView::drone()).
+DroneProperties drone_properties(const DroneConfig& config);
 
 /// Step phases, timed separately (DESIGN §3).
 enum class Phase { sense, decide, act, physics, detect, observe };
@@ -107,7 +116,9 @@ class Simulation final : public WorldView {
 
   // ---- Live changes (take effect at the next step). Each either succeeds or throws and leaves the
   // simulation exactly as it was (the new state is built aside, then swapped in); std::invalid_argument
-  // for a refused value, or what the plugin threw.
+  // for a refused value, or what the plugin threw. Those that re-spawn drones or re-place targets
+  // (drone count, map, targets) reset the behavior and the contact handlers (before swapping in, with
+  // a view of the new state), as the constructor does.
   void set_drone_count(std::size_t n);      ///< adds drones at the spawn, or removes the highest ids; fresh memory
   void set_drone_config(const DroneConfig& config);  ///< rebuilds the drones where they are; targets stay
   void set_behavior(std::shared_ptr<Behavior> behavior);  ///< fresh per-drone memory
@@ -125,7 +136,7 @@ class Simulation final : public WorldView {
   const DroneConfig& drone_config() const { return setup_.drone; }
   const SimulationSetup& setup() const { return setup_; }
   Behavior& behavior() const { return *setup_.behavior; }
-  const MapData& map() const { return setup_.map; }
+  const MapData& map() const override { return setup_.map; }
   Vec2 spawn_point() const { return spawn_; }
   const std::vector<TargetState>& targets() const { return targets_.states; }
   std::size_t targets_found() const { return targets_.found; }
@@ -152,6 +163,7 @@ class Simulation final : public WorldView {
   std::span<const Vec2> commanded_velocities() const { return drones_.commanded; }
   bool is_free(Vec2 p, double clearance) const override { return geometry_.is_free(p, clearance); }
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return geometry_.ray_cast(from, to); }
+  const DroneProperties& drone() const override { return drone_properties_; }
 
  private:
   struct Scratch;
@@ -177,6 +189,7 @@ class Simulation final : public WorldView {
   struct Targets {
     std::vector<TargetState> states;
     PointGrid grid;
+    double reach = 0;  ///< m: the kind's view_range, how far sense() queries the grid
     std::size_t found = 0;
   };
   struct World;  // everything a map change rebuilds
@@ -186,6 +199,8 @@ class Simulation final : public WorldView {
   static Drones resized(const Drones& from, std::size_t n, const SimulationSetup& setup, const StaticGeometry& geometry,
                         Vec2 spawn, Rng& spawn_rng);
   static Targets make_targets(std::vector<Vec2> positions, const DroneConfig& drone, const TargetKind* kind);
+  /// Tells the contact handlers the drones or targets were (re)made; `world` is the state from now on.
+  void reset_handlers(const WorldView& world) const;
   void install(World&& world) noexcept;
   Perception perceive(std::uint32_t id, Senses senses, Scratch& scratch) const;
   void read_back();
@@ -194,6 +209,7 @@ class Simulation final : public WorldView {
   double time_at(std::uint64_t steps) const { return dt_base_time_ + static_cast<double>(steps - dt_base_steps_) * setup_.dt; }
 
   SimulationSetup setup_;
+  DroneProperties drone_properties_;  ///< setup_.drone as plugins see it
   Vec2 spawn_;
   StaticGeometry geometry_;
   std::unique_ptr<PhysicsWorld> physics_;

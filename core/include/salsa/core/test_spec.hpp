@@ -38,7 +38,8 @@ struct TestSpec {
   double spawn_radius = 0;          ///< m; 0: drones × drone radius
   PluginChoice target;
   std::size_t targets = 0;
-  std::vector<std::string> contact_handlers{"detect_targets"};
+  /// Called in this order. Parameters not given (a TestSpec made in code) get their declared defaults.
+  std::vector<PluginChoice> contact_handlers{{"detect_targets", {}}};
   std::vector<PluginChoice> metrics;  ///< in column order; a test without "metrics" gets default_metrics
   double time = 60;                 ///< s simulated
   double dt = 1.0 / 60;             ///< s
