@@ -4,7 +4,8 @@
 # 2. `salsa new-plugin` of every kind; each folder configures against that prefix alone
 #    (CMAKE_PREFIX_PATH), builds, passes its ctest (its own test + the <name>_loads smoke test) and
 #    `cmake --install`s into a user plugin folder;
-# 3. examples/plugin builds the same way;
+# 3. the installed example plugins build the same way, pass their tests and run a queue; every C++
+#    block of plugins.md is one of them;
 # 4. `salsa plugins` loads them all, from their build folders and from the user folder;
 # 5. new-plugin refuses an existing folder, a bad name and an unknown kind in one line each.
 set -euo pipefail
@@ -58,10 +59,36 @@ grep -q "pillar: must be smaller than spacing" <<<"$(tr -d '\n' <<<"$out" | tr -
   { echo "$out"; echo "FAIL: bad_map_loads failed without naming the map's error"; exit 1; }
 echo "ok: the smoke test fails bad_map"
 
-configure_build_test "$source_dir/examples/plugin" "$work/example"
-# Its test steps the installed fixture (salsa::fixture, salsa_add_plugin_test).
+# The example plugins as installed (share/doc/salsa/examples/plugin): a behavior, a target kind with
+# its contact handler, a map and a metric; their fixture tests (salsa_add_plugin_test) and smoke tests.
+examples=$prefix/share/doc/salsa/examples/plugin
+configure_build_test "$examples" "$work/example"
 out=$(ctest --test-dir "$work/example" --output-on-failure 2>&1) || { echo "$out"; echo "FAIL: ctest of examples/plugin"; exit 1; }
-grep -q "wander_test .*Passed" <<<"$out" || { echo "$out"; echo "FAIL: wander_test did not run"; exit 1; }
+for t in wander_test dwell_test rings_test wander_loads dwell_loads rings_loads in_zone_loads; do
+  grep -q "$t .*Passed" <<<"$out" || { echo "$out"; echo "FAIL: $t did not pass"; exit 1; }
+done
+# A queue that uses all four, from a fresh folder holding only the built files.
+mkdir -p "$work/shared-plugins" && cp "$work/example"/lib*.so "$work/shared-plugins/"
+(cd "$work" && "$salsa" run "$examples/queue.json" --plugin-dir "$work/shared-plugins" --out "$work/queue-out" -q --no-plots)
+grep -q "longest_in_zone" "$work/queue-out/wander-rings/outcome.csv" || { echo "FAIL: in_zone's column missing"; exit 1; }
+grep -q '"dwell_detect"' "$work/queue-out/wander-rings/config.json" && grep -q '"dwell": *2' "$work/queue-out/wander-rings/config.json" ||
+  { cat "$work/queue-out/wander-rings/config.json"; echo "FAIL: config.json lacks dwell_detect's parameter"; exit 1; }
+echo "ok: the installed example plugins build, pass their tests and run a queue"
+
+# Every C++ block of the installed plugins.md is one of these example files, verbatim (its first line
+# names the file), so every block was just compiled and tested.
+mkdir -p "$work/doc-blocks"
+awk -v dir="$work/doc-blocks" '/^```cpp$/ { inside = 1; file = dir "/" ++n ".cpp"; next } /^```$/ { inside = 0; next }
+     inside { print > file }' "$prefix/share/doc/salsa/plugins.md"
+blocks=0
+for block in "$work"/doc-blocks/*.cpp; do
+  name=$(head -1 "$block" | sed -n 's|^// \([a-z_]*\.cpp\):.*|\1|p')
+  [ -n "$name" ] && cmp -s "$block" "$examples/$name" ||
+    { echo "FAIL: plugins.md block $(basename "$block") is not an example file verbatim (first line: $(head -1 "$block"))"; exit 1; }
+  blocks=$((blocks + 1))
+done
+[ "$blocks" -ge 6 ] || { echo "FAIL: only $blocks C++ blocks in plugins.md"; exit 1; }
+echo "ok: all $blocks C++ blocks of plugins.md are compiled example files"
 dirs+=(--plugin-dir "$work/example")
 # A build type the author chose is kept (only configured: the flags are in build.ninja).
 cmake -S "$source_dir/examples/plugin" -B "$work/example-debug" -G Ninja -DCMAKE_BUILD_TYPE=Debug \

@@ -43,7 +43,8 @@ class TestExamples : public QObject {
     while (it.hasNext()) files << it.next();
     files.sort();
     for (const QString& f : files)
-      if (is_map_file(f) == maps) QTest::newRow(qPrintable(QDir(root).relativeFilePath(f))) << f;
+      // examples/plugin/'s queue needs the example plugins built: out_of_tree_plugin.sh runs it.
+      if (is_map_file(f) == maps && !QDir(root).relativeFilePath(f).startsWith("plugin/")) QTest::newRow(qPrintable(QDir(root).relativeFilePath(f))) << f;
   }
 
  private Q_SLOTS:

@@ -1,5 +1,5 @@
-// An out-of-tree behavior plugin: the whole of it. Build with this folder's CMakeLists.txt against an
-// installed salsa, then `salsa plugins --plugin-dir build` lists it.
+// wander.cpp: a behavior, the whole of it. Each drone flies a random heading, turns to a new one every
+// `turn_interval` seconds, and keeps away from obstacles.
 #include <salsa/sdk.hpp>
 
 struct Heading {

@@ -1,4 +1,4 @@
-// wander's test: eight drones wander for 30 s in a 300 m room; they spread out and stay inside.
+// wander_test.cpp: eight drones wander for 30 s in a 300 m room; they spread out and stay inside.
 #include <salsa/fixture.hpp>
 
 #include <cstdio>
