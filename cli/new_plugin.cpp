@@ -27,7 +27,7 @@ namespace {
 const char* cmake_template = R"~~(# @NAME@: a salsa @KIND@ plugin, written by `salsa new-plugin`.
 #   cmake -B build                      # add -DCMAKE_PREFIX_PATH=<prefix> if salsa is not in /usr or /usr/local
 #   cmake --build build
-#   ctest --test-dir build              # @NAME@_test, and @NAME@_loads: the installed salsa loads and runs it
+#   ctest --test-dir build              # @NAME@_test (a short real simulation with the plugin), @NAME@_loads
 #   cmake --install build               # into ~/.local/share/salsa/plugins: salsa and salsa-gui find it
 # To share it, hand over this folder: it builds against any salsa @VERSION@.x.
 cmake_minimum_required(VERSION 3.25)
@@ -36,16 +36,14 @@ find_package(salsa @VERSION@ REQUIRED)
 enable_testing()
 
 salsa_add_plugin(@NAME@ @NAME@.cpp VERSION ${PROJECT_VERSION} AUTHOR "" BRIEF "@BRIEF@")
-
-add_executable(@NAME@_test @NAME@_test.cpp)
-target_link_libraries(@NAME@_test PRIVATE salsa::sdk)
-target_compile_options(@NAME@_test PRIVATE -Wall -Wextra)
-add_test(NAME @NAME@_test COMMAND @NAME@_test)
+salsa_add_plugin_test(@NAME@_test @NAME@_test.cpp PLUGIN @NAME@)
 )~~";
 
-const char* test_preamble = R"~~(#include <cstdio>
+// Every test runs the real core (as `salsa run` does) on the plugin file the build made (SALSA_PLUGIN_FILE)
+// plus salsa's built-in plugins.
+const char* test_preamble = R"~~(#include <salsa/fixture.hpp>
 
-#include "@NAME@.cpp"  // the plugin is one file: compiled in here to reach its class
+#include <cstdio>
 
 #define CHECK(condition)                                                                \
   do {                                                                                  \
@@ -72,19 +70,19 @@ struct @CLASS@Memory {  // per-drone memory, one slot per drone, owned by the co
 };
 
 class @CLASS@ final : public salsa::BehaviorWithMemory<@CLASS@Memory> {
+  // Each parameter once: name, default, min, max, unit, meaning (the GUI's sliders, the checks of a
+  // test's JSON, sweeps). In decide() it is a plain double holding the current value.
+  salsa::Param turn_rate{this, "turn_rate", 0.5, 0.0, 10.0, "rad/s", "how fast the heading drifts at random"};
+  salsa::Param separation{this, "separation", 10.0, 0.0, 200.0, "m", "fly away from drones closer than this"};
+  salsa::Param avoidance{this, "avoidance", 2.0, 0.0, 10.0, "", "weight of obstacle avoidance"};
+
  public:
-  // Name, default, min, max, unit, meaning: the GUI's sliders, the checks of a test's JSON, sweeps.
-  static salsa::Parameters declare() {
-    return {{"turn_rate", 0.5, 0.0, 10.0, "rad/s", "how fast the heading drifts at random"},
-            {"separation", 10.0, 0.0, 200.0, "m", "fly away from drones closer than this"},
-            {"avoidance", 2.0, 0.0, 10.0, "", "weight of obstacle avoidance"}};
-  }
   salsa::Vec2 decide(const salsa::Perception& me, @CLASS@Memory& h, salsa::Rng& rng) override {
     if (!h.chosen) h = {rng.angle(), true};
-    h.angle += rng.uniform(-1.0, 1.0) * param("turn_rate") * me.dt;
+    h.angle += rng.uniform(-1.0, 1.0) * turn_rate * me.dt;
     // Steering terms, each at most max force; the core adds the sum to the velocity.
     return salsa::steer_towards(me, salsa::Vec2::polar(me.max_speed, h.angle)) +
-           salsa::avoid_drones(me, param("separation")) + param("avoidance") * salsa::avoid_obstacles(me);
+           salsa::avoid_drones(me, separation) + avoidance * salsa::avoid_obstacles(me);
   }
   // decide() never looks at the targets in view: the core need not gather them.
   salsa::Senses senses() const override { return {.neighbours = true, .targets = false}; }
@@ -95,36 +93,19 @@ class @CLASS@ final : public salsa::BehaviorWithMemory<@CLASS@Memory> {
 SALSA_BEHAVIOR(@CLASS@, "@NAME@", "@BRIEF@")
 )~~";
 
-const char* behavior_test = R"~~(// @NAME@'s decide() on hand-made perceptions (salsa::testing::Scene), no simulation needed.
-#include <salsa/testing.hpp>
-
+const char* behavior_test = R"~~(// @NAME@ in a real simulation: 8 drones for 30 s in a 300 m room. They stay inside and keep flying
+// (drones that only drift on their start velocity fly about 120 m). Parameters as in a test file:
+// "behavior": {"name": "@NAME@", "params": {"turn_rate": 2}}.
 @PREAMBLE@
 int main() {
-  {  // An obstacle 5 m east of a drone at rest: whatever its heading, it steers west.
-    salsa::testing::Scene scene;
-    scene.at({0, 0}).obstacle({5, 0});
-    @CLASS@ behavior;  // declared defaults are filled in on first use
-    CHECK(scene.decide(behavior).x < 0);
-  }
-  {  // A drone 3 m east pushes it west: the same heading (same seed) with and without the neighbour.
-    salsa::testing::Scene alone, crowded;
-    crowded.neighbour({3, 0});
-    @CLASS@ a, b;
-    CHECK(crowded.decide(b, 7).x < alone.decide(a, 7).x);
-  }
-  {  // Each term is at most max force: the sum at most (1 + 1 + avoidance) max force.
-    salsa::testing::Scene scene;
-    scene.at({0, 0}, {3, 4}).neighbour({1, 1}).obstacle({2, 0}).obstacle({0, -2});
-    @CLASS@ behavior;
-    CHECK(scene.decide(behavior).length() <= (1 + 1 + 2.0 /* avoidance */) * scene.me().max_force + 1e-9);
-  }
-  {  // The same seed gives the same steering; another seed another heading.
-    salsa::testing::Scene s1, s2, s3;
-    @CLASS@ a, b, c;
-    const salsa::Vec2 first = s1.decide(a, 1), again = s2.decide(b, 1), other = s3.decide(c, 2);
-    CHECK(first.x == again.x && first.y == again.y);
-    CHECK(first.x != other.x || first.y != other.y);
-  }
+  salsa::testing::Simulation sim(R"({"behavior": "@NAME@", "drones": 8, "seed": 1,
+                                     "map": {"name": "empty", "params": {"size": 300}}})",
+                                 {SALSA_PLUGIN_FILE});
+  sim.run(30);
+  for (salsa::Vec2 p : sim.positions()) CHECK(sim.world().bounds().contains(p));
+  const double flown = sim.metric("mean_distance");  // m per drone: salsa's distance_flown metric
+  std::printf("mean distance flown in 30 s: %.0f m\n", flown);
+  CHECK(flown > 150);  // at most 10 m/s: 300 m
   std::puts("@NAME@_test: ok");
   return 0;
 }
@@ -140,24 +121,15 @@ const char* target_source = R"~~(// @NAME@: a salsa target kind. Targets are dis
 namespace {
 
 class @CLASS@ final : public salsa::TargetKind {
+  // Each parameter once: name, default, min, max, unit, meaning; it reads as a double.
+  salsa::Param radius_{this, "radius", 2.0, 0.1, 100.0, "m", "radius of a target"};
+  salsa::Param visibility{this, "visibility", 0.5, 0.0, 1.0, "", "fraction of the camera range within which a target is seen"};
+
  public:
-  static salsa::Parameters declare() {
-    return {{"radius", 2.0, 0.1, 100.0, "m", "radius of a target"},
-            {"visibility", 0.5, 0.0, 1.0, "", "fraction of the camera range within which a target is seen"}};
-  }
   double radius() const override { return radius_; }
   bool in_view(double distance, double camera_range) const override {
-    return distance < visibility_ * camera_range + radius_;
+    return distance < visibility * camera_range + radius_;
   }
-
- protected:
-  void configure() override {  // after every change of the parameters: cache them
-    radius_ = param("radius");
-    visibility_ = param("visibility");
-  }
-
- private:
-  double radius_ = 2, visibility_ = 0.5;
 };
 
 }  // namespace
@@ -165,19 +137,24 @@ class @CLASS@ final : public salsa::TargetKind {
 SALSA_TARGET(@CLASS@, "@NAME@", "@BRIEF@")
 )~~";
 
-const char* target_test = R"~~(// @NAME@'s radius and visibility, with its declared defaults and with changed parameters.
+const char* target_test = R"~~(// @NAME@ targets in a real simulation: drones of salsa's built-in random_walk find some in 60 s, and
+// more when they see as far as their cameras reach (visibility 1), on the same flight (same seed).
 @PREAMBLE@
 int main() {
-  @CLASS@ kind;
-  salsa::ParameterValues values(@CLASS@::declare());
-  kind.set_parameters(values);
-  CHECK(kind.radius() == 2);
-  CHECK(kind.in_view(9, 15));    // within 0.5 × 15 m + 2 m
-  CHECK(!kind.in_view(10, 15));
-  values.set("visibility", 1);
-  kind.set_parameters(values);
-  CHECK(kind.in_view(16, 15));
-  for (const salsa::Parameter& p : @CLASS@::declare()) CHECK(p.check(p.value).empty());  // defaults in range
+  salsa::testing::Simulation sim(R"({"behavior": "random_walk", "drones": 10, "seed": 1,
+                                     "map": {"name": "empty", "params": {"size": 400}},
+                                     "targets": {"kind": "@NAME@", "count": 100}})",
+                                 {SALSA_PLUGIN_FILE});
+  salsa::testing::Simulation far(R"({"behavior": "random_walk", "drones": 10, "seed": 1,
+                                     "map": {"name": "empty", "params": {"size": 400}},
+                                     "targets": {"kind": "@NAME@", "count": 100, "params": {"visibility": 1}}})",
+                                 {SALSA_PLUGIN_FILE});
+  CHECK(sim.targets() == 100);
+  sim.run(60);
+  far.run(60);
+  std::printf("found in 60 s: %zu of 100, %zu with visibility 1\n", sim.targets_found(), far.targets_found());
+  CHECK(sim.targets_found() > 0);
+  CHECK(far.targets_found() > sim.targets_found());
   std::puts("@NAME@_test: ok");
   return 0;
 }
@@ -186,8 +163,9 @@ int main() {
 // ---- map ----
 
 const char* map_source = R"~~(// @NAME@: a salsa map. A square closed by walls with a grid of square pillars, none near the centre,
-// where the drones start. generate() gets the test's parameters and an rng (unused here: the same
-// parameters always give the same map); bad parameters throw salsa::MapError with one line.
+// where the drones start. generate() gets the test's parameters (the Param members) and an rng
+// (unused here: the same parameters always give the same map); bad parameters throw salsa::MapError
+// with one line.
 #include <cmath>
 #include <string>
 
@@ -196,23 +174,23 @@ const char* map_source = R"~~(// @NAME@: a salsa map. A square closed by walls w
 namespace {
 
 class @CLASS@ final : public salsa::MapGenerator {
+  // Each parameter once: name, default, min, max, unit, meaning; it reads as a double.
+  salsa::Param size{this, "size", 300.0, 20.0, 1e5, "m", "side of the square"};
+  salsa::Param spacing{this, "spacing", 50.0, 5.0, 1e4, "m", "distance between pillar centres"};
+  salsa::Param pillar{this, "pillar", 8.0, 0.5, 1e3, "m", "side of a pillar"};
+  salsa::Param clear{this, "clear", 40.0, 0.0, 1e4, "m", "no pillar within this distance of the centre"};
+
  public:
-  static salsa::Parameters declare() {
-    return {{"size", 300.0, 20.0, 1e5, "m", "side of the square"},
-            {"spacing", 50.0, 5.0, 1e4, "m", "distance between pillar centres"},
-            {"pillar", 8.0, 0.5, 1e3, "m", "side of a pillar"},
-            {"clear", 40.0, 0.0, 1e4, "m", "no pillar within this distance of the centre"}};
-  }
   salsa::MapData generate(const std::string& /*file*/, salsa::Rng& /*rng*/) const override {
-    const double size = param("size"), spacing = param("spacing"), half = param("pillar") / 2;
-    if (2 * half >= spacing) throw salsa::MapError("pillar: must be smaller than spacing (" + salsa::Parameter::format(spacing) + " m)");
+    const double half = pillar / 2;
+    if (pillar >= spacing) throw salsa::MapError("pillar: must be smaller than spacing (" + salsa::Parameter::format(spacing) + " m)");
     if (std::pow(size / spacing, 2) > 1e6) throw salsa::MapError("spacing: more than 1,000,000 pillars (allowed: a larger spacing)");
     salsa::MapData map;
     map.bounds = {{0, 0}, {size, size}};
     map.spawn = map.bounds.centre();
     for (double x = spacing; x + half < size; x += spacing)
       for (double y = spacing; y + half < size; y += spacing)
-        if (salsa::distance({x, y}, map.spawn) > param("clear") + half * std::sqrt(2.0))
+        if (salsa::distance({x, y}, map.spawn) > clear + half * std::sqrt(2.0))
           map.obstacles.push_back({{x - half, y - half}, {x + half, y - half}, {x + half, y + half}, {x - half, y + half}});  // CCW
     return map;
   }
@@ -223,28 +201,28 @@ class @CLASS@ final : public salsa::MapGenerator {
 SALSA_MAP(@CLASS@, "@NAME@", "@BRIEF@")
 )~~";
 
-const char* map_test = R"~~(// @NAME@'s map: pillars inside the bounds, none at the spawn point; bad parameters refused.
+const char* map_test = R"~~(// @NAME@ in a real simulation: the bounds its size gives, pillars on the grid and none at the centre,
+// drones kept inside for 30 s; parameters it refuses fail the run with its message.
+#include <cstring>
+#include <stdexcept>
+
 @PREAMBLE@
 int main() {
-  @CLASS@ generator;
-  salsa::ParameterValues values(@CLASS@::declare());
-  generator.set_parameters(values);
-  salsa::Rng rng(1);
-  const salsa::MapData map = generator.generate("", rng);
-  CHECK(!map.obstacles.empty());
-  CHECK(map.bounds.contains(map.spawn));
-  for (const salsa::Polyline& pillar : map.obstacles) {
-    CHECK(pillar.size() == 4);
-    for (salsa::Vec2 p : pillar) CHECK(map.bounds.contains(p));
-    CHECK(salsa::distance((pillar[0] + pillar[2]) / 2, map.spawn) > values.get("clear"));
-  }
-  values.set("pillar", 60);  // wider than the spacing
-  generator.set_parameters(values);
+  salsa::testing::Simulation sim(R"({"behavior": "random_walk", "drones": 8, "seed": 1,
+                                     "map": {"name": "@NAME@", "params": {"size": 500}}})",
+                                 {SALSA_PLUGIN_FILE});
+  const salsa::Rect bounds = sim.world().bounds();
+  CHECK((bounds == salsa::Rect{{0, 0}, {500, 500}}));
+  CHECK(!sim.world().is_free({50, 50}, 0));          // a pillar (spacing 50 m)
+  CHECK(sim.world().is_free(bounds.centre(), 40));   // clear around the centre
+  sim.run(30);
+  for (salsa::Vec2 p : sim.positions()) CHECK(bounds.contains(p));
   bool refused = false;
   try {
-    generator.generate("", rng);
-  } catch (const salsa::MapError&) {
-    refused = true;
+    salsa::testing::Simulation wide(R"({"behavior": "random_walk", "map": {"name": "@NAME@", "params": {"pillar": 60}}})",
+                                    {SALSA_PLUGIN_FILE});
+  } catch (const std::runtime_error& e) {
+    refused = std::strstr(e.what(), "pillar: must be smaller than spacing") != nullptr;
   }
   CHECK(refused);
   std::puts("@NAME@_test: ok");
@@ -254,28 +232,33 @@ int main() {
 
 // ---- contact handler ----
 
-const char* contact_source = R"~~(// @NAME@: a salsa contact handler. A target counts as found only once drones have had it in view for
-// `sightings` drone-steps in all (one glimpse may be a false detection). Handlers are called serially,
-// in the order the test lists them, with every event of a step.
+const char* contact_source = R"~~(// @NAME@: a salsa contact handler. A target counts as found only once `confirmations` different
+// drones have had it in view (one drone's sighting may be a false detection). It replaces salsa's
+// detect_targets (found at first sight) in a test that lists it: "contact_handlers": ["@NAME@"].
+// Handlers are called serially, in the order the test lists them, with every event of a step.
+#include <algorithm>
 #include <cstdint>
 #include <unordered_map>
+#include <vector>
 
 #include <salsa/sdk.hpp>
 
 namespace {
 
 class @CLASS@ final : public salsa::ContactHandler {
+  // Name, default, min, max, unit, meaning, step (1: a whole number); it reads as a double.
+  salsa::Param confirmations{this, "confirmations", 2, 1, 100, "", "different drones that must see a target before it counts as found", 1};
+
  public:
-  static salsa::Parameters declare() {
-    return {{"sightings", 3, 1, 1000, "", "drone-steps a target must be in view before it counts as found", 1}};
-  }
   void on_contact(const salsa::ContactEvent& event, salsa::ContactActions& actions) override {
     if (event.kind != salsa::ContactKind::target_in_view || actions.is_found(event.other)) return;
-    if (++seen_[event.other] >= param("sightings")) actions.mark_found(event.other, event.drone);
+    std::vector<std::uint32_t>& drones = seen_by_[event.other];
+    if (std::find(drones.begin(), drones.end(), event.drone) == drones.end()) drones.push_back(event.drone);
+    if (static_cast<double>(drones.size()) >= confirmations) actions.mark_found(event.other, event.drone);
   }
 
  private:
-  std::unordered_map<std::uint32_t, int> seen_;  // target id -> drone-steps in view so far
+  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> seen_by_;  // target id -> drones that saw it
 };
 
 }  // namespace
@@ -283,32 +266,22 @@ class @CLASS@ final : public salsa::ContactHandler {
 SALSA_CONTACT_HANDLER(@CLASS@, "@NAME@", "@BRIEF@")
 )~~";
 
-const char* contact_test = R"~~(// @NAME@ against a recording stand-in for the simulation's ContactActions.
-#include <map>
+const char* contact_test = R"~~(// @NAME@ in a real simulation: the same flight (salsa's random_walk, same seed) finds targets at first
+// sight with salsa's detect_targets, and fewer, but some, when @NAME@ asks for 2 drones' sightings.
+#include <string>
 
 @PREAMBLE@
-namespace fake {
-struct Actions final : salsa::ContactActions {
-  std::map<std::uint32_t, std::uint32_t> found;  // target -> the drone that found it
-  void mark_found(std::uint32_t target, std::uint32_t drone) override { found.emplace(target, drone); }
-  bool is_found(std::uint32_t target) const override { return found.count(target) > 0; }
-};
-}  // namespace fake
-
 int main() {
-  @CLASS@ handler;
-  handler.set_parameters(salsa::ParameterValues(@CLASS@::declare()));  // sightings: 3
-  fake::Actions actions;
-  auto seen = [&](std::uint32_t drone, std::uint32_t target) {
-    handler.on_contact({salsa::ContactKind::target_in_view, drone, target, {0, 0}, 0.0}, actions);
-  };
-  handler.on_contact({salsa::ContactKind::drone_drone, 1, 2, {0, 0}, 0.0}, actions);  // not a sighting
-  seen(1, 7);
-  seen(2, 7);
-  seen(1, 8);
-  CHECK(actions.found.empty());
-  seen(4, 7);  // the third sighting of target 7
-  CHECK(actions.found.size() == 1 && actions.found.at(7) == 4);
+  const std::string flight = R"("behavior": "random_walk", "drones": 10, "seed": 1,
+                                "map": {"name": "empty", "params": {"size": 400}},
+                                "targets": {"kind": "tree", "count": 200})";
+  salsa::testing::Simulation first_sight("{" + flight + R"(, "contact_handlers": ["detect_targets"]})", {SALSA_PLUGIN_FILE});
+  salsa::testing::Simulation confirmed("{" + flight + R"(, "contact_handlers": ["@NAME@"]})", {SALSA_PLUGIN_FILE});
+  first_sight.run(30);
+  confirmed.run(30);
+  std::printf("found in 30 s: %zu at first sight, %zu confirmed\n", first_sight.targets_found(), confirmed.targets_found());
+  CHECK(confirmed.targets_found() > 0);
+  CHECK(confirmed.targets_found() < first_sight.targets_found());
   std::puts("@NAME@_test: ok");
   return 0;
 }
@@ -330,9 +303,12 @@ const char* metric_source = R"~~(// @NAME@: a salsa metric. The swarm's polarisa
 namespace {
 
 class @CLASS@ final : public salsa::Metric {
+  // Name, default, min, max, unit, meaning; it reads as a double.
+  salsa::Param min_speed{this, "min_speed", 0.1, 0.0, 100.0, "m/s", "drones slower than this count as at rest"};
+
  public:
   std::vector<salsa::Column> step_columns() const override {  // name, unit, meaning, decimals
-    return {{"polarisation", "", "length of the drones' mean unit velocity (1: all fly the same way)", 3}};
+    return {{"polarisation", "", "length of the moving drones' mean unit velocity (1: all fly the same way)", 3}};
   }
   std::vector<salsa::Column> final_columns() const override {
     return {{"mean_polarisation", "", "polarisation averaged over every step", 3}};
@@ -347,11 +323,11 @@ class @CLASS@ final : public salsa::Metric {
   }
 
  private:
-  static double polarisation(const salsa::MetricView& world) {
+  double polarisation(const salsa::MetricView& world) const {
     salsa::Vec2 sum;
     std::size_t moving = 0;
     for (salsa::Vec2 v : world.drone_velocities())
-      if (!v.is_zero()) sum += v.with_length(1), ++moving;
+      if (!v.is_zero() && v.length() > min_speed) sum += v.with_length(1), ++moving;
     return moving > 0 ? sum.length() / static_cast<double>(moving) : salsa::no_value;
   }
   double sum_ = 0;
@@ -363,48 +339,21 @@ class @CLASS@ final : public salsa::Metric {
 SALSA_METRIC(@CLASS@, "@NAME@", "@BRIEF@")
 )~~";
 
-const char* metric_test = R"~~(// @NAME@ on a stand-in world whose drone velocities the test sets.
+const char* metric_test = R"~~(// @NAME@ in a real simulation: after 30 s, drones of salsa's built-in flocking, weighted towards
+// matching their neighbours' velocity, fly the same way (polarisation near 1); random_walk drones do not.
 @PREAMBLE@
-namespace fake {
-struct World final : salsa::MetricView {
-  std::vector<salsa::Vec2> positions, velocities;
-  salsa::DroneProperties properties;
-  salsa::Rect bounds() const override { return {{0, 0}, {100, 100}}; }
-  double time() const override { return 0; }
-  double dt() const override { return 1.0 / 60; }
-  std::span<const salsa::Vec2> drone_positions() const override { return positions; }
-  std::span<const salsa::Vec2> drone_velocities() const override { return velocities; }
-  bool is_free(salsa::Vec2, double) const override { return true; }
-  std::optional<salsa::ObstacleHit> ray_cast(salsa::Vec2, salsa::Vec2) const override { return std::nullopt; }
-  std::span<const salsa::TargetState> targets() const override { return {}; }
-  std::size_t targets_found() const override { return 0; }
-  std::uint64_t collisions() const override { return 0; }
-  const salsa::DroneProperties& drone() const override { return properties; }
-};
-}  // namespace fake
-
 int main() {
-  @CLASS@ metric;
-  CHECK(metric.step_columns().size() == 1 && metric.final_columns().size() == 1);
-  fake::World world;
-  world.positions = {{0, 0}, {1, 1}, {2, 2}};
-  world.velocities = {{0, 0}, {0, 0}, {0, 0}};
-  metric.reset(world);
-  metric.step(world);  // nobody moves: no polarisation, not counted
-  double row[1] = {salsa::no_value};
-  metric.observe(world, row);
-  CHECK(std::isnan(row[0]));
-  world.velocities = {{3, 0}, {10, 0}, {0.5, 0}};  // all east, whatever the speed
-  metric.step(world);
-  metric.observe(world, row);
-  CHECK(std::abs(row[0] - 1) < 1e-12);
-  world.velocities = {{3, 0}, {-3, 0}, {0, 0}};  // two opposite, one at rest
-  metric.step(world);
-  metric.observe(world, row);
-  CHECK(std::abs(row[0]) < 1e-12);
-  double outcome[1] = {salsa::no_value};
-  metric.finish(world, outcome);
-  CHECK(std::abs(outcome[0] - 0.5) < 1e-12);  // (1 + 0) / 2 steps with moving drones
+  salsa::testing::Simulation flock(R"({"behavior": {"name": "flocking", "params": {"alignment_weight": 5}},
+                                       "drones": 12, "seed": 1, "metrics": ["@NAME@"]})",
+                                   {SALSA_PLUGIN_FILE});
+  salsa::testing::Simulation walk(R"({"behavior": "random_walk", "drones": 12, "seed": 1, "metrics": ["@NAME@"]})",
+                                  {SALSA_PLUGIN_FILE});
+  flock.run(30);
+  walk.run(30);
+  const double aligned = flock.metric("polarisation"), random = walk.metric("polarisation");
+  std::printf("polarisation after 30 s: flocking %.3f, random_walk %.3f\n", aligned, random);
+  CHECK(aligned > 0.9 && aligned <= 1 + 1e-9);
+  CHECK(random >= 0 && random < 0.6);
   std::puts("@NAME@_test: ok");
   return 0;
 }
@@ -422,7 +371,7 @@ const std::array<Kind, 5> kinds{{
     {"behavior", "behavior", "Own heading drifting at random, avoids drones and obstacles", behavior_source, behavior_test},
     {"target", "target kind", "Small targets, seen within part of the camera range", target_source, target_test},
     {"map", "map", "Square with a grid of pillars, clear around the centre", map_source, map_test},
-    {"contact-handler", "contact handler", "A target is found after several sightings", contact_source, contact_test},
+    {"contact-handler", "contact handler", "A target is found once several drones have seen it", contact_source, contact_test},
     {"metric", "metric", "Polarisation of the swarm: 1 when all fly the same way", metric_source, metric_test},
 }};
 
@@ -498,9 +447,10 @@ int cmd_new_plugin(int argc, char** argv) {
   po::notify(vm);
   if (vm.count("help")) {
     std::cout << "usage: salsa new-plugin behavior|target|map|contact-handler|metric NAME [--dir D]\n\n"
-                 "Writes D/NAME/: NAME.cpp (a small working plugin of that kind), NAME_test.cpp and a\n"
-                 "CMakeLists.txt that builds it against the installed salsa, tests it (ctest) and installs it\n"
-                 "into ~/.local/share/salsa/plugins (cmake --install).\n\n"
+                 "Writes D/NAME/: NAME.cpp (a small working plugin of that kind), NAME_test.cpp (a short real\n"
+                 "simulation with it: salsa/fixture.hpp) and a CMakeLists.txt that builds it against the\n"
+                 "installed salsa, tests it (ctest) and installs it into ~/.local/share/salsa/plugins\n"
+                 "(cmake --install).\n\n"
               << o;
     return 0;
   }

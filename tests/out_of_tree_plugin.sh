@@ -50,7 +50,7 @@ test -s "$work/new/my_behavior/build/my_behavior_loads/out/smoke-behavior-my_beh
 
 # The smoke test fails a plugin that loads but cannot run: a map whose defaults it refuses.
 "$salsa" new-plugin map bad_map --dir "$work/new" >/dev/null
-sed -i 's/{"pillar", 8.0,/{"pillar", 80.0,/' "$work/new/bad_map/bad_map.cpp"
+sed -i 's/"pillar", 8.0,/"pillar", 80.0,/' "$work/new/bad_map/bad_map.cpp"
 configure_build_test "$work/new/bad_map" "$work/new/bad_map/build"
 if out=$(ctest --test-dir "$work/new/bad_map/build" --output-on-failure -R bad_map_loads 2>&1); then
   echo "$out"; echo "FAIL: bad_map_loads passed"; exit 1
