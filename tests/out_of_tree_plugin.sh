@@ -19,8 +19,16 @@ command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 user=$work/user-plugins
 
 # configure_build_test SOURCE BUILD: the author's three commands, against $prefix only.
+# A sanitized salsa (the asan-ubsan preset) needs sanitized authors' programs: a test linking an
+# instrumented libsalsa must load the sanitizer runtime first.
+sanitize=()
+flags=$(sed -n 's/^CMAKE_CXX_FLAGS:STRING=//p' "$build_dir/CMakeCache.txt")
+if [[ $flags == *-fsanitize* ]]; then
+  sanitize=("-DCMAKE_CXX_FLAGS=$flags" "-DCMAKE_EXE_LINKER_FLAGS=$flags" "-DCMAKE_SHARED_LINKER_FLAGS=$flags"
+            "-DCMAKE_MODULE_LINKER_FLAGS=$flags")
+fi
 configure_build_test() {
-  cmake -S "$1" -B "$2" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" -DSALSA_USER_PLUGIN_DIR="$user" "${launcher[@]}" >"$2.log" 2>&1 ||
+  cmake -S "$1" -B "$2" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" -DSALSA_USER_PLUGIN_DIR="$user" "${launcher[@]}" "${sanitize[@]}" >"$2.log" 2>&1 ||
     { cat "$2.log"; echo "FAIL: configure $1"; exit 1; }
   # find_package found the temporary prefix, not another salsa on this machine.
   grep -q "^salsa_DIR:PATH=$prefix/" "$2/CMakeCache.txt" || { grep salsa_DIR "$2/CMakeCache.txt"; echo "FAIL: $1 found another salsa"; exit 1; }
