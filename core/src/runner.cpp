@@ -247,8 +247,9 @@ std::string resume_difference(const fs::path& folder, const std::string& config_
   } catch (const std::exception&) {
     return file.string() + ": not valid JSON, so it cannot be the same test";
   }
-  // Where a plugin was found is not what ran (its hash is): a moved plugin folder still resumes.
-  auto without_plugin_paths = [](json config) {
+  // Where a plugin was found is not what ran (its hash is): a moved plugin folder still resumes. In
+  // place: a copy of a deeply nested file would recurse as deep.
+  auto drop_plugin_paths = [](json& config) {
     if (config.is_object() && config.contains("versions") && config["versions"].is_object())
       for (auto& [kind, v] : config["versions"].items()) {
         if (v.is_object()) v.erase("file");
@@ -256,9 +257,11 @@ std::string resume_difference(const fs::path& folder, const std::string& config_
           for (json& e : v)
             if (e.is_object()) e.erase("file");
       }
-    return config;
   };
-  const std::string d = first_difference(without_plugin_paths(there), without_plugin_paths(json::parse(config_now)), "");
+  json now = json::parse(config_now);
+  drop_plugin_paths(there);
+  drop_plugin_paths(now);
+  const std::string d = first_difference(there, now, "");
   return d.empty() ? "" : file.string() + ": " + d;
 }
 
