@@ -64,16 +64,13 @@ Simulation::Simulation(std::shared_ptr<Behavior> behavior, const std::string& te
     text = j.dump();
     if (behavior->parameters().items().empty()) behavior->set_parameters(ParameterValues(behavior->bound_parameters()));
   }
-  try {
-    impl_->test = parse_test(text, "fixture test", impl_->host);
-    SimulationSetup setup = make_setup(impl_->test, impl_->host, 1);
-    if (behavior) setup.behavior = std::move(behavior);
-    impl_->sim.emplace(std::move(setup));
-    impl_->metrics.emplace(impl_->test, impl_->host);
-    impl_->metrics->start(*impl_->sim);
-  } catch (const strict_json::Error& e) {
-    throw std::runtime_error(e.what());
-  }
+  // Bad input throws InputError or strict_json::Error, both std::runtime_errors with salsa run's message.
+  impl_->test = parse_test(text, "fixture test", impl_->host);
+  SimulationSetup setup = make_setup(impl_->test, impl_->host, 1);
+  if (behavior) setup.behavior = std::move(behavior);
+  impl_->sim.emplace(std::move(setup));
+  impl_->metrics.emplace(impl_->test, impl_->host);
+  impl_->metrics->start(*impl_->sim);
 }
 
 Simulation::~Simulation() = default;
