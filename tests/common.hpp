@@ -56,18 +56,14 @@ inline QMap<QString, QByteArray> snapshot(const QString& dir) {
 
 /// What must be byte-identical between two runs of the same tests, from a snapshot taken of the
 /// output folder `prefix` ("" for the snapshot's root). Leaves out what records the run rather than the
-/// results: every timing.json (wall time), the queue's queue.json (the command) and its summary.csv's
-/// wall_seconds column; and the plots, which are drawn from the data kept here (test_plots checks them).
+/// results: the wall times (every timing.json, the queue's timing.csv), the queue's queue.json (the
+/// command); and the plots, which are drawn from the data kept here (test_plots checks them).
 inline QMap<QString, QByteArray> results_snapshot_of(QMap<QString, QByteArray> files, const QString& prefix = "") {
   for (auto it = files.begin(); it != files.end();) {
-    if (it.key().endsWith("timing.json") || it.key() == prefix + "queue.json" || it.key().endsWith(".png")) it = files.erase(it);
+    if (it.key().endsWith("timing.json") || it.key() == prefix + "timing.csv" || it.key() == prefix + "queue.json" ||
+        it.key().endsWith(".png"))
+      it = files.erase(it);
     else ++it;
-  }
-  if (files.contains(prefix + "summary.csv")) {
-    QByteArrayList lines = files[prefix + "summary.csv"].split('\n');
-    for (auto& line : lines)
-      if (const auto comma = line.lastIndexOf(','); comma >= 0) line.truncate(comma);  // wall_seconds is last
-    files[prefix + "summary.csv"] = lines.join('\n');
   }
   return files;
 }

@@ -107,6 +107,43 @@ class GuiEngine : public QObject {
     QCOMPARE(found, snap->targets_found);
   }
 
+  // The sandbox and `salsa run` step through one core Session: a test's own timed changes play in the
+  // sandbox, its metrics run there (the coverage line is the area_coverage metric's column), and the
+  // live rows equal summary.csv's. A sandbox that bypassed the Session would miss the changes and have
+  // no coverage; a CLI that did would disagree on the rows.
+  void sandbox_and_salsa_run_step_the_same_session() {
+    const std::string timed = R"({"name": "timed", "behavior": "flocking", "drones": 12,
+      "map": {"name": "forest", "params": {"size": 300}}, "targets": {"kind": "tree", "count": 60}, "time": 3, "seed": 5,
+      "changes": [{"time": 0.5, "set": {"behavior.params.cohesion_weight": 3}}, {"time": 1, "set": {"drones": 18}},
+                  {"time": 2, "set": {"drone.max_speed": 5}}]})";
+    Engine engine(*host_);
+    QCOMPARE(engine.load(spec(timed)).get(), std::string());
+    QCOMPARE(engine.timeline().size(), std::size_t(3));
+    steps(engine, 90);  // t = 1.5 s: two changes applied
+    QCOMPARE(engine.snapshot()->positions.size(), std::size_t(18));
+    QCOMPARE(engine.current_test()->behavior.params.get("cohesion_weight"), 3.0);
+    QCOMPARE(engine.current_test()->drone.max_speed, 10.0);  // not yet
+    steps(engine, 90);  // t = 3 s
+    QCOMPARE(engine.current_test()->drone.max_speed, 5.0);
+    const auto snap = engine.snapshot();
+    QTemporaryDir dir;
+    QVERIFY(write_file(dir.path() + "/timed.json", QByteArray::fromStdString(timed)));
+    const CliResult r = run_salsa({"run", "timed.json", "--out", "out", "--no-plots", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const QStringList rows = non_empty_lines(read_file(dir.path() + "/out/timed/summary.csv"));
+    const QStringList header = rows[0].split(',');
+    QCOMPARE(rows.size() - 1, static_cast<int>(snap->stats->size()));  // t = 0, 1, 2, 3
+    for (int i = 1; i < rows.size(); ++i) {
+      const QStringList f = rows[i].split(',');
+      const StatsRow& live = (*snap->stats)[static_cast<std::size_t>(i - 1)];
+      QCOMPARE(QString::asprintf("%.4f", live.time), f[header.indexOf("time")]);
+      QCOMPARE(QString::asprintf("%.6f", live.found_percent / 100), f[header.indexOf("fraction_found")]);
+      QCOMPARE(QString::asprintf("%.4f", live.mean_speed), f[header.indexOf("mean_speed")]);
+      QCOMPARE(QString::asprintf("%.6f", live.coverage_percent / 100), f[header.indexOf("coverage")]);
+    }
+    QCOMPARE(non_empty_lines(read_file(dir.path() + "/out/timed/drones.csv")).filter(QRegularExpression("^3\\.0000,")), rows_of(*snap));
+  }
+
   void drone_count_change_respawns() {
     Engine engine(*host_);
     QCOMPARE(engine.load(spec()).get(), std::string());

@@ -271,7 +271,7 @@ class TestBadInput : public QObject {
     QVERIFY(read_file(out + "/one/config.json").contains("\"time\": 4.0"));
     QCOMPARE(non_empty_lines(QString::fromUtf8(read_file(out + "/one/summary.csv"))).size(), 1 + 5);  // t = 0..4 s
     // No leftover .partial folder; the queue's own files beside the test.
-    QCOMPARE(QDir(out).entryList(QDir::AllEntries | QDir::NoDotAndDotDot | QDir::Hidden), (QStringList{"comparison.csv", "one", "plots", "queue.json", "summary.csv"}));
+    QCOMPARE(QDir(out).entryList(QDir::AllEntries | QDir::NoDotAndDotDot | QDir::Hidden), (QStringList{"comparison.csv", "one", "plots", "queue.json", "summary.csv", "timing.csv"}));
   }
 
   // ---------------------------------------------------------------- bad plugins

@@ -97,6 +97,29 @@ class TestDeterminism : public QObject {
     QVERIFY(read_file(b + "/config.json").contains("\"seed\": 8"));
   }
 
+  // What docs/output-format.md promises: two identical runs of a queue differ only in the wall times
+  // (timing.json per test, OUT/timing.csv) and in queue.json's record of the command line.
+  void identical_queue_runs_write_identical_files() {
+    QTemporaryDir dir;
+    QVERIFY(dir.isValid());
+    QVERIFY(write_file(dir.filePath("q.json"), R"({"sweep": {"test": {"drones": 4, "time": 2, "targets": {"count": 5},
+      "map": {"name": "forest", "params": {"size": 200}}}, "behaviors": ["flocking", "random_walk"]}, "repeats": 2})"));
+    for (const char* out : {"a", "b"}) {
+      const CliResult r = run_salsa({"run", "q.json", "--out", out, "-q", "--no-plots"}, dir.path());
+      QVERIFY2(r.exit_code == 0, describe(r));
+    }
+    QDirIterator files(dir.filePath("a"), QDir::Files | QDir::Hidden, QDirIterator::Subdirectories);
+    int compared = 0;
+    while (files.hasNext()) {
+      const QString a = files.next(), name = QFileInfo(a).fileName();
+      if (name == "timing.json" || name == "timing.csv" || name == "queue.json") continue;
+      const QString b = dir.filePath("b") + a.mid(dir.filePath("a").size());
+      QVERIFY2(read_file(a) == read_file(b), qPrintable(a.mid(dir.path().size()) + " differs between identical runs"));
+      ++compared;
+    }
+    QVERIFY2(compared > 4 * 5, "summary.csv, comparison.csv and the tests' files were compared");
+  }
+
   void rerun_from_config_json_reproduces_the_run() {
     // config.json is "enough to rerun it exactly": run it as a test file and get the same bytes.
     QTemporaryDir dir;

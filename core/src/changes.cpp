@@ -22,17 +22,6 @@ std::string whole_in(double lo, double hi) {
 
 }  // namespace
 
-double* drone_property(DroneConfig& d, std::string_view name) {
-  if (name == "camera_range") return &d.camera_range;
-  if (name == "obstacle_range") return &d.obstacle_range;
-  if (name == "detection_range") return &d.detection_range;
-  if (name == "max_speed") return &d.max_speed;
-  if (name == "max_force") return &d.max_force;
-  if (name == "radius") return &d.radius;
-  if (name == "mass") return &d.mass;
-  return nullptr;
-}
-
 std::uint64_t change_step(double time, double dt) { return static_cast<std::uint64_t>(std::llround(time / dt)); }
 
 std::string check_change(const TestSpec& test, const Change& c, const PluginHost& host) {
@@ -56,18 +45,11 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
     return {};
   }
   if (key.starts_with(drone_prefix)) {
-    const std::string_view name = key.substr(drone_prefix.size());
+    const DroneProperty* property = find_drone_property(key.substr(drone_prefix.size()));
+    if (!property) return "unknown drone property (allowed: " + drone_property_names() + ")";
+    if (const std::string why = property->spec.check(c.value); !why.empty()) return value + " " + why;
     DroneConfig d = test.drone;
-    if (name == "obstacle_rays") {
-      if (!(c.value >= 0 && c.value <= 64) || c.value != std::floor(c.value))
-        return value + " is out of range (allowed: " + whole_in(0, 64) + ")";
-      d.obstacle_rays = static_cast<int>(c.value);
-    } else if (double* field = drone_property(d, name)) {
-      *field = c.value;
-    } else {
-      return "unknown drone property (allowed: camera_range, obstacle_range, detection_range, max_speed, max_force, "
-             "radius, mass, obstacle_rays)";
-    }
+    property->set(d, c.value);
     if (const Problem p = check_drone(d, test.dt)) return p.what;
     return {};
   }
@@ -78,8 +60,7 @@ void apply_to_test(TestSpec& test, const Change& c) {
   const std::string_view key = c.key;
   if (key.starts_with(params_prefix)) test.behavior.params.set(key.substr(params_prefix.size()), c.value);
   else if (key == "drones") test.drones = static_cast<std::size_t>(c.value);
-  else if (key == "drone.obstacle_rays") test.drone.obstacle_rays = static_cast<int>(c.value);
-  else if (key.starts_with(drone_prefix)) *drone_property(test.drone, key.substr(drone_prefix.size())) = c.value;
+  else if (key.starts_with(drone_prefix)) find_drone_property(key.substr(drone_prefix.size()))->set(test.drone, c.value);
 }
 
 void apply_change(Simulation& sim, TestSpec& test, const Change& c, const PluginHost& host) {

@@ -7,7 +7,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "salsa/core/metrics.hpp"
+#include "salsa/core/session.hpp"
 #include "salsa/core/plugin_host.hpp"
 #include "salsa/core/simulation.hpp"
 #include "salsa/core/test_spec.hpp"
@@ -45,9 +45,9 @@ void load_plugins(PluginHost& host, const std::vector<std::string>& plugins) {
 
 struct Simulation::Impl {
   PluginHost host;
-  TestSpec test;
-  std::optional<salsa::Simulation> sim;
-  std::optional<MetricSet> metrics;
+  std::optional<Session> session;  // the run loop `salsa run` uses
+  salsa::Simulation* sim = nullptr;
+  MetricSet* metrics = nullptr;
 };
 
 Simulation::Simulation(const std::string& test, const std::vector<std::string>& plugins)
@@ -65,20 +65,14 @@ Simulation::Simulation(std::shared_ptr<Behavior> behavior, const std::string& te
     if (behavior->parameters().items().empty()) behavior->set_parameters(ParameterValues(behavior->bound_parameters()));
   }
   // Bad input throws InputError or strict_json::Error, both std::runtime_errors with salsa run's message.
-  impl_->test = parse_test(text, "fixture test", impl_->host);
-  SimulationSetup setup = make_setup(impl_->test, impl_->host, 1);
-  if (behavior) setup.behavior = std::move(behavior);
-  impl_->sim.emplace(std::move(setup));
-  impl_->metrics.emplace(impl_->test, impl_->host);
-  impl_->metrics->start(*impl_->sim);
+  impl_->session.emplace(parse_test(text, "fixture test", impl_->host), impl_->host, SessionOptions{1, std::move(behavior)});
+  impl_->sim = &impl_->session->simulation();
+  impl_->metrics = &impl_->session->metrics();
 }
 
 Simulation::~Simulation() = default;
 
-void Simulation::step() {
-  impl_->sim->step();
-  impl_->metrics->after_step(*impl_->sim);
-}
+void Simulation::step() { impl_->session->step(); }
 
 void Simulation::run(double seconds) {
   const auto steps = static_cast<std::size_t>(std::llround(seconds / impl_->sim->dt()));

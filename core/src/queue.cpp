@@ -57,11 +57,9 @@ std::string world_key(const TestSpec& t) {
   if (!t.map_file.empty()) key["map"]["file"] = fs::path(t.map_file).filename().string();
   key["spawn"] = {{"mode", t.spawn_mode == SpawnMode::disc ? "disc" : "uniform"}, {"radius", t.spawn_radius}};
   if (t.spawn) key["spawn"]["point"] = {t.spawn->x, t.spawn->y};
-  const DroneConfig& d = t.drone;
-  key["drone"] = {{"camera_range", d.camera_range}, {"obstacle_range", d.obstacle_range},
-                  {"detection_range", d.detection_range}, {"max_speed", d.max_speed},
-                  {"max_force", d.max_force}, {"radius", d.radius},
-                  {"mass", d.mass}, {"obstacle_rays", d.obstacle_rays}};
+  key["drone"] = nlohmann::json::object();
+  for (const DroneProperty& p : drone_schema())
+    key["drone"][p.spec.name] = p.spec.is_integer() ? nlohmann::json(static_cast<int>(p.get(t.drone))) : nlohmann::json(p.get(t.drone));
   key["drones"] = t.drones;
   key["targets"] = {{"count", t.targets}};
   if (t.targets > 0) {

@@ -104,6 +104,7 @@ std::string cell_text(const json& v) {
 
 struct Row {
   std::string name, status, error;
+  std::string wall_seconds;                  // timing.json's, for OUT/timing.csv
   std::map<std::string, std::string> cells;  // column -> text
   json behavior_params;                      // for the variant
   std::string behavior;
@@ -293,7 +294,7 @@ void claim_queue_folder(const fs::path& out, const QueueRecord& record, bool res
 
 void write_queue_summary(const fs::path& out, const PluginHost* host) {
   std::vector<Row> rows;
-  std::vector<std::string> input_columns, outcome_columns;
+  std::vector<std::string> input_columns, outcome_names;
   std::set<std::string> seen_inputs, seen_outcomes;
   for (const std::string& name : names_in(out)) {
     Row row;
@@ -324,12 +325,12 @@ void write_queue_summary(const fs::path& out, const PluginHost* host) {
         std::getline(lines, values);
         const auto columns = csv_split(header), fields = csv_split(values);
         for (std::size_t i = 0; i < columns.size() && !columns[i].empty(); ++i) {
-          if (seen_outcomes.insert(columns[i]).second) outcome_columns.push_back(columns[i]);
+          if (seen_outcomes.insert(columns[i]).second) outcome_names.push_back(columns[i]);
           row.cells["outcome:" + columns[i]] = i < fields.size() ? fields[i] : "";
         }
       }
       if (const auto timing = read_json(folder / "timing.json"); timing && timing->contains("wall_seconds"))
-        row.cells["wall_seconds"] = cell_text((*timing)["wall_seconds"]);
+        row.wall_seconds = cell_text((*timing)["wall_seconds"]);
     } else if (const auto error = read_text(out / ("." + name + ".partial") / "error.txt")) {
       row.status = "failed";
       row.error = error->substr(0, error->find('\n'));
@@ -373,13 +374,13 @@ void write_queue_summary(const fs::path& out, const PluginHost* host) {
   for (const auto& c : fixed_columns) header(c);
   for (const auto& c : input_columns) header(c);
   // outcome.csv's columns keep their names, but for one an input column has already (e.g. targets).
-  for (const auto& c : outcome_columns) {
+  for (const auto& c : outcome_names) {
     const bool taken = std::find(fixed_columns.begin(), fixed_columns.end(), c) != fixed_columns.end() ||
                        std::find(input_columns.begin(), input_columns.end(), c) != input_columns.end();
     header(taken ? "outcome." + c : c);
   }
-  header("wall_seconds");
   text += "\n";
+  std::string timing = "name,wall_seconds\n";  // apart: the only numbers that differ between identical runs
   for (const auto& r : rows) {
     std::string line = csv_field(r.name) + "," + r.status + "," + csv_field(r.error);
     auto cell = [&](const std::string& key) {
@@ -388,11 +389,12 @@ void write_queue_summary(const fs::path& out, const PluginHost* host) {
     };
     for (std::size_t i = 3; i < fixed_columns.size(); ++i) cell(fixed_columns[i]);
     for (const auto& c : input_columns) cell(c);
-    for (const auto& c : outcome_columns) cell("outcome:" + c);
-    cell("wall_seconds");
+    for (const auto& c : outcome_names) cell("outcome:" + c);
     text += line + "\n";
+    if (!r.wall_seconds.empty()) timing += csv_field(r.name) + "," + r.wall_seconds + "\n";
   }
   replace_file(out / "summary.csv", text);
+  replace_file(out / "timing.csv", timing);
 }
 
 }  // namespace salsa

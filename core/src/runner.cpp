@@ -18,7 +18,9 @@
 #include <optional>
 #include <sstream>
 
+#include "salsa/core/format.hpp"
 #include "salsa/core/metrics.hpp"
+#include "salsa/core/session.hpp"
 #include "salsa/core/names.hpp"
 
 namespace salsa {
@@ -41,23 +43,12 @@ class SummaryObserver final : public Observer {
   SummaryObserver(const fs::path& file, MetricSet& metrics)
       : csv_(file, header(summary_columns, metrics.step_columns())), metrics_(metrics) {}
   void observe(const Simulation& sim) override {
-    double sum = 0, top = 0;
-    for (Vec2 v : sim.drone_velocities()) {
-      const double s = v.length();
-      sum += s;
-      top = std::max(top, s);
-    }
-    double nn_sum = 0;
-    std::size_t nn_count = 0;
-    for (double d : sim.nearest_neighbour_distances())
-      if (std::isfinite(d)) nn_sum += d, ++nn_count;
-    const std::size_t n = sim.drone_count(), targets = sim.targets().size();
-    csv_.field(sim.time(), 4).field(static_cast<std::uint64_t>(sim.targets_found()));
-    csv_.field(targets ? static_cast<double>(sim.targets_found()) / static_cast<double>(targets) : 0.0, 6);
-    csv_.field(n ? sum / static_cast<double>(n) : 0.0, 4).field(top, 4);
-    if (nn_count) csv_.field(nn_sum / static_cast<double>(nn_count), 4);
+    const SummaryRow row = summary_row(sim);
+    csv_.field(row.time, 4).field(static_cast<std::uint64_t>(row.targets_found)).field(row.fraction_found, 6);
+    csv_.field(row.mean_speed, 4).field(row.max_speed, 4);
+    if (std::isfinite(row.mean_nn_distance)) csv_.field(row.mean_nn_distance, 4);
     else csv_.empty_field();
-    csv_.field(sim.collisions());
+    csv_.field(row.collisions);
     metrics_.row(sim, csv_);
     csv_.end_row();
   }
@@ -454,13 +445,6 @@ std::string config_of(const TestSpec& test, const PluginHost& host) {
   return resolved_json(copy, host);
 }
 
-std::string format_time(double t) {
-  std::ostringstream s;
-  s.precision(6);
-  s << t;
-  return s.str();
-}
-
 }  // namespace
 
 // ---- Public
@@ -564,97 +548,77 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     record_failure(options.out, test.name, line);
     return TestFailure(line);
   };
+  const std::string rows_so_far = " (rows so far in " + work.string() + ")";
   const std::string where = "test '" + test.name + "' (" + test.source + ")";
-  const std::string behavior = "behavior '" + test.behavior.name + "' (" + host.behavior(test.behavior.name).plugin().file.string() + ")";
+  auto write_failed = [&](const WriteError& e) {
+    record_failure(options.out, test.name, where + ": " + e.what());
+    return WriteError(where + ": " + e.what());
+  };
   const auto start = std::chrono::steady_clock::now();
   {
-    std::optional<Simulation> sim;
-    std::optional<MetricSet> metrics;
+    std::optional<Session> session;
     try {
-      sim.emplace(make_setup(test, host, options.threads));
-      metrics.emplace(test, host);
-    } catch (const std::exception& e) {
-      throw failed(where + ": could not start: " + e.what());
+      session.emplace(test, host, SessionOptions{options.threads, nullptr});
+    } catch (const TestFailure& e) {
+      throw failed(e.what());
     }
+    Simulation& sim = session->simulation();
     // The map the test runs on, for the plots and for rerunning it on the same geometry.
     try {
-      write_file(work / "map.json", map_json(sim->map(), sim->spawn_point()));
+      write_file(work / "map.json", map_json(sim.map(), sim.spawn_point()));
     } catch (const WriteError& e) {
-      record_failure(options.out, test.name, where + ": " + e.what());
-      throw WriteError(where + ": " + e.what());
+      throw write_failed(e);
     }
-    SummaryObserver summary(work / "summary.csv", *metrics);
+    SummaryObserver summary(work / "summary.csv", session->metrics());
     std::optional<DroneObserver> drones;
     if (options.drones_csv) drones.emplace(work / "drones.csv");
-    sim->add_observer(&summary);
-    if (drones) sim->add_observer(&*drones);
+    session->add_observer(&summary);
+    if (drones) session->add_observer(&*drones);
     try {
-      metrics->start(*sim);
-      summary.observe(*sim);  // time 0
+      summary.observe(sim);  // time 0
     } catch (const MetricFailure& e) {
-      throw failed(where + ": " + e.what() + " (rows so far in " + work.string() + ")");
+      throw failed(where + ": " + e.what() + rows_so_far);
     }
-    if (drones) drones->observe(*sim);
-    const std::size_t steps = test.steps();
-    TestSpec changed = test;  // as the timed changes leave it
-    std::size_t next_change = 0;
+    if (drones) drones->observe(sim);
     const auto stepping = std::chrono::steady_clock::now();
     try {
-      for (std::size_t i = 0; i < steps; ++i) {
-        // Timed changes apply right before the step that starts at their time (as the GUI sandbox did).
-        for (; next_change < test.changes.size() && change_step(test.changes[next_change].time, test.dt) <= i; ++next_change) {
-          try {
-            apply_change(*sim, changed, test.changes[next_change], host);
-          } catch (const std::exception& e) {
-            throw failed(where + ": the change at t = " + format_time(test.changes[next_change].time) + " s could not be applied: " +
-                         e.what() + " (rows so far in " + work.string() + ")");
-          }
-        }
+      while (!session->finished()) {
         if (const int sig = stop_requested.load(std::memory_order_relaxed)) {
           summary.close();
           if (drones) drones->close();
-          throw Interrupted(signal_name(sig) + ": stopped " + where + " at t = " + format_time(sim->time()) +
+          throw Interrupted(signal_name(sig) + ": stopped " + where + " at t = " + format::seconds(sim.time()) +
                                 " s; its rows so far are in " + work.string() + " (run again with --resume to redo it)",
                             sig);
         }
-        sim->step();
-        metrics->after_step(*sim);
-        if (guard.note) guard.note->step.store(i + 1, std::memory_order_relaxed);
-        if (options.progress) options.progress->store(i + 1, std::memory_order_relaxed);
-        if (options.on_step) options.on_step(*sim);
+        session->step();
+        const std::uint64_t done = sim.step_count();
+        if (guard.note) guard.note->step.store(done, std::memory_order_relaxed);
+        if (options.progress) options.progress->store(done, std::memory_order_relaxed);
+        if (options.on_step) options.on_step(sim);
       }
       result.stepping_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - stepping).count();
-    } catch (const Interrupted&) {
-      throw;
-    } catch (const TestFailure&) {  // a change that could not be applied: already worded
-      throw;
-    } catch (const MetricFailure& e) {
-      throw failed(where + ": " + e.what() + " (rows so far in " + work.string() + ")");
+    } catch (const TestFailure& e) {
+      throw failed(e.what() + rows_so_far);
     } catch (const WriteError& e) {
-      record_failure(options.out, test.name, where + ": " + e.what());
-      throw WriteError(where + ": " + e.what());
-    } catch (const std::exception& e) {
-      throw failed(where + ": " + behavior + " failed at t = " + format_time(sim->time()) + " s: " + e.what() +
-                        " (rows so far in " + work.string() + ")");
+      throw write_failed(e);
     }
     std::vector<std::pair<std::string, std::string>> finals;
     try {
-      finals = metrics->finish(*sim);
-    } catch (const MetricFailure& e) {
-      throw failed(where + ": " + e.what() + " (rows so far in " + work.string() + ")");
+      finals = session->finish();
+    } catch (const TestFailure& e) {
+      throw failed(e.what() + rows_so_far);
     }
     try {
       summary.close();
       if (drones) drones->close();
-      write_targets(work / "targets.csv", *sim);
-      write_file(work / "outcome.csv", outcome_csv(*sim, finals));
+      write_targets(work / "targets.csv", sim);
+      write_file(work / "outcome.csv", outcome_csv(sim, finals));
     } catch (const WriteError& e) {
-      record_failure(options.out, test.name, where + ": " + e.what());
-      throw WriteError(where + ": " + e.what());
+      throw write_failed(e);
     }
-    result.steps = steps;
-    result.targets = sim->targets().size();
-    result.found = sim->targets_found();
+    result.steps = test.steps();
+    result.targets = sim.targets().size();
+    result.found = sim.targets_found();
   }
   result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   try {
@@ -670,8 +634,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     if (ec) throw WriteError(result.folder.string() + ": cannot move " + work.string() + " there (" + ec.message() + ")");
     sync_folder(options.out);
   } catch (const WriteError& e) {
-    record_failure(options.out, test.name, where + ": " + e.what());
-    throw WriteError(where + ": " + e.what());
+    throw write_failed(e);
   }
   return result;
 }

@@ -105,20 +105,9 @@ void check_drone_count(std::size_t n) {
 static_assert(box2d_max_step == b2_maxTranslation, "the step limit quoted to users is Box2D's own");
 
 Problem check_drone(const DroneConfig& d, double dt) {
-  auto at_least = [](const char* field, double v, double lo, bool strict, const char* unit) -> Problem {
-    if (std::isfinite(v) && (strict ? v > lo : v >= lo)) return {};
-    return {std::string("drone.") + field, num(v) + " " + unit + " is out of range (allowed: a finite value " +
-                                               (strict ? "> " : "≥ ") + num(lo) + " " + unit + ")"};
-  };
-  for (const Problem& p : {at_least("camera_range", d.camera_range, 0, false, "m"),
-                           at_least("obstacle_range", d.obstacle_range, 0, false, "m"),
-                           at_least("detection_range", d.detection_range, 0, false, "m"),
-                           at_least("max_speed", d.max_speed, 0, true, "m/s"),
-                           at_least("max_force", d.max_force, 0, true, "m/s per step"),
-                           at_least("radius", d.radius, 0, true, "m"), at_least("mass", d.mass, 0, true, "kg")})
-    if (p) return p;
-  if (d.obstacle_rays < 0 || d.obstacle_rays > 64)
-    return {"drone.obstacle_rays", std::to_string(d.obstacle_rays) + " is out of range (allowed: whole number in [0, 64])"};
+  for (const DroneProperty& p : drone_schema())
+    if (const double v = p.get(d); !p.spec.check(v).empty())
+      return {"drone." + p.spec.name, num(v) + (p.spec.unit.empty() ? "" : " " + p.spec.unit) + " " + p.spec.check(v)};
   if (!(std::isfinite(dt) && dt > 0)) return {"dt", num(dt) + " s is out of range (allowed: a finite time step > 0 s)"};
 
   // Contacts are found once per step (continuous collision is off): a drone that starts a step clear of

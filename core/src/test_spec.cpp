@@ -51,21 +51,19 @@ DroneConfig parse_drone(const json& v, const Reader& r, const std::vector<DroneC
     r.fail(field, "unknown drone configuration '" + strict_json::printable(name) + "' (known: " + list + ")");
   };
   if (v.is_string()) return by_name(v.get<std::string>(), at);
-  r.only_keys(v, at, {"name", "base", "camera_range", "obstacle_range", "detection_range", "max_speed", "max_force",
-                      "radius", "mass", "obstacle_rays"});
+  if (!v.is_object()) r.fail(at, show(v) + " must be an object");
+  for (const auto& [key, value] : v.items())  // "name", "base" and the schema's properties
+    if (key != "name" && key != "base" && !find_drone_property(key))
+      r.fail(Reader::join(at, key), "unknown key (allowed: name, base, " + drone_property_names() + ")");
   DroneConfig d = v.contains("base") ? by_name(r.string(v["base"], at + ".base"), at + ".base") : DroneConfig{};
   d.name = v.contains("name") ? r.string(v["name"], at + ".name") : (v.contains("base") ? d.name + "-custom" : "custom");
-  auto field = [&](const char* key, double& target, double lo, double hi, const char* unit) {
-    if (v.contains(key)) target = r.number(v[key], at + "." + key, lo, hi, unit);
-  };
-  field("camera_range", d.camera_range, 0, 1e4, "m");
-  field("obstacle_range", d.obstacle_range, 0, 1e4, "m");
-  field("detection_range", d.detection_range, 0, 1e5, "m");
-  field("max_speed", d.max_speed, 1e-3, 1e3, "m/s");
-  field("max_force", d.max_force, 1e-6, 1e3, "m/s per step");
-  field("radius", d.radius, 1e-2, 100, "m");
-  field("mass", d.mass, 1e-3, 1e6, "kg");
-  if (v.contains("obstacle_rays")) d.obstacle_rays = static_cast<int>(r.integer(v["obstacle_rays"], at + ".obstacle_rays", 0, 64));
+  for (const DroneProperty& p : drone_schema()) {
+    const Parameter& s = p.spec;
+    if (!v.contains(s.name)) continue;
+    const std::string field = at + "." + s.name;
+    p.set(d, s.is_integer() ? static_cast<double>(r.integer(v[s.name], field, s.min, s.max))
+                            : r.number(v[s.name], field, s.min, s.max, s.unit.c_str()));
+  }
   return d;
 }
 
@@ -300,10 +298,9 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   json j;
   j["name"] = t.name;
   j["behavior"] = {{"name", t.behavior.name}, {"params", params_json(t.behavior.params)}};
-  const DroneConfig& d = t.drone;
-  j["drone"] = {{"name", d.name},           {"camera_range", d.camera_range}, {"obstacle_range", d.obstacle_range},
-                {"detection_range", d.detection_range}, {"max_speed", d.max_speed}, {"max_force", d.max_force},
-                {"radius", d.radius},       {"mass", d.mass},                 {"obstacle_rays", d.obstacle_rays}};
+  j["drone"] = {{"name", t.drone.name}};
+  for (const DroneProperty& p : drone_schema())
+    j["drone"][p.spec.name] = p.spec.is_integer() ? json(static_cast<std::int64_t>(p.get(t.drone))) : json(p.get(t.drone));
   j["drones"] = t.drones;
   j["map"] = {{"name", t.map.name}, {"params", params_json(t.map.params)}};
   if (!t.map_file.empty()) j["map"]["file"] = t.map_file;
@@ -326,7 +323,8 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   if (!t.changes.empty()) {  // only when there are some: earlier tests keep their config.json bytes
     json changes = json::array();
     for (const Change& c : t.changes) {
-      const bool whole = c.key == "drones" || c.key == "drone.obstacle_rays";  // counts read as counts
+      const DroneProperty* property = c.key.starts_with("drone.") ? find_drone_property(c.key.substr(6)) : nullptr;
+      const bool whole = c.key == "drones" || (property && property->spec.is_integer());  // counts read as counts
       changes.push_back({{"time", c.time}, {"set", {{c.key, whole ? json(static_cast<std::uint64_t>(c.value)) : json(c.value)}}}});
     }
     j["changes"] = changes;

@@ -8,7 +8,8 @@
 #include <deque>
 #include <limits>
 
-#include "salsa/core/metrics.hpp"
+#include "salsa/core/format.hpp"
+#include "salsa/core/session.hpp"
 #include "salsa/core/simulation.hpp"
 
 namespace salsa::gui {
@@ -19,12 +20,6 @@ constexpr auto tick = std::chrono::microseconds(16'667);  // one frame at 60 Hz
 constexpr int heat_cells = 128;                           // along the map's long side
 
 double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
-
-std::string format_time(double t) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.2f", t);
-  return text;
-}
 
 }  // namespace
 
@@ -52,11 +47,10 @@ struct Engine::Worker {
   std::shared_ptr<const Snapshot> published;
 
   // ---- Worker-only state ----
-  TestSpec start;    // the start state
-  TestSpec current;  // as the live changes left it
-  std::vector<Change> changes;
-  std::unique_ptr<Simulation> sim;
-  std::unique_ptr<MetricSet> coverage;  // the area_coverage metric plugin, when loaded
+  TestSpec start;  // the start state (its behavior parameters follow a hot reload)
+  std::unique_ptr<Session> session;  // the run: simulation, metrics, timeline (the same code as salsa run)
+  Simulation* sim = nullptr;         // session's
+  std::optional<std::size_t> coverage_column;  // the area_coverage metric's column, when the test has it
   std::shared_ptr<const Scene> scene;
   RunState state = RunState::paused;
   std::string error;
@@ -173,11 +167,9 @@ struct Engine::Worker {
 
   void step() {
     try {
-      sim->step();
-    } catch (const std::exception& e) {
-      const auto& entry = host->behavior(current.behavior.name);
-      error = "behavior '" + current.behavior.name + "' (" + entry.plugin().file.string() + ") failed at t = " +
-              format_time(sim->time()) + " s: " + e.what();
+      session->step();
+    } catch (const std::exception& e) {  // one line naming the test and the plugin, as salsa run says it
+      error = e.what();
       state = RunState::failed;
       return;
     }
@@ -185,14 +177,8 @@ struct Engine::Worker {
   }
 
   void after_step() {
-    if (coverage) {
-      try {
-        coverage->after_step(*sim);
-      } catch (const std::exception&) {
-        coverage.reset();  // the plot loses its coverage line; the run goes on
-      }
-    }
     const auto positions = sim->drone_positions();
+    if (trail_ring.size() != positions.size() * trail_length) drone_count_changed();  // a timed change
     // Heat: one visit per drone per step.
     for (Vec2 p : positions) {
       const int c = std::clamp(static_cast<int>((p.x - heat_grid.origin.x) / heat_grid.cell), 0, heat_grid.cols - 1);
@@ -210,38 +196,35 @@ struct Engine::Worker {
       found_count = sim->targets_found();
       ++found_version;
     }
-    if (sim->step_count() % current.log_every() == 0) add_stats_row();
+    if (sim->step_count() % start.log_every() == 0 && !add_stats_row()) return;
     if (frame_callback) {
       const auto every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(frame_interval / sim->dt())));
       if (sim->step_count() % every == 0) frame_callback(make_snapshot());
     }
   }
 
-  void add_stats_row() {
+  /// The summary row salsa run writes, for the live plots; false (the run failed) when a metric threw.
+  bool add_stats_row() {
+    const SummaryRow summary = summary_row(*sim);
     StatsRow row;
-    row.time = sim->time();
-    const std::size_t targets = sim->targets().size();
-    row.found_percent = targets ? 100.0 * static_cast<double>(sim->targets_found()) / static_cast<double>(targets) : 0;
+    row.time = summary.time;
+    row.found_percent = 100 * summary.fraction_found;
+    row.mean_speed = summary.mean_speed;
+    row.mean_nn_distance = summary.mean_nn_distance;
     row.coverage_percent = std::numeric_limits<double>::quiet_NaN();
-    if (coverage) {
+    if (coverage_column) {
       try {
-        const auto values = coverage->observe(*sim);
-        if (!values.empty()) row.coverage_percent = 100 * values[0];
-      } catch (const std::exception&) {
-        coverage.reset();
+        row.coverage_percent = 100 * session->metrics().observe(*sim)[*coverage_column];
+      } catch (const std::exception& e) {
+        error = session->where() + ": " + e.what();
+        state = RunState::failed;
+        return false;
       }
     }
-    double speed = 0;
-    for (Vec2 v : sim->drone_velocities()) speed += v.length();
-    row.mean_speed = sim->drone_count() ? speed / static_cast<double>(sim->drone_count()) : 0;
-    double nn = 0;
-    std::size_t counted = 0;
-    for (double d : sim->nearest_neighbour_distances())
-      if (std::isfinite(d)) nn += d, ++counted;
-    row.mean_nn_distance = counted ? nn / static_cast<double>(counted) : std::numeric_limits<double>::quiet_NaN();
     auto rows = std::make_shared<std::vector<StatsRow>>(*stats);  // published rows are never touched again
     rows->push_back(row);
     stats = std::move(rows);
+    return true;
   }
 
   // ---- Snapshots ----
@@ -324,31 +307,21 @@ struct Engine::Worker {
 
   // ---- Commands ----
   std::string load(TestSpec test) {
-    std::unique_ptr<Simulation> next;
-    std::unique_ptr<MetricSet> next_coverage;
+    std::unique_ptr<Session> next;
     try {
       const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-      next = std::make_unique<Simulation>(make_setup(test, *host, static_cast<int>(std::max(1u, cores - 1))));
+      next = std::make_unique<Session>(test, *host, SessionOptions{static_cast<int>(std::max(1u, cores - 1)), nullptr});
     } catch (const std::exception& e) {
       return e.what();
     }
-    const auto& metrics = host->metrics();
-    if (std::any_of(metrics.begin(), metrics.end(), [](const auto& e) { return e.factory.name == "area_coverage"; })) {
-      try {
-        next_coverage = std::make_unique<MetricSet>(
-            std::vector<PluginChoice>{{"area_coverage", ParameterValues(host->metric("area_coverage").factory.parameters)}}, *host);
-        next_coverage->start(*next);
-      } catch (const std::exception&) {
-        next_coverage.reset();  // no coverage line; the sandbox still runs
-      }
-    }
     // Nothing below throws (but for memory): the new start state replaces the old one whole.
-    sim = std::move(next);
-    coverage = std::move(next_coverage);
-    test.changes.clear();
-    start = test;
-    current = test;
-    changes.clear();
+    session = std::move(next);
+    sim = &session->simulation();
+    coverage_column.reset();
+    const auto columns = session->metrics().step_columns();
+    for (std::size_t i = 0; i < columns.size(); ++i)
+      if (columns[i] == "coverage") coverage_column = i;  // area_coverage's
+    start = std::move(test);
     state = RunState::paused;
     error.clear();
     inexact_used = false;
@@ -379,6 +352,11 @@ struct Engine::Worker {
     return {};
   }
 
+  void drone_count_changed() {
+    reset_trails();
+    if (selected && *selected >= sim->drone_count()) selected.reset();
+  }
+
   void reset_trails() {
     trail_taken = 0;
     trail_ring.assign(sim ? sim->drone_count() * trail_length : 0, Vec2{std::numeric_limits<double>::quiet_NaN(), 0});
@@ -387,17 +365,12 @@ struct Engine::Worker {
   std::string set(const std::string& key, double value) {
     if (!sim) return "no test loaded";
     if (state == RunState::failed) return "the run stopped: " + error + " (reset to go on)";
-    const Change change{sim->time(), key, value};
     try {
-      apply_change(*sim, current, change, *host);
+      session->change(key, value);
     } catch (const std::exception& e) {
       return e.what();
     }
-    changes.push_back(change);
-    if (key == "drones") {
-      reset_trails();
-      if (selected && *selected >= sim->drone_count()) selected.reset();
-    }
+    if (key == "drones") drone_count_changed();
     return {};
   }
 
@@ -407,6 +380,7 @@ struct Engine::Worker {
   std::string use_plugins(std::shared_ptr<const PluginHost> next, bool reload) {
     if (reload && sim) {
       try {
+        const TestSpec& current = session->current();
         const auto& entry = next->behavior(current.behavior.name);
         ParameterValues values(entry.factory.parameters);
         for (const auto& p : entry.factory.parameters)
@@ -414,8 +388,7 @@ struct Engine::Worker {
             const double v = current.behavior.params.get(p.name);
             if (v >= p.min && v <= p.max) values.set(p.name, v);
           }
-        sim->set_behavior(PluginHost::create(entry, values));
-        current.behavior.params = values;
+        session->use_plugins(*next, PluginHost::create(entry, values), values);
         ParameterValues start_values(entry.factory.parameters);
         for (const auto& [name, v] : start_values.items())
           if (start.behavior.params.has(name)) start_values.set(name, start.behavior.params.get(name));
@@ -426,6 +399,7 @@ struct Engine::Worker {
         return std::string("the old code keeps running: ") + e.what();
       }
     }
+    if (session) session->use_plugins(*next);
     host = std::move(next);
     return {};
   }
@@ -518,11 +492,13 @@ std::optional<TestSpec> Engine::as_test(std::string* why) const {
         if (w->inexact_used)
           return {std::nullopt, "this run used the larger time step (inexact), so no test can replay it; reset and run at the test's own step to save it"};
         if (w->reloaded_at)
-          return {std::nullopt, "the behavior's code was reloaded at t = " + format_time(*w->reloaded_at) +
+          return {std::nullopt, "the behavior's code was reloaded at t = " + format::seconds(*w->reloaded_at) +
                                     " s, and a test replays one version of it; reset, then run and save"};
         TestSpec t = w->start;
-        t.changes = w->changes;
         t.time = std::max(w->sim->time(), t.dt);
+        t.changes.clear();  // the timeline up to now: what this session applied
+        for (const Change& c : w->session->timeline())
+          if (change_step(c.time, t.dt) <= w->sim->step_count()) t.changes.push_back(c);
         t.seed_given = true;
         return {std::move(t), ""};
       });
@@ -538,17 +514,19 @@ std::future<std::string> Engine::use_plugins(std::shared_ptr<const PluginHost> h
 }
 
 std::string Engine::behavior_name() const {
-  return worker_->ask<std::string>([w = worker_.get()] { return w->sim ? w->current.behavior.name : std::string(); }).get();
+  return worker_->ask<std::string>([w = worker_.get()] { return w->sim ? w->session->current().behavior.name : std::string(); }).get();
 }
 
 std::vector<Change> Engine::timeline() const {
-  return worker_->ask<std::vector<Change>>([w = worker_.get()] { return w->changes; }).get();
+  return worker_->ask<std::vector<Change>>([w = worker_.get()] {
+    return w->session ? w->session->timeline() : std::vector<Change>{};
+  }).get();
 }
 
 std::optional<TestSpec> Engine::current_test() const {
   return worker_->ask<std::optional<TestSpec>>([w = worker_.get()]() -> std::optional<TestSpec> {
     if (!w->sim) return std::nullopt;
-    return w->current;
+    return w->session->current();
   }).get();
 }
 

@@ -1,7 +1,7 @@
 #pragma once
-// The sandbox's simulation, on a worker thread. The GUI never touches the Simulation: it posts commands,
-// which the worker applies between steps (live changes go through apply_change and are recorded in the
-// timeline), and reads the latest immutable Snapshot, which the worker publishes a few dozen times a
+// The sandbox's run, on a worker thread: a core Session (the same run loop as `salsa run`). The GUI never
+// touches it: it posts commands, which the worker applies between steps (live changes go through
+// Session::change and are recorded in its timeline), and reads the latest immutable Snapshot, which the worker publishes a few dozen times a
 // second. No widgets here (tests drive it directly).
 #include <atomic>
 #include <condition_variable>
@@ -101,9 +101,10 @@ class Engine {
 
   // Commands. Each returns at once; the future gives "" once applied, or the one-line reason it was
   // refused, in which case nothing changed.
-  /// A new start state: builds a simulation for `test` (paused, time 0) and clears the timeline.
+  /// A new start state: builds a session for `test` (paused, time 0); the test's own timed changes are
+  /// the timeline and apply as it runs, exactly as in `salsa run`.
   std::future<std::string> load(TestSpec test);
-  /// Rebuilds the loaded test's start state (paused, time 0), timeline cleared.
+  /// Rebuilds the loaded test's start state (paused, time 0): live changes dropped, the test's own kept.
   std::future<std::string> reset();
   /// A live change (keys as in salsa/core/changes.hpp), recorded at the current time.
   std::future<std::string> set(std::string key, double value);
@@ -132,7 +133,7 @@ class Engine {
   /// The start state plus the timeline of changes so far, `time` set to now: `salsa run` of it replays
   /// this session. Refused (std::nullopt, `why` set) after the inexact larger step was used.
   std::optional<TestSpec> as_test(std::string* why = nullptr) const;
-  /// The timeline so far.
+  /// Every change, applied or still due: the test's own and the live ones, in time order.
   std::vector<Change> timeline() const;
   /// The loaded test as the live changes left it (what the controls should show); nullopt before a load.
   std::optional<TestSpec> current_test() const;

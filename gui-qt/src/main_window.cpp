@@ -57,7 +57,7 @@ json drone_json(const DroneConfig& d) {
           {"radius", d.radius},       {"mass", d.mass},                 {"obstacle_rays", d.obstacle_rays}};
 }
 
-double drone_value(const DroneConfig& d, const std::string& name) { return *drone_property(d, name); }
+double drone_value(const DroneConfig& d, const std::string& name) { return find_drone_property(name)->get(d); }
 
 // The sandbox's first scene: a small forest, enough drones and trees to see the behavior work.
 constexpr const char* first_test = R"({"name": "sandbox", "behavior": "pheromone_avoidance", "drones": 20,
@@ -494,7 +494,7 @@ std::optional<TestSpec> MainWindow::spec_from_controls(std::string* why) {
   j["behavior"] = {{"name", behavior_->currentText().toStdString()}, {"params", params_json(behavior_panel_)}};
   DroneConfig d = loaded_ ? loaded_->drone : file_base_.drone;
   d.name = drone_config_->currentText().toStdString();
-  for (const Parameter& p : drone_panel_->schema()) *drone_property(d, p.name) = drone_panel_->value(p.name);
+  for (const Parameter& p : drone_panel_->schema()) find_drone_property(p.name)->set(d, drone_panel_->value(p.name));
   j["drone"] = drone_json(d);
   j["drones"] = drones_->value();
   if (!map_file_.isEmpty()) j["map"] = {{"file", map_file_.toStdString()}};
@@ -659,7 +659,7 @@ std::vector<DroneConfig> MainWindow::drone_configs() const {
     for (const auto& [name, v] : configs.items()) {
       DroneConfig d;
       d.name = name;
-      for (const Parameter& p : drone_schema()) *drone_property(d, p.name) = v.value(p.name, *drone_property(d, p.name));
+      for (const Parameter& p : drone_schema()) find_drone_property(p.name)->set(d, v.value(p.name, drone_value(d, p.name)));
       d.obstacle_rays = v.value("obstacle_rays", d.obstacle_rays);
       all.push_back(d);
     }

@@ -8,6 +8,8 @@
 #include <QSpinBox>
 #include <cmath>
 
+#include "salsa/core/drone_config.hpp"
+
 namespace salsa::gui {
 namespace {
 double step_of(const Parameter& p) { return p.step > 0 ? p.step : (p.max - p.min) / 100; }
@@ -123,15 +125,9 @@ QAbstractSpinBox* ParamPanel::spin_box(const std::string& name) const {
 }
 
 Parameters drone_schema() {
-  return {
-      {"camera_range", 15, 0, 500, "m", "targets within this range (+ the target's radius) are seen", 0.5},
-      {"obstacle_range", 50.2, 0, 500, "m", "length of the obstacle rays", 0.5},
-      {"detection_range", 134, 0, 2000, "m", "other drones within this range are neighbours", 0.5},
-      {"max_speed", 10, 0.1, 120, "m/s", "top speed (at most radius / dt: the core refuses faster)", 0.1},
-      {"max_force", 0.3, 0.01, 10, "m/s per step", "largest velocity change of one steering term per step", 0.01},
-      {"radius", 1, 0.1, 10, "m", "the drone's body", 0.1},
-      {"mass", 1.5, 0.1, 100, "kg", "the drone's mass", 0.1},
-  };
+  Parameters out;  // the core's declaration: the panel allows exactly what a test file allows
+  for (const DroneProperty& p : salsa::drone_schema()) out.push_back(p.spec);
+  return out;
 }
 
 }  // namespace salsa::gui

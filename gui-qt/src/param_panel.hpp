@@ -43,8 +43,8 @@ class ParamPanel : public QWidget {
   bool updating_ = false;
 };
 
-/// The drone configuration's editable properties as a schema (ranges that a researcher might want;
-/// check_drone still has the last word on the combination with dt).
+/// The drone properties as the panel edits them: the core's salsa::drone_schema() (the ranges a test
+/// file allows; check_drone still has the last word on the combination with dt).
 Parameters drone_schema();
 
 }  // namespace salsa::gui

@@ -33,7 +33,9 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  void step();               ///< one step of dt: sense, decide, act, physics, detect, observe
+  /// One step of dt (sense, decide, act, physics, detect, observe) through the run loop `salsa run` uses:
+  /// the test's timed changes apply, metrics step. Throws std::runtime_error naming the plugin that failed.
+  void step();
   void run(double seconds);  ///< steps until `seconds` more have been simulated (whole steps)
 
   double time() const;                    ///< s simulated

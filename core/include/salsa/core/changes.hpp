@@ -19,21 +19,13 @@ struct TestSpec;
 
 /// One live change: before the step that starts at `time` s, set `key` to `value`.
 /// Keys: "behavior.params.<name>" (a declared parameter of the test's behavior), "drones" (drone count,
-/// whole number ≥ 1), "drone.<field>" (camera_range, obstacle_range, detection_range, max_speed,
-/// max_force, radius, mass, obstacle_rays).
+/// whole number ≥ 1), "drone.<property>" (a property of drone_schema()).
 struct Change {
   double time = 0;  ///< s; a whole number of steps: llround(time / dt) is the step it precedes
   std::string key;
   double value = 0;
   bool operator==(const Change&) const = default;
 };
-
-/// A drone configuration's numeric property by name (camera_range, obstacle_range, detection_range,
-/// max_speed, max_force, radius, mass), or nullptr; obstacle_rays is an int and not among them.
-double* drone_property(DroneConfig& drone, std::string_view name);
-inline const double* drone_property(const DroneConfig& drone, std::string_view name) {
-  return drone_property(const_cast<DroneConfig&>(drone), name);
-}
 
 /// The step before which a change at `time` s is applied: llround(time / dt).
 std::uint64_t change_step(double time, double dt);

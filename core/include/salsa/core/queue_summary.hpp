@@ -30,8 +30,9 @@ void claim_queue_folder(const std::filesystem::path& out, const QueueRecord& rec
 
 /// Writes OUT/summary.csv from the test folders alone: the tests listed in OUT/queue.json in its order
 /// (else every test folder, by name), each with status ok (OUT/<name>/config.json), failed
-/// (OUT/.<name>.partial/error.txt) or missing, every input from config.json, outcome.csv's columns and
-/// timing.json's wall seconds. `host`, when given, decides which parameters are non-default (for the
+/// (OUT/.<name>.partial/error.txt) or missing, every input from config.json and outcome.csv's columns;
+/// and OUT/timing.csv: name and wall seconds (timing.json) of each finished test, apart because they
+/// are the only numbers that differ between identical runs. `host`, when given, decides which parameters are non-default (for the
 /// variant column); without it, the parameters that vary within the queue are. Throws WriteError.
 /// Writes `file` whole or not at all (a temporary file in the same folder, renamed over it), so a
 /// reader never sees half of it; WriteError naming the file.

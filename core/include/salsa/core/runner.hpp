@@ -14,6 +14,7 @@
 
 #include "salsa/core/csv_writer.hpp"
 #include "salsa/core/plugin_host.hpp"
+#include "salsa/core/session.hpp"
 #include "salsa/core/test_spec.hpp"
 
 namespace salsa {
@@ -40,12 +41,6 @@ struct RunResult {
   double stepping_seconds = 0;  ///< the step loop alone
   std::size_t steps = 0;
   std::size_t targets = 0, found = 0;
-};
-
-/// A test failed while running (a plugin threw): one line naming the test and the plugin. The other
-/// tests may go on.
-struct TestFailure : std::runtime_error {
-  using std::runtime_error::runtime_error;
 };
 
 /// The run was stopped by SIGINT or SIGTERM (see install_signal_handlers); the test's rows so far
