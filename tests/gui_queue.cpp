@@ -208,13 +208,13 @@ class GuiQueue : public QObject {
     w.resize(1200, 800);
     w.show();
     QVERIFY(QTest::qWaitForWindowExposed(&w));
-    for (int i = 0; i < 30; ++i) w.step();
-    w.engine().sync();
-    const double t = w.engine().snapshot()->time;
+    for (int i = 0; i < 30; ++i) w.sandbox()->step();
+    w.sandbox()->engine().sync();
+    const double t = w.sandbox()->engine().snapshot()->time;
     QVERIFY(t > 0);
     QVERIFY(w.queue_page()->add_from_sandbox().empty());
     w.set_mode(MainWindow::Mode::queue);
-    QVERIFY(!w.view()->isVisible());
+    QVERIFY(!w.sandbox()->view()->isVisible());
     QVERIFY(w.queue_page()->isVisible());
     QVERIFY(w.queue_page()->open(q(source_dir() / "examples/sweep-queue.json")).empty());
     w.set_mode(MainWindow::Mode::map_creator);
@@ -226,8 +226,8 @@ class GuiQueue : public QObject {
     QTest::mouseRelease(editor.canvas(), Qt::LeftButton, Qt::NoModifier, editor.to_px({60, 20}));
     QCOMPARE(editor.map().lines.size(), std::size_t{1});
     w.set_mode(MainWindow::Mode::sandbox);
-    QVERIFY(w.view()->isVisible());
-    QCOMPARE(w.engine().snapshot()->time, t);  // the sandbox kept its run
+    QVERIFY(w.sandbox()->view()->isVisible());
+    QCOMPARE(w.sandbox()->engine().snapshot()->time, t);  // the sandbox kept its run
     w.set_mode(MainWindow::Mode::queue);
     QCOMPARE(w.queue_page()->model()->rowCount(), 12);  // the queue kept its rows
     w.set_mode(MainWindow::Mode::map_creator);
@@ -243,18 +243,22 @@ class GuiQueue : public QObject {
     QVERIFY(use);
     use->click();
     QCOMPARE(w.mode(), MainWindow::Mode::sandbox);
-    QCOMPARE(q(w.engine().current_test()->map_file), map_file);
+    QCOMPARE(q(w.sandbox()->engine().current_test()->map_file), map_file);
     w.set_mode(MainWindow::Mode::queue);
     QCOMPARE(w.queue_page()->model()->rowCount(), 12);
     // A queue row into the sandbox: its start state, in sandbox mode.
     w.queue_page()->table()->selectRow(4);
     const TestSpec row = w.queue_page()->model()->test(4);
-    QVERIFY(w.open_test_spec(row).empty());
+    QPushButton* load = nullptr;
+    for (auto* b : w.queue_page()->findChildren<QPushButton*>())
+      if (b->text() == "Load into sandbox") load = b;
+    QVERIFY(load);
+    load->click();
     QCOMPARE(w.mode(), MainWindow::Mode::sandbox);
-    const auto current = w.engine().current_test();
+    const auto current = w.sandbox()->engine().current_test();
     QVERIFY(current);
     QCOMPARE(resolved_json(*current, *host_), resolved_json(row, *host_));
-    QCOMPARE(w.engine().snapshot()->time, 0.0);
+    QCOMPARE(w.sandbox()->engine().snapshot()->time, 0.0);
   }
 };
 

@@ -201,7 +201,7 @@ std::string QueueModel::load(const fs::path& file) {
   last_error_.clear();
   std::vector<TestSpec> tests;
   try {
-    tests = load_queue(file, *host_, {}).tests;
+    tests = load_queue(file, *host_, options_).tests;
   } catch (const std::exception& e) {
     return last_error_ = e.what();
   }
@@ -220,7 +220,7 @@ std::string QueueModel::save(const fs::path& file) const {
   if (rows_.empty()) return last_error_ = file.string() + ": the queue holds no tests (add one first)";
   // Read back as `salsa run` reads it, and compared row by row.
   return last_error_ = save_checked(file, queue_json(), [this](const fs::path& aside) -> std::string {
-    const auto back = load_queue(aside, *host_, {}).tests;
+    const auto back = load_queue(aside, *host_, options_).tests;
     if (back.size() != rows_.size()) return "the file reads back as " + std::to_string(back.size()) + " tests";
     for (std::size_t i = 0; i < back.size(); ++i)
       if (resolved_json(back[i], *host_) != resolved_json(rows_[i].test, *host_)) return "row " + std::to_string(i + 1) + " reads back differently";
