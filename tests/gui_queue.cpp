@@ -7,6 +7,7 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QListWidget>
+#include <QProgressBar>
 #include <QSettings>
 #include <QSpinBox>
 #include <QTableView>
@@ -201,6 +202,70 @@ class GuiQueue : public QObject {
     QVERIFY(p->log_text().contains("--resume"));
     for (int i = 0; i < 3; ++i) QCOMPARE(p->model()->status(i), QueueModel::Status::done);
     QCOMPARE(results_snapshot(gui_out), a);
+  }
+
+  // The progress counts this queue's tests before any run; a run's plots open from OUT/<test>/plots;
+  // the queue reopened shows its finished rows as done; another queue is refused that folder.
+  void progress_plots_reopen_and_another_queues_folder() {
+    auto p = page();
+    QCOMPARE(p->progress()->text(), QString("no tests"));
+    QVERIFY(p->add_from_sandbox().empty());
+    SweepDialog sweep(host_, parse_test(sandbox_test, "sandbox", *host_));
+    sweep.drones()->setText("2, 3");
+    QVERIFY(p->add_sweep(sweep).empty());
+    QCOMPARE(p->progress()->maximum(), 3);
+    QCOMPARE(p->progress()->text(), QString("0 / 3 tests"));  // not "0 / 100"
+    const QString out = dir_.filePath("plotted");
+    QVERIFY(p->run(out).empty());
+    QVERIFY2(p->wait(300000), qPrintable(p->log_text()));
+    QCOMPARE(p->progress()->text(), QString("3 / 3 tests"));
+    QString opened;
+    QStringList pngs;
+    p->set_plots_opener([&](const QString& folder, const QStringList& files) { opened = folder, pngs = files; });
+    p->show_plots(1);
+    QCOMPARE(opened, out + "/" + q(p->model()->test(1).name) + "/plots");
+    QVERIFY2(!pngs.isEmpty(), qPrintable(p->last_message()));
+    for (const QString& f : pngs) QVERIFY2(QFileInfo(opened + "/" + f).size() > 1000, qPrintable(f));
+
+    // Reopened in a new window: the rows already in OUT are done, the progress says so.
+    auto again = page();
+    QVERIFY(again->open(out + ".queue.json").empty());
+    for (int i = 0; i < 3; ++i) QCOMPARE(again->model()->status(i), QueueModel::Status::done);
+    QCOMPARE(again->progress()->text(), QString("3 / 3 tests"));
+    QVERIFY2(again->last_message().contains("3 already done"), qPrintable(again->last_message()));
+    QCOMPARE(again->output_dir(), out);
+
+    // Another queue into that folder: refused as salsa run refuses it, nothing started, nothing changed.
+    const auto before = results_snapshot(out);
+    auto other = page();
+    QVERIFY(other->add_from_sandbox().empty());
+    other->model()->setData(other->model()->index(0, QueueModel::col_seed), 77);
+    const std::string why = other->run(out);
+    QVERIFY2(why.find("queue.json: holds the results of another queue") != std::string::npos, why.c_str());
+    QVERIFY(!other->running());
+    QVERIFY(!other->log_text().contains("--resume"));
+    QCOMPARE(results_snapshot(out), before);
+    // The CLI says the same of that queue.
+    QVERIFY(other->save(dir_.filePath("other.json")).empty());
+    const CliResult r = run_salsa({"run", dir_.filePath("other.json"), "--out", out, "-q"});
+    QVERIFY2(r.exit_code != 0 && r.err.contains("holds the results of another queue"), describe(r));
+  }
+
+  // salsa-gui --yes: a queue over 10,000 tests opens, and its run passes --yes to salsa run.
+  void yes_allows_large_queues() {
+    const QString file = dir_.filePath("large.json");
+    QVERIFY(write_file(file, R"({"repeats": 10001, "tests": [{"name": "big", "behavior": "random_walk", "drones": 2, "time": 1,
+      "map": {"name": "empty", "params": {"size": 100}}, "targets": {"kind": "tree", "count": 1}}]})"));
+    auto p = page();
+    const std::string why = p->open(file);
+    QVERIFY2(why.find("--yes") != std::string::npos, why.c_str());
+    p->set_allow_large(true);
+    QVERIFY(p->open(file).empty());
+    QCOMPARE(p->model()->rowCount(), 10001);
+    p->set_salsa_program("/bin/true");  // the command line is what is checked, not a 10,001-test run
+    QVERIFY(p->run(dir_.filePath("large-out")).empty());
+    QVERIFY(p->wait(60000));
+    QVERIFY2(p->log_text().contains(" --yes"), qPrintable(p->log_text().left(300)));
   }
 
   void load_into_sandbox_and_mode_switches_keep_state() {

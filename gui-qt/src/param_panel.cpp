@@ -23,6 +23,11 @@ double shift_of(const Parameter& p) { return p.min > 0 ? 0 : step_of(p) - p.min;
 int clamp_int(double v) { return static_cast<int>(std::clamp(v, -2147483647.0, 2147483647.0)); }
 }  // namespace
 
+int ParamPanel::decimals(const Parameter& p) {
+  // A logarithmic range is fine near its low end: two decimals at least, where its step allows.
+  return p.is_integer() ? 0 : logarithmic(p) && p.step <= 0 ? std::max(decimals_of(p), 2) : decimals_of(p);
+}
+
 ParamPanel::ParamPanel(QWidget* parent) : QWidget(parent), form_(new QFormLayout(this)) {
   form_->setContentsMargins(0, 0, 0, 0);
   form_->setFieldGrowthPolicy(QFormLayout::AllNonFixedFieldsGrow);
@@ -58,8 +63,10 @@ double ParamPanel::from_slider(const Parameter& p, int s) {
     const double shift = shift_of(p);
     v = (p.min + shift) * std::pow((p.max + shift) / (p.min + shift), f) - shift;
   }
-  // On the declared step's grid (whole numbers stay whole); the ends exactly.
+  // On the declared step's grid (whole numbers stay whole), else at the spin box's decimals (what it
+  // shows is what runs); the ends exactly.
   if (p.step > 0) v = p.min + std::round((v - p.min) / p.step) * p.step;
+  else v = std::round(v * std::pow(10.0, decimals(p))) / std::pow(10.0, decimals(p));
   if (s <= 0) v = p.min;
   if (s >= n) v = p.max;
   return std::clamp(v, p.min, p.max);
@@ -132,7 +139,7 @@ void ParamPanel::build_rows() {
     } else {
       auto* spin = new QDoubleSpinBox;
       spin->setRange(p.min, p.max);
-      spin->setDecimals(decimals_of(p));
+      spin->setDecimals(decimals(p));
       spin->setSingleStep(step_of(p));
       spin->setSuffix(suffix);
       if (logarithmic(p)) spin->setStepType(QAbstractSpinBox::AdaptiveDecimalStepType);

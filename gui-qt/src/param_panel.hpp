@@ -44,6 +44,7 @@ class ParamPanel : public QWidget {
   /// The slider's mapping: positions 0..positions(p), linear or logarithmic.
   static int positions(const Parameter& p);
   static bool logarithmic(const Parameter& p);
+  static int decimals(const Parameter& p);
   static int to_slider(const Parameter& p, double v);
   static double from_slider(const Parameter& p, int s);
   void show_value(std::size_t i, double v);

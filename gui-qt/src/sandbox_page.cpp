@@ -778,7 +778,8 @@ void SandboxPage::restore_settings() {
     } catch (const std::exception& e) {
       std::string behavior;
       try {
-        behavior = json::parse(last.toStdString()).at("behavior").at("name").get<std::string>();
+        const json b = json::parse(last.toStdString()).at("behavior");  // "name" or {"name": ...}
+        behavior = b.is_string() ? b.get<std::string>() : b.at("name").get<std::string>();
       } catch (const std::exception&) {
       }
       replaced = QString("the last session's test (behavior '%1') was not restored: %2; the first scene runs instead "
