@@ -13,6 +13,7 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QMessageBox>
+#include <QPlainTextEdit>
 #include <QPointer>
 #include <QProgressBar>
 #include <QPushButton>
@@ -84,6 +85,8 @@ void close_message_boxes() {
   }
 }
 
+void type_commit_only(QWidget* w, Commit how, QWidget* elsewhere);
+
 /// Types `text` into `w` (replacing what it shows) and commits it, as a person would.
 void type_and_commit(QWidget* w, const QString& text, Commit how, QWidget* elsewhere) {
   w->setFocus(Qt::MouseFocusReason);
@@ -91,6 +94,11 @@ void type_and_commit(QWidget* w, const QString& text, Commit how, QWidget* elsew
   if (auto* s = qobject_cast<QAbstractSpinBox*>(w)) s->selectAll();
   if (auto* l = qobject_cast<QLineEdit*>(w)) l->selectAll();
   QTest::keyClicks(w, text);
+  type_commit_only(w, how, elsewhere);
+}
+
+/// Commits what was typed into `w`: Enter, Tab, or focus given to `elsewhere`.
+void type_commit_only(QWidget* w, Commit how, QWidget* elsewhere) {
   QPointer<QWidget> alive(w);
   if (how == Commit::enter) QTest::keyClick(w, Qt::Key_Return);
   else if (how == Commit::tab) QTest::keyClick(w, Qt::Key_Tab);
@@ -224,6 +232,45 @@ class GuiTyping : public QObject {
     window_->set_mode(MainWindow::Mode::queue);
     QueuePage* page = window_->queue_page();
     type_into_every_input(page, page->table(), [] {}, [page] { return page->last_message(); });
+    // The table's editable cells, typed into as a person does: F2 opens the editor.
+    QVERIFY(page->add_from_sandbox().empty());
+    QTableView* table = page->table();
+    QWidget* elsewhere = page->findChild<QPlainTextEdit*>();
+    QVERIFY(elsewhere);
+    int round = 0;
+    for (Commit how : {Commit::enter, Commit::tab, Commit::focus_loss})
+      for (int col : {QueueModel::col_name, QueueModel::col_drones, QueueModel::col_targets, QueueModel::col_time, QueueModel::col_seed}) {
+        ++round;
+        const QModelIndex at = page->model()->index(0, col);
+        const QString text = col == QueueModel::col_name    ? QString("typed-%1").arg(round)
+                             : col == QueueModel::col_seed  ? QString::number(4746454603967234LL + round)
+                             : col == QueueModel::col_time  ? QString::number(30 + round)
+                                                            : QString::number(page->model()->data(at).toLongLong() + 1);
+        table->setFocus();
+        table->setCurrentIndex(at);
+        QTest::keyClick(table, Qt::Key_F2);
+        QApplication::processEvents();
+        QWidget* editor = QApplication::focusWidget();
+        QVERIFY2(editor && editor != table, qPrintable(QString("no editor for column %1").arg(col)));
+        const QString before = page->last_message();
+        if (auto* line = qobject_cast<QLineEdit*>(editor)) line->selectAll();
+        if (auto* spin = qobject_cast<QAbstractSpinBox*>(editor)) spin->selectAll();
+        QTest::keyClicks(editor, text);
+        type_commit_only(editor, how, elsewhere);
+        const QString now = page->model()->data(page->model()->index(0, col), Qt::EditRole).toString();
+        QVERIFY2(now == text || (page->last_message() != before && !page->last_message().isEmpty()),
+                 qPrintable(QString("column %1: typed %2 (%3), shows %4").arg(col).arg(text, name_of(how), now)));
+      }
+    // The last round (focus loss) applied each cell: the seed exactly, past 2^52.
+    QCOMPARE(page->model()->test(0).name, std::string("typed-11"));
+    QCOMPARE(page->model()->test(0).seed, std::uint64_t(4746454603967234LL + 15));
+    // Text that is no number is refused with its message, not read as 0.
+    const QModelIndex seed = page->model()->index(0, QueueModel::col_seed);
+    const auto kept = page->model()->test(0).seed;
+    QVERIFY(!page->model()->setData(seed, QString("abc")));
+    QVERIFY2(page->last_message().contains("seed: \"abc\" is not a number"), qPrintable(page->last_message()));
+    QCOMPARE(page->model()->test(0).seed, kept);
+    close_message_boxes();
     // The sweep dialog's lines and boxes: each typed value recounts the sweep, never crashes.
     SweepDialog sweep(host_, parse_test(small_test, "typed", *host_));
     sweep.show();

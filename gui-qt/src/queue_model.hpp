@@ -61,6 +61,10 @@ class QueueModel : public QAbstractTableModel {
   void clear_statuses();
   const std::string& last_error() const { return last_error_; }
 
+ Q_SIGNALS:
+  /// A cell edit was refused: why (the page shows it; the row keeps its value).
+  void edit_refused(const QString& why);
+
  private:
   struct Row {
     TestSpec test;

@@ -319,6 +319,7 @@ QueuePage::QueuePage(std::shared_ptr<const PluginHost> host, std::vector<fs::pat
   for (auto sig : {&QAbstractItemModel::rowsInserted, &QAbstractItemModel::rowsRemoved})
     connect(model_, sig, this, [this] { update_progress(-1); });
   connect(model_, &QAbstractItemModel::modelReset, this, [this] { update_progress(-1); });
+  connect(model_, &QueueModel::edit_refused, this, [this](const QString& why) { show_message(why); });
   connect(table_, &QTableView::doubleClicked, this, [this](const QModelIndex& i) {
     if (!(model_->flags(i) & Qt::ItemIsEditable) && model_->status(i.row()) == QueueModel::Status::done) show_plots(i.row());
   });
