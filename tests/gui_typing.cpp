@@ -277,7 +277,16 @@ class GuiTyping : public QObject {
     QVERIFY(QTest::qWaitForWindowExposed(&sweep));
     auto* other = new QPushButton("elsewhere", &sweep);
     type_into_every_input(&sweep, other, [] {}, [&sweep] { return sweep.count_label()->text(); });
-    QVERIFY2(sweep.count_label()->text().contains("tests") || !sweep.count_label()->text().isEmpty(), "the count says something");
+    // The queue seed takes the whole range, exactly; anything else is refused in the count line.
+    sweep.seed()->setText("4746454603967234");
+    std::string why;
+    QVERIFY2(QString::fromStdString(sweep.queue_json(&why)).contains("\"seed\": 4746454603967234"), why.c_str());
+    QVERIFY2(sweep.count_label()->text().contains("tests"), qPrintable(sweep.count_label()->text()));
+    sweep.seed()->setText("12x");
+    QVERIFY2(sweep.count_label()->text().contains("queue seed: \"12x\" is not a seed"), qPrintable(sweep.count_label()->text()));
+    sweep.seed()->setText("9007199254740993");
+    QVERIFY2(sweep.count_label()->text().contains("seed"), qPrintable(sweep.count_label()->text()));
+    QVERIFY(!sweep.count_label()->text().contains("makes"));
   }
 
   void every_map_creator_input() {

@@ -159,10 +159,9 @@ SweepDialog::SweepDialog(std::shared_ptr<const PluginHost> host, const TestSpec&
   repeats_ = new QSpinBox;
   repeats_->setRange(1, 1000);
   form->addRow("repeats", repeats_);
-  seed_ = new QSpinBox;
-  seed_->setRange(0, 2'000'000'000);
-  seed_->setValue(1);
-  seed_->setToolTip("the queue seed: each repeat's worlds come from it");
+  seed_ = new QLineEdit("1");  // a line: seeds go to 2^53, past a spin box's int
+  seed_->setObjectName("queue_seed");
+  seed_->setToolTip("the queue seed, a whole number in [0, 9007199254740992]: each repeat's worlds come from it");
   form->addRow("queue seed", seed_);
   count_ = new QLabel;
   count_->setWordWrap(true);
@@ -170,7 +169,7 @@ SweepDialog::SweepDialog(std::shared_ptr<const PluginHost> host, const TestSpec&
   connect(behaviors_, &QListWidget::itemChanged, this, &SweepDialog::update_count);
   connect(drones_, &QLineEdit::textChanged, this, &SweepDialog::update_count);
   connect(repeats_, &QSpinBox::valueChanged, this, &SweepDialog::update_count);
-  connect(seed_, &QSpinBox::valueChanged, this, &SweepDialog::update_count);
+  connect(seed_, &QLineEdit::textChanged, this, &SweepDialog::update_count);
   update_count();
 }
 
@@ -221,7 +220,18 @@ std::string SweepDialog::queue_json(std::string* why) const {
   // The sandbox's test, less what the axes and the queue decide.
   json test = json::parse(resolved_json(base_, *host_));
   for (const char* key : {"name", "behavior", "drones", "seed", "repeat", "versions", "changes"}) test.erase(key);
-  const json queue{{"seed", seed_->value()}, {"repeats", repeats_->value()},
+  // Read as JSON, so a whole number is kept exactly; the queue reader checks its range and says so.
+  json seed;
+  try {
+    seed = json::parse(seed_->text().trimmed().toStdString());
+  } catch (const std::exception&) {
+  }
+  // Checked here too: the reader takes numbers as doubles, and 2^53 + 1 would round into range.
+  if (!seed.is_number_unsigned() || seed.get<std::uint64_t>() > 9007199254740992ULL) {
+    *why = "queue seed: \"" + seed_->text().trimmed().toStdString() + "\" is not a seed (allowed: whole number in [0, 9007199254740992])";
+    return {};
+  }
+  const json queue{{"seed", seed}, {"repeats", repeats_->value()},
                    {"sweep", {{"test", test}, {"behaviors", behaviors}, {"drones", *drones}}}};
   return queue.dump(2);
 }

@@ -45,7 +45,7 @@ class SweepDialog : public QWidget {
   void set_axis(int row, const QString& behavior_param, const QString& values);  ///< "flocking.cohesion_weight", "1, 2"
   QLineEdit* drones() const { return drones_; }
   QSpinBox* repeats() const { return repeats_; }
-  QSpinBox* seed() const { return seed_; }
+  QLineEdit* seed() const { return seed_; }
   QLabel* count_label() const { return count_; }
 
  Q_SIGNALS:
@@ -60,7 +60,7 @@ class SweepDialog : public QWidget {
   std::vector<std::pair<QComboBox*, QLineEdit*>> axes_;
   QLineEdit* drones_ = nullptr;
   QSpinBox* repeats_ = nullptr;
-  QSpinBox* seed_ = nullptr;
+  QLineEdit* seed_ = nullptr;
   QLabel* count_ = nullptr;
 };
 

@@ -213,7 +213,7 @@ void SandboxPage::build_controls() {
   drone_panel_ = new ParamPanel;
   drone_panel_->set_schema(drone_schema());
   live_form->addWidget(drone_panel_);
-  auto* fine = new QLabel("Sliders: Shift+arrow keys for fine steps; wide ranges are logarithmic.");
+  auto* fine = new QLabel("Sliders: click one, then the arrow keys move it one fine step; ranges over decades are logarithmic.");
   fine->setWordWrap(true);
   fine->setStyleSheet("color: palette(mid)");
   live_form->addWidget(fine);
