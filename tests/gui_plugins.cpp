@@ -61,7 +61,7 @@ class GuiPlugins : public QObject {
   }
 
   static void steps(MainWindow& w, int n) {
-    for (int i = 0; i < n; ++i) QVERIFY(w.engine().step_once().get().empty());
+    for (int i = 0; i < n; ++i) QVERIFY(w.sandbox()->engine().step_once().get().empty());
   }
 
  private Q_SLOTS:
@@ -98,18 +98,18 @@ class GuiPlugins : public QObject {
     QFile::remove(file);
     QVERIFY(QFile::copy(built("reload-v1"), file));
     auto w = window_with(folder_.path());
-    QVERIFY(w->open_test_spec(reload_test(*w->host())).empty());
+    QVERIFY(w->sandbox()->open_test_spec(reload_test(*w->host())).empty());
     steps(*w, 60);
-    auto before = w->engine().snapshot();
+    auto before = w->sandbox()->engine().snapshot();
     for (const Vec2& v : before->velocities) QVERIFY2(v.x > 1, qPrintable(QString("version 1 flies along +x: %1 %2 t=%3").arg(v.x).arg(v.y).arg(before->time)));
-    QVERIFY(!w->behavior_panel()->schema().empty());
-    QVERIFY(w->behavior_panel()->schema().size() == 1);
+    QVERIFY(!w->sandbox()->behavior_panel()->schema().empty());
+    QVERIFY(w->sandbox()->behavior_panel()->schema().size() == 1);
 
     // "Rebuild": version 2 written over the file while the window runs.
     QVERIFY(overwrite(file, read_file(built("reload-v2"))));
-    QTRY_VERIFY_WITH_TIMEOUT(w->last_message().contains("reloaded behavior 'test_reload'"), 20000);
-    w->engine().sync();
-    auto after = w->engine().snapshot();
+    QTRY_VERIFY_WITH_TIMEOUT(w->status_text().contains("reloaded behavior 'test_reload'"), 20000);
+    w->sandbox()->engine().sync();
+    auto after = w->sandbox()->engine().snapshot();
     QCOMPARE(after->time, before->time);  // nothing restarted
     QCOMPARE(after->positions.size(), before->positions.size());
     for (std::size_t i = 0; i < before->positions.size(); ++i) {
@@ -117,15 +117,15 @@ class GuiPlugins : public QObject {
       QCOMPARE(after->velocities[i].x, before->velocities[i].x);
     }
     steps(*w, 120);
-    for (const Vec2& v : w->engine().snapshot()->velocities) QVERIFY2(v.x < -1, "version 2 flies along -x");
+    for (const Vec2& v : w->sandbox()->engine().snapshot()->velocities) QVERIFY2(v.x < -1, "version 2 flies along -x");
     // The new code's parameters and memory are shown; the session can no longer be saved as one test.
-    QCOMPARE(w->behavior_panel()->schema().size(), std::size_t{2});
-    QCOMPARE(w->behavior_panel()->value("added_in_v2"), 3.0);
-    w->engine().select(0);
-    w->engine().sync();
-    QTRY_VERIFY(w->engine().snapshot()->selected && w->engine().snapshot()->selected->memory == "test_reload version 2");
+    QCOMPARE(w->sandbox()->behavior_panel()->schema().size(), std::size_t{2});
+    QCOMPARE(w->sandbox()->behavior_panel()->value("added_in_v2"), 3.0);
+    w->sandbox()->engine().select(0);
+    w->sandbox()->engine().sync();
+    QTRY_VERIFY(w->sandbox()->engine().snapshot()->selected && w->sandbox()->engine().snapshot()->selected->memory == "test_reload version 2");
     std::string why;
-    QVERIFY(!w->engine().as_test(&why));
+    QVERIFY(!w->sandbox()->engine().as_test(&why));
     QVERIFY(QString::fromStdString(why).contains("reloaded"));
   }
 
@@ -134,22 +134,22 @@ class GuiPlugins : public QObject {
     QFile::remove(file);
     QVERIFY(QFile::copy(built("reload-v1"), file));
     auto w = window_with(folder_.path());
-    QVERIFY(w->open_test_spec(reload_test(*w->host())).empty());
+    QVERIFY(w->sandbox()->open_test_spec(reload_test(*w->host())).empty());
     steps(*w, 30);
     // Half a library (a build cut short): refused, and version 1 goes on.
     const QByteArray v2 = read_file(built("reload-v2"));
     QVERIFY(overwrite(file, v2.left(v2.size() / 2)));
-    QTRY_VERIFY_WITH_TIMEOUT(w->last_message().contains("could not be reloaded"), 20000);
-    QVERIFY(w->last_message().contains(file));
-    QVERIFY(w->last_message().contains("old code keeps running"));
+    QTRY_VERIFY_WITH_TIMEOUT(w->status_text().contains("could not be reloaded"), 20000);
+    QVERIFY(w->status_text().contains(file));
+    QVERIFY(w->status_text().contains("old code keeps running"));
     steps(*w, 30);
-    for (const Vec2& v : w->engine().snapshot()->velocities) QVERIFY(v.x > 1);
+    for (const Vec2& v : w->sandbox()->engine().snapshot()->velocities) QVERIFY(v.x > 1);
     QVERIFY(has_behavior(*w->host(), "test_reload"));
     // The build finishes: now it is reloaded.
     QVERIFY(overwrite(file, v2));
-    QTRY_VERIFY_WITH_TIMEOUT(w->last_message().contains("reloaded behavior 'test_reload'"), 20000);
+    QTRY_VERIFY_WITH_TIMEOUT(w->status_text().contains("reloaded behavior 'test_reload'"), 20000);
     steps(*w, 120);
-    for (const Vec2& v : w->engine().snapshot()->velocities) QVERIFY(v.x < -1);
+    for (const Vec2& v : w->sandbox()->engine().snapshot()->velocities) QVERIFY(v.x < -1);
   }
 };
 

@@ -7,6 +7,7 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QListWidget>
+#include <QProgressBar>
 #include <QSettings>
 #include <QSpinBox>
 #include <QTableView>
@@ -203,18 +204,82 @@ class GuiQueue : public QObject {
     QCOMPARE(results_snapshot(gui_out), a);
   }
 
+  // The progress counts this queue's tests before any run; a run's plots open from OUT/<test>/plots;
+  // the queue reopened shows its finished rows as done; another queue is refused that folder.
+  void progress_plots_reopen_and_another_queues_folder() {
+    auto p = page();
+    QCOMPARE(p->progress()->text(), QString("no tests"));
+    QVERIFY(p->add_from_sandbox().empty());
+    SweepDialog sweep(host_, parse_test(sandbox_test, "sandbox", *host_));
+    sweep.drones()->setText("2, 3");
+    QVERIFY(p->add_sweep(sweep).empty());
+    QCOMPARE(p->progress()->maximum(), 3);
+    QCOMPARE(p->progress()->text(), QString("0 / 3 tests"));  // not "0 / 100"
+    const QString out = dir_.filePath("plotted");
+    QVERIFY(p->run(out).empty());
+    QVERIFY2(p->wait(300000), qPrintable(p->log_text()));
+    QCOMPARE(p->progress()->text(), QString("3 / 3 tests"));
+    QString opened;
+    QStringList pngs;
+    p->set_plots_opener([&](const QString& folder, const QStringList& files) { opened = folder, pngs = files; });
+    p->show_plots(1);
+    QCOMPARE(opened, out + "/" + q(p->model()->test(1).name) + "/plots");
+    QVERIFY2(!pngs.isEmpty(), qPrintable(p->last_message()));
+    for (const QString& f : pngs) QVERIFY2(QFileInfo(opened + "/" + f).size() > 1000, qPrintable(f));
+
+    // Reopened in a new window: the rows already in OUT are done, the progress says so.
+    auto again = page();
+    QVERIFY(again->open(out + ".queue.json").empty());
+    for (int i = 0; i < 3; ++i) QCOMPARE(again->model()->status(i), QueueModel::Status::done);
+    QCOMPARE(again->progress()->text(), QString("3 / 3 tests"));
+    QVERIFY2(again->last_message().contains("3 already done"), qPrintable(again->last_message()));
+    QCOMPARE(again->output_dir(), out);
+
+    // Another queue into that folder: refused as salsa run refuses it, nothing started, nothing changed.
+    const auto before = results_snapshot(out);
+    auto other = page();
+    QVERIFY(other->add_from_sandbox().empty());
+    other->model()->setData(other->model()->index(0, QueueModel::col_seed), 77);
+    const std::string why = other->run(out);
+    QVERIFY2(why.find("queue.json: holds the results of another queue") != std::string::npos, why.c_str());
+    QVERIFY(!other->running());
+    QVERIFY(!other->log_text().contains("--resume"));
+    QCOMPARE(results_snapshot(out), before);
+    // The CLI says the same of that queue.
+    QVERIFY(other->save(dir_.filePath("other.json")).empty());
+    const CliResult r = run_salsa({"run", dir_.filePath("other.json"), "--out", out, "-q"});
+    QVERIFY2(r.exit_code != 0 && r.err.contains("holds the results of another queue"), describe(r));
+  }
+
+  // salsa-gui --yes: a queue over 10,000 tests opens, and its run passes --yes to salsa run.
+  void yes_allows_large_queues() {
+    const QString file = dir_.filePath("large.json");
+    QVERIFY(write_file(file, R"({"repeats": 10001, "tests": [{"name": "big", "behavior": "random_walk", "drones": 2, "time": 1,
+      "map": {"name": "empty", "params": {"size": 100}}, "targets": {"kind": "tree", "count": 1}}]})"));
+    auto p = page();
+    const std::string why = p->open(file);
+    QVERIFY2(why.find("--yes") != std::string::npos, why.c_str());
+    p->set_allow_large(true);
+    QVERIFY(p->open(file).empty());
+    QCOMPARE(p->model()->rowCount(), 10001);
+    p->set_salsa_program("/bin/true");  // the command line is what is checked, not a 10,001-test run
+    QVERIFY(p->run(dir_.filePath("large-out")).empty());
+    QVERIFY(p->wait(60000));
+    QVERIFY2(p->log_text().contains(" --yes"), qPrintable(p->log_text().left(300)));
+  }
+
   void load_into_sandbox_and_mode_switches_keep_state() {
     MainWindow w(*host_);
     w.resize(1200, 800);
     w.show();
     QVERIFY(QTest::qWaitForWindowExposed(&w));
-    for (int i = 0; i < 30; ++i) w.step();
-    w.engine().sync();
-    const double t = w.engine().snapshot()->time;
+    for (int i = 0; i < 30; ++i) w.sandbox()->step();
+    w.sandbox()->engine().sync();
+    const double t = w.sandbox()->engine().snapshot()->time;
     QVERIFY(t > 0);
     QVERIFY(w.queue_page()->add_from_sandbox().empty());
     w.set_mode(MainWindow::Mode::queue);
-    QVERIFY(!w.view()->isVisible());
+    QVERIFY(!w.sandbox()->view()->isVisible());
     QVERIFY(w.queue_page()->isVisible());
     QVERIFY(w.queue_page()->open(q(source_dir() / "examples/sweep-queue.json")).empty());
     w.set_mode(MainWindow::Mode::map_creator);
@@ -226,8 +291,8 @@ class GuiQueue : public QObject {
     QTest::mouseRelease(editor.canvas(), Qt::LeftButton, Qt::NoModifier, editor.to_px({60, 20}));
     QCOMPARE(editor.map().lines.size(), std::size_t{1});
     w.set_mode(MainWindow::Mode::sandbox);
-    QVERIFY(w.view()->isVisible());
-    QCOMPARE(w.engine().snapshot()->time, t);  // the sandbox kept its run
+    QVERIFY(w.sandbox()->view()->isVisible());
+    QCOMPARE(w.sandbox()->engine().snapshot()->time, t);  // the sandbox kept its run
     w.set_mode(MainWindow::Mode::queue);
     QCOMPARE(w.queue_page()->model()->rowCount(), 12);  // the queue kept its rows
     w.set_mode(MainWindow::Mode::map_creator);
@@ -243,18 +308,22 @@ class GuiQueue : public QObject {
     QVERIFY(use);
     use->click();
     QCOMPARE(w.mode(), MainWindow::Mode::sandbox);
-    QCOMPARE(q(w.engine().current_test()->map_file), map_file);
+    QCOMPARE(q(w.sandbox()->engine().current_test()->map_file), map_file);
     w.set_mode(MainWindow::Mode::queue);
     QCOMPARE(w.queue_page()->model()->rowCount(), 12);
     // A queue row into the sandbox: its start state, in sandbox mode.
     w.queue_page()->table()->selectRow(4);
     const TestSpec row = w.queue_page()->model()->test(4);
-    QVERIFY(w.open_test_spec(row).empty());
+    QPushButton* load = nullptr;
+    for (auto* b : w.queue_page()->findChildren<QPushButton*>())
+      if (b->text() == "Load into sandbox") load = b;
+    QVERIFY(load);
+    load->click();
     QCOMPARE(w.mode(), MainWindow::Mode::sandbox);
-    const auto current = w.engine().current_test();
+    const auto current = w.sandbox()->engine().current_test();
     QVERIFY(current);
     QCOMPARE(resolved_json(*current, *host_), resolved_json(row, *host_));
-    QCOMPARE(w.engine().snapshot()->time, 0.0);
+    QCOMPARE(w.sandbox()->engine().snapshot()->time, 0.0);
   }
 };
 

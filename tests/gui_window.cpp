@@ -26,8 +26,8 @@ class GuiWindow : public QObject {
   std::unique_ptr<MainWindow> window_;
 
   void settle() {
-    window_->engine().sync();
-    window_->poll();
+    window_->sandbox()->engine().sync();
+    window_->sandbox()->poll();
   }
 
  private Q_SLOTS:
@@ -37,13 +37,13 @@ class GuiWindow : public QObject {
     window_->resize(1400, 900);
     window_->show();
     QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
-    QVERIFY(window_->open_test(q(source_dir() / "examples/flocking-forest.json")).empty());
+    QVERIFY(window_->sandbox()->open_test(q(source_dir() / "examples/flocking-forest.json")).empty());
   }
   void cleanup() { window_.reset(); }
 
   void sliders_come_from_the_schema() {
     const Parameters& schema = host_->behavior("flocking").factory.parameters;
-    ParamPanel* panel = window_->behavior_panel();
+    ParamPanel* panel = window_->sandbox()->behavior_panel();
     QCOMPARE(panel->schema().size(), schema.size());
     for (const Parameter& p : schema) {
       QSlider* slider = panel->slider(p.name);
@@ -62,104 +62,104 @@ class GuiWindow : public QObject {
     // The test file's value is shown (flocking-forest sets separation_distance 60).
     QCOMPARE(panel->value("separation_distance"), 60.0);
     // A whole-number parameter gets an integer box (pheromone avoidance's "directions").
-    window_->behavior_box()->setCurrentText("pheromone_avoidance");
-    QVERIFY(qobject_cast<QSpinBox*>(window_->behavior_panel()->spin_box("directions")));
+    window_->sandbox()->behavior_box()->setCurrentText("pheromone_avoidance");
+    QVERIFY(qobject_cast<QSpinBox*>(window_->sandbox()->behavior_panel()->spin_box("directions")));
   }
 
   void moving_a_slider_changes_the_live_parameter_and_is_recorded() {
-    for (int i = 0; i < 20; ++i) window_->step();
+    for (int i = 0; i < 20; ++i) window_->sandbox()->step();
     settle();
-    auto* spin = qobject_cast<QDoubleSpinBox*>(window_->behavior_panel()->spin_box("cohesion_weight"));
+    auto* spin = qobject_cast<QDoubleSpinBox*>(window_->sandbox()->behavior_panel()->spin_box("cohesion_weight"));
     QVERIFY(spin);
     spin->setValue(2.5);  // as a user typing it
     settle();
-    QCOMPARE(window_->engine().current_test()->behavior.params.get("cohesion_weight"), 2.5);
-    QSlider* slider = window_->behavior_panel()->slider("alignment_weight");
+    QCOMPARE(window_->sandbox()->engine().current_test()->behavior.params.get("cohesion_weight"), 2.5);
+    QSlider* slider = window_->sandbox()->behavior_panel()->slider("alignment_weight");
     slider->setValue(slider->maximum() / 2);  // as a user dragging it
     settle();
-    const auto timeline = window_->engine().timeline();
+    const auto timeline = window_->sandbox()->engine().timeline();
     QCOMPARE(timeline.size(), std::size_t(2));
     QCOMPARE(timeline[0].key, std::string("behavior.params.cohesion_weight"));
     QCOMPARE(change_step(timeline[0].time, 1.0 / 60), std::uint64_t(20));
     QCOMPARE(timeline[1].key, std::string("behavior.params.alignment_weight"));
-    QCOMPARE(window_->engine().current_test()->behavior.params.get("alignment_weight"), timeline[1].value);
+    QCOMPARE(window_->sandbox()->engine().current_test()->behavior.params.get("alignment_weight"), timeline[1].value);
   }
 
   void drone_count_respawns() {
-    window_->drones_box()->setValue(45);
+    window_->sandbox()->drones_box()->setValue(45);
     settle();
-    QCOMPARE(window_->engine().snapshot()->positions.size(), std::size_t(45));
-    QCOMPARE(window_->engine().timeline().back().key, std::string("drones"));
+    QCOMPARE(window_->sandbox()->engine().snapshot()->positions.size(), std::size_t(45));
+    QCOMPARE(window_->sandbox()->engine().timeline().back().key, std::string("drones"));
   }
 
   void a_refused_change_puts_the_control_back() {
     // 60 m/s is more than radius / dt for the small drone: the core refuses it; the box shows 10 again.
-    auto* speed = qobject_cast<QDoubleSpinBox*>(window_->drone_panel()->spin_box("max_speed"));
+    auto* speed = qobject_cast<QDoubleSpinBox*>(window_->sandbox()->drone_panel()->spin_box("max_speed"));
     speed->setValue(100);
     settle();
-    QVERIFY2(window_->last_message().startsWith("drone.max_speed: 100 m/s"), qPrintable(window_->last_message()));
+    QVERIFY2(window_->sandbox()->last_message().startsWith("drone.max_speed: 100 m/s"), qPrintable(window_->sandbox()->last_message()));
     QCOMPARE(speed->value(), 10.0);
-    QCOMPARE(window_->engine().current_test()->drone.max_speed, 10.0);
+    QCOMPARE(window_->sandbox()->engine().current_test()->drone.max_speed, 10.0);
   }
 
   void clicking_a_drone_shows_its_state() {
-    for (int i = 0; i < 30; ++i) window_->step();
+    for (int i = 0; i < 30; ++i) window_->sandbox()->step();
     settle();
-    QTRY_VERIFY_WITH_TIMEOUT(window_->engine().snapshot()->step == 30, 5000);
-    window_->view()->show_snapshot(window_->engine().snapshot());
-    const auto snap = window_->engine().snapshot();
-    const QPoint at = window_->view()->world_to_px().map(QPointF(snap->positions[7].x, snap->positions[7].y)).toPoint();
-    QTest::mouseClick(window_->view(), Qt::LeftButton, {}, at);
-    window_->engine().sync();
-    QTRY_VERIFY_WITH_TIMEOUT(window_->engine().snapshot()->selected.has_value(), 5000);
-    const std::uint32_t id = window_->engine().snapshot()->selected->id;
+    QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->engine().snapshot()->step == 30, 5000);
+    window_->sandbox()->view()->show_snapshot(window_->sandbox()->engine().snapshot());
+    const auto snap = window_->sandbox()->engine().snapshot();
+    const QPoint at = window_->sandbox()->view()->world_to_px().map(QPointF(snap->positions[7].x, snap->positions[7].y)).toPoint();
+    QTest::mouseClick(window_->sandbox()->view(), Qt::LeftButton, {}, at);
+    window_->sandbox()->engine().sync();
+    QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->engine().snapshot()->selected.has_value(), 5000);
+    const std::uint32_t id = window_->sandbox()->engine().snapshot()->selected->id;
     QVERIFY2(distance(snap->positions[id], snap->positions[7]) < 3, "the clicked drone, or one on top of it");
-    QTRY_VERIFY_WITH_TIMEOUT(window_->inspector_text().startsWith(QString("drone %1\nposition (").arg(id)), 5000);
-    QVERIFY(window_->inspector_text().contains("neighbours ("));
+    QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->inspector_text().startsWith(QString("drone %1\nposition (").arg(id)), 5000);
+    QVERIFY(window_->sandbox()->inspector_text().contains("neighbours ("));
   }
 
   void bad_files_keep_the_state() {
-    for (int i = 0; i < 10; ++i) window_->step();
+    for (int i = 0; i < 10; ++i) window_->sandbox()->step();
     settle();
-    const auto before = window_->engine().snapshot();
+    const auto before = window_->sandbox()->engine().snapshot();
     QTemporaryDir dir;
     write_file(dir.path() + "/bad-map.json", R"({"bounds": {"min": [0, 0], "max": [100, 100]}, "obstacles": [[[10, 10], [20, 10], [500, 20]]]})");
-    std::string why = window_->open_map(dir.path() + "/bad-map.json");
+    std::string why = window_->sandbox()->open_map(dir.path() + "/bad-map.json");
     QVERIFY2(why.find("bad-map.json") != std::string::npos && why.find("obstacles[0][2]") != std::string::npos, why.c_str());
-    QCOMPARE(window_->last_message(), QString::fromStdString(why));
+    QCOMPARE(window_->sandbox()->last_message(), QString::fromStdString(why));
     write_file(dir.path() + "/bad-test.json", R"({"behavior": "flocking", "drones": -3})");
-    why = window_->open_test(dir.path() + "/bad-test.json");
+    why = window_->sandbox()->open_test(dir.path() + "/bad-test.json");
     QVERIFY2(why.find("bad-test.json: drones: -3") != std::string::npos, why.c_str());
     settle();
-    const auto after = window_->engine().snapshot();
+    const auto after = window_->sandbox()->engine().snapshot();
     QCOMPARE(after->scene, before->scene);
     QCOMPARE(after->step, before->step);
     QCOMPARE(after->positions, before->positions);
-    QCOMPARE(window_->behavior_box()->currentText(), QString("flocking"));
+    QCOMPARE(window_->sandbox()->behavior_box()->currentText(), QString("flocking"));
   }
 
   void space_starts_and_pauses() {
     window_->activateWindow();
     QTest::keyClick(window_.get(), Qt::Key_Space);
-    QTRY_VERIFY_WITH_TIMEOUT(window_->engine().snapshot()->state == RunState::running, 5000);
-    QTRY_VERIFY_WITH_TIMEOUT(window_->engine().snapshot()->time > 0.2, 20000);
+    QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->engine().snapshot()->state == RunState::running, 5000);
+    QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->engine().snapshot()->time > 0.2, 20000);
     QTest::keyClick(window_.get(), Qt::Key_Space);
-    QTRY_VERIFY_WITH_TIMEOUT(window_->engine().snapshot()->state == RunState::paused, 5000);
+    QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->engine().snapshot()->state == RunState::paused, 5000);
     // The live plots got rows and drew them.
-    QTRY_VERIFY_WITH_TIMEOUT(window_->charts()->series(0)->count() >= 1, 5000);
+    QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->charts()->series(0)->count() >= 1, 5000);
   }
 
   // The window's "Save as test" writes a file that salsa run accepts and replays to the same state.
   void save_as_test_then_salsa_run() {
-    for (int i = 0; i < 30; ++i) window_->step();
+    for (int i = 0; i < 30; ++i) window_->sandbox()->step();
     settle();
-    window_->drones_box()->setValue(12);
+    window_->sandbox()->drones_box()->setValue(12);
     settle();
-    for (int i = 0; i < 30; ++i) window_->step();
+    for (int i = 0; i < 30; ++i) window_->sandbox()->step();
     settle();
     QTemporaryDir dir;
-    QCOMPARE(window_->save_test(dir.path() + "/tuned.json"), std::string());
-    const auto snap = window_->engine().snapshot();
+    QCOMPARE(window_->sandbox()->save_test(dir.path() + "/tuned.json"), std::string());
+    const auto snap = window_->sandbox()->engine().snapshot();
     const CliResult r = run_salsa({"run", "tuned.json", "--out", "out", "--no-plots", "-q"}, dir.path());
     QVERIFY2(r.exit_code == 0, describe(r));
     const QStringList rows = non_empty_lines(read_file(dir.path() + "/out/tuned/drones.csv")).filter(QRegularExpression("^1\\.0000,"));

@@ -37,6 +37,7 @@ options:
   --mode MODE          start in sandbox, queue or map (the map creator)
   --queue FILE         open a queue file in queue mode (implies --mode queue)
   --run-queue DIR      run the opened queue into DIR at once
+  --yes                allow queues of more than 10,000 tests (open, sweep and run them; salsa run gets --yes)
   --edit-map FILE      open a map file in the map creator (implies --mode map)
   --show-plugins       open the Plugins dialog
   --screenshot FILE    save a screenshot of the window (or, under X, of the screen) after --after seconds, then quit
@@ -69,7 +70,7 @@ int main(int argc, char** argv) {
 
   std::vector<std::filesystem::path> plugin_dirs;
   std::string test, screenshot, view, mode, queue, run_queue, edit_map;
-  bool show_plugins = false;
+  bool show_plugins = false, yes = false;
   std::optional<std::uint32_t> select;
   double after = 3;
   bool start = false, bench = false;
@@ -112,6 +113,8 @@ int main(int argc, char** argv) {
       run_queue = value("an output folder");
     } else if (a == "--edit-map") {
       edit_map = value("a map file");
+    } else if (a == "--yes") {
+      yes = true;
     } else if (a == "--show-plugins") {
       show_plugins = true;
     } else if (a == "--screenshot") {
@@ -167,13 +170,14 @@ int main(int argc, char** argv) {
   if (bench) return salsa::gui::bench_render(host, std::cout, frames);
 
   salsa::gui::MainWindow window(shared_host, plugin_dirs);
+  window.queue_page()->set_allow_large(yes);
   window.resize(1600, 1000);
   window.show();
-  if (!test.empty() && !window.open_test(QString::fromStdString(test)).empty()) {
+  if (!test.empty() && !window.sandbox()->open_test(QString::fromStdString(test)).empty()) {
     if (!screenshot.empty()) return 1;  // scripted: the message was shown; nothing to capture
   }
   if (!view.empty()) {
-    salsa::gui::ViewOptions o = window.view()->options();
+    salsa::gui::ViewOptions o = window.sandbox()->view()->options();
     std::stringstream items(view);
     for (std::string item; std::getline(items, item, ',');) {
       const bool on = item.empty() || item[0] != '-';
@@ -196,8 +200,8 @@ int main(int argc, char** argv) {
     }
     window.set_view_options(o);
   }
-  if (select) window.engine().select(select);
-  if (start) window.start();
+  if (select) window.sandbox()->engine().select(select);
+  if (start) window.sandbox()->start();
   using Mode = salsa::gui::MainWindow::Mode;
   if (!queue.empty()) {
     if (!window.queue_page()->open(QString::fromStdString(queue)).empty() && !screenshot.empty()) return 1;

@@ -608,9 +608,8 @@ std::string MapEditor::load(const QString& file) {
 
 std::string MapEditor::save(const QString& file) {
   const std::string path = file.toStdString();
-  if (!problems_.empty()) {
-    const std::string why = path + ": not saved: " + problems_.front().field + ": " + problems_.front().message +
-                            (problems_.size() > 1 ? " (and " + std::to_string(problems_.size() - 1) + " more problems)" : "");
+  if (const std::string problem = save_problem(); !problem.empty()) {
+    const std::string why = path + ": " + problem;
     show_message(q(why));
     return why;
   }
@@ -631,8 +630,16 @@ std::string MapEditor::save(const QString& file) {
   return {};
 }
 
+std::string MapEditor::save_problem() const {
+  if (problems_.empty()) return {};
+  return "not saved: " + problems_.front().field + ": " + problems_.front().message +
+         (problems_.size() > 1 ? " (and " + std::to_string(problems_.size() - 1) + " more problems)" : "");
+}
+
 std::string MapEditor::save_as_dialog() {
-  const QString f = QFileDialog::getSaveFileName(this, "Save map", file_.isEmpty() ? QDir::currentPath() + "/map.json" : file_, "Map files (*.json)");
+  // A map with problems is refused before a file name is asked for, not after.
+  if (const std::string why = save_problem(); !why.empty()) return show_message(q(why)), why;
+  const QString f = ask_save_file(this, "Save map", file_.isEmpty() ? QDir::currentPath() + "/map.json" : file_, "Map files (*.json)");
   return f.isEmpty() ? std::string("cancelled") : save(f);
 }
 

@@ -45,6 +45,10 @@ class MapEditor : public QWidget {
   /// Refused (nothing written) while the map has problems or the core would not read it back.
   std::string save(const QString& file);
   const QString& file() const { return file_; }
+  /// Why the map cannot be saved now ("" when it can): Save as refuses it before asking for a name.
+  std::string save_problem() const;
+  /// Save as: the file dialog, unless save_problem() refuses first. "" or the reason ("cancelled").
+  std::string save_as_dialog();
 
   const MapData& map() const { return map_; }
   const std::vector<MapProblem>& problems() const { return problems_; }
@@ -77,7 +81,6 @@ class MapEditor : public QWidget {
   void set_map(const MapData& map);               ///< undo/redo land here
   void refresh();                                  ///< problems, labels, repaint
   void show_message(const QString& text, bool error = true);
-  std::string save_as_dialog();
 
   const PluginHost& host_;
   MapData map_;

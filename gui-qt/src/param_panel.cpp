@@ -6,6 +6,7 @@
 #include <QLabel>
 #include <QSlider>
 #include <QSpinBox>
+#include <algorithm>
 #include <cmath>
 
 #include "salsa/core/drone_config.hpp"
@@ -17,22 +18,103 @@ int decimals_of(const Parameter& p) {
   const double s = step_of(p);
   return p.is_integer() || s >= 1 ? 0 : std::clamp(static_cast<int>(std::ceil(-std::log10(s))), 1, 6);
 }
+constexpr int log_positions = 1000;
+/// The logarithmic mapping works on v + shift, which is > 0 over the range: a range from 0 starts
+/// one step above it, so [0, 1000] m in steps of 0.5 m maps [0.5, 1000.5].
+double shift_of(const Parameter& p) { return p.min > 0 ? 0 : step_of(p) - p.min; }
+int clamp_int(double v) { return static_cast<int>(std::clamp(v, -2147483647.0, 2147483647.0)); }
 }  // namespace
+
+int ParamPanel::decimals(const Parameter& p) {
+  // A logarithmic range is fine near its low end: two decimals at least, where its step allows.
+  return p.is_integer() ? 0 : logarithmic(p) && p.step <= 0 ? std::max(decimals_of(p), 2) : decimals_of(p);
+}
 
 ParamPanel::ParamPanel(QWidget* parent) : QWidget(parent), form_(new QFormLayout(this)) {
   form_->setContentsMargins(0, 0, 0, 0);
   form_->setFieldGrowthPolicy(QFormLayout::AllNonFixedFieldsGrow);
 }
 
-int ParamPanel::to_slider(const Parameter& p, double v) const {
-  return static_cast<int>(std::lround((v - p.min) / step_of(p)));
+bool ParamPanel::logarithmic(const Parameter& p) {
+  const double shift = shift_of(p);
+  return std::isfinite(p.max - p.min) && step_of(p) > 0 && (p.max + shift) / (p.min + shift) >= 100;
 }
-double ParamPanel::from_slider(const Parameter& p, int s) const { return std::min(p.max, p.min + s * step_of(p)); }
+
+int ParamPanel::positions(const Parameter& p) {
+  if (logarithmic(p)) return log_positions;
+  const double steps = std::ceil((p.max - p.min) / step_of(p) - 1e-9);
+  return std::isfinite(steps) ? clamp_int(std::clamp(steps, 1.0, static_cast<double>(log_positions))) : log_positions;
+}
+
+int ParamPanel::to_slider(const Parameter& p, double v) {
+  const int n = positions(p);
+  double f = (v - p.min) / (p.max - p.min);
+  if (logarithmic(p)) {
+    const double shift = shift_of(p);
+    f = std::log((std::max(v, p.min) + shift) / (p.min + shift)) / std::log((p.max + shift) / (p.min + shift));
+  }
+  if (!std::isfinite(f)) f = 0;
+  return static_cast<int>(std::lround(std::clamp(f, 0.0, 1.0) * n));
+}
+
+double ParamPanel::from_slider(const Parameter& p, int s) {
+  const int n = positions(p);
+  const double f = std::clamp(static_cast<double>(s) / n, 0.0, 1.0);
+  double v = p.min + f * (p.max - p.min);
+  if (logarithmic(p)) {
+    const double shift = shift_of(p);
+    v = (p.min + shift) * std::pow((p.max + shift) / (p.min + shift), f) - shift;
+  }
+  // On the declared step's grid (whole numbers stay whole), else at the spin box's decimals (what it
+  // shows is what runs); the ends exactly.
+  if (p.step > 0) v = p.min + std::round((v - p.min) / p.step) * p.step;
+  else v = std::round(v * std::pow(10.0, decimals(p))) / std::pow(10.0, decimals(p));
+  if (s <= 0) v = p.min;
+  if (s >= n) v = p.max;
+  return std::clamp(v, p.min, p.max);
+}
+
+double ParamPanel::slider_value(const std::string& name, int position) const {
+  for (const Parameter& p : schema_)
+    if (p.name == name) return from_slider(p, position);
+  return std::nan("");
+}
 
 void ParamPanel::set_schema(const Parameters& schema, const ParameterValues& values) {
-  while (form_->rowCount() > 0) form_->removeRow(0);
-  rows_.clear();
+  const auto same_rows = [&] {
+    if (schema.size() != schema_.size() || rows_.size() != schema_.size()) return false;
+    for (std::size_t i = 0; i < schema.size(); ++i) {
+      const Parameter &a = schema[i], &b = schema_[i];
+      if (a.name != b.name || a.min != b.min || a.max != b.max || a.step != b.step || a.unit != b.unit) return false;
+    }
+    return true;
+  };
+  const bool in_place = same_rows();
   schema_ = schema;
+  if (!in_place) build_rows();
+  for (std::size_t i = 0; i < schema_.size(); ++i) {
+    const Parameter& p = schema_[i];
+    show_value(i, values.has(p.name) ? values.get(p.name) : p.value);
+  }
+}
+
+void ParamPanel::build_rows() {
+  // The old rows go once the event loop is back: one of them may be the widget whose signal led here.
+  while (form_->rowCount() > 0) {
+    const QFormLayout::TakeRowResult row = form_->takeRow(0);
+    for (QLayoutItem* item : {row.labelItem, row.fieldItem}) {
+      if (!item) continue;
+      if (QWidget* w = item->widget()) {
+        w->hide();
+        w->setParent(nullptr);
+        w->disconnect(this);
+        for (QObject* child : w->findChildren<QObject*>()) child->disconnect(this);
+        w->deleteLater();
+      }
+      delete item;
+    }
+  }
+  rows_.clear();
   for (std::size_t i = 0; i < schema_.size(); ++i) {
     const Parameter& p = schema_[i];
     auto* field = new QWidget;
@@ -40,13 +122,16 @@ void ParamPanel::set_schema(const Parameters& schema, const ParameterValues& val
     line->setContentsMargins(0, 0, 0, 0);
     Row row;
     row.slider = new QSlider(Qt::Horizontal);
-    row.slider->setRange(0, to_slider(p, p.max));
+    row.slider->setRange(0, positions(p));
+    row.slider->setSingleStep(1);
+    row.slider->setPageStep(std::max(1, positions(p) / 20));
     row.slider->setObjectName(QString::fromStdString(p.name) + "_slider");
     const QString suffix = p.unit.empty() ? QString() : " " + QString::fromStdString(p.unit);
     if (p.is_integer()) {
       auto* spin = new QSpinBox;
-      spin->setRange(static_cast<int>(p.min), static_cast<int>(p.max));
+      spin->setRange(clamp_int(p.min), clamp_int(p.max));
       spin->setSuffix(suffix);
+      if (logarithmic(p)) spin->setStepType(QAbstractSpinBox::AdaptiveDecimalStepType);
       connect(spin, &QSpinBox::valueChanged, this, [this, i](int v) {
         if (updating_) return;
         show_value(i, v);
@@ -56,10 +141,10 @@ void ParamPanel::set_schema(const Parameters& schema, const ParameterValues& val
     } else {
       auto* spin = new QDoubleSpinBox;
       spin->setRange(p.min, p.max);
-      spin->setDecimals(decimals_of(p));
+      spin->setDecimals(decimals(p));
       spin->setSingleStep(step_of(p));
       spin->setSuffix(suffix);
-      spin->setKeyboardTracking(false);  // one change per edit, not per keystroke
+      if (logarithmic(p)) spin->setStepType(QAbstractSpinBox::AdaptiveDecimalStepType);
       connect(spin, &QDoubleSpinBox::valueChanged, this, [this, i](double v) {
         if (updating_) return;
         show_value(i, v);
@@ -67,6 +152,7 @@ void ParamPanel::set_schema(const Parameters& schema, const ParameterValues& val
       });
       row.spin = spin;
     }
+    row.spin->setKeyboardTracking(false);  // one change per edit (Enter, Tab, focus loss), not per keystroke
     row.spin->setObjectName(QString::fromStdString(p.name));
     row.spin->setMinimumWidth(90);
     connect(row.slider, &QSlider::valueChanged, this, [this, i](int s) {
@@ -75,7 +161,8 @@ void ParamPanel::set_schema(const Parameters& schema, const ParameterValues& val
       show_value(i, v);
       Q_EMIT changed(schema_[i].name, v);
     });
-    const QString tip = QString::fromStdString(p.description + " (allowed: " + p.range() + ")");
+    const QString tip = QString::fromStdString(p.description + " (allowed: " + p.range() + ")") +
+                        (logarithmic(p) ? "; the slider is logarithmic, arrow keys move it finely" : "");
     row.slider->setToolTip(tip);
     row.spin->setToolTip(tip);
     line->addWidget(row.slider, 1);
@@ -84,7 +171,6 @@ void ParamPanel::set_schema(const Parameters& schema, const ParameterValues& val
     label->setToolTip(tip);
     form_->addRow(label, field);
     rows_.push_back(row);
-    show_value(i, values.has(p.name) ? values.get(p.name) : p.value);
   }
 }
 

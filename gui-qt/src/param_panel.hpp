@@ -1,6 +1,9 @@
 #pragma once
 // Sliders built from a declared parameter schema: per parameter a slider and a spin box (whole-number
 // parameters get an integer spin box), range, step and unit from the declaration, the meaning as tooltip.
+// A range that spans two decades or more gets a logarithmic slider (equal travel, equal ratio), so a
+// drag of a few pixels never jumps from 60 m to 1000 m; every slider has at most 1000 positions, one
+// arrow key each (finer than a pixel). Spin boxes apply a typed value on Enter or focus loss, once.
 #include <QWidget>
 #include <vector>
 
@@ -16,13 +19,17 @@ class ParamPanel : public QWidget {
   Q_OBJECT
  public:
   explicit ParamPanel(QWidget* parent = nullptr);
-  /// Rebuilds the rows for `schema`, showing `values` (defaults where missing). Emits nothing.
+  /// Shows `schema`'s rows with `values` (defaults where missing). Emits nothing. The same schema as now
+  /// updates the rows in place; another replaces them, the old widgets deleted once control returns to
+  /// the event loop (this may be called from a row's own signal, mid key press).
   void set_schema(const Parameters& schema, const ParameterValues& values = {});
   /// Shows `value` for `name` without emitting changed().
   void set_value(const std::string& name, double value);
   double value(const std::string& name) const;
   const Parameters& schema() const { return schema_; }
   QSlider* slider(const std::string& name) const;
+  /// The value a slider position stands for (tests).
+  double slider_value(const std::string& name, int position) const;
   QAbstractSpinBox* spin_box(const std::string& name) const;
 
  Q_SIGNALS:
@@ -34,9 +41,14 @@ class ParamPanel : public QWidget {
     QSlider* slider = nullptr;
     QAbstractSpinBox* spin = nullptr;
   };
-  int to_slider(const Parameter& p, double v) const;
-  double from_slider(const Parameter& p, int s) const;
+  /// The slider's mapping: positions 0..positions(p), linear or logarithmic.
+  static int positions(const Parameter& p);
+  static bool logarithmic(const Parameter& p);
+  static int decimals(const Parameter& p);
+  static int to_slider(const Parameter& p, double v);
+  static double from_slider(const Parameter& p, int s);
   void show_value(std::size_t i, double v);
+  void build_rows();
   Parameters schema_;
   std::vector<Row> rows_;
   QFormLayout* form_;

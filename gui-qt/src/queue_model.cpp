@@ -112,15 +112,33 @@ QVariant QueueModel::data(const QModelIndex& index, int role) const {
 bool QueueModel::setData(const QModelIndex& index, const QVariant& value, int role) {
   if (!index.isValid() || role != Qt::EditRole || !(flags(index) & Qt::ItemIsEditable)) return false;
   json j = json::parse(test_json(index.row()));
+  const std::string where = "queue row " + std::to_string(index.row() + 1) + ": ";
+  // A typed cell is text: read as a JSON number (whole numbers exactly, so seeds up to 2^53 stay
+  // themselves), and text that is no number is refused, not read as 0.
+  auto number = [&](const char* field) -> std::optional<json> {
+    if (value.typeId() != QMetaType::QString) {
+      if (value.typeId() == QMetaType::ULongLong) return json(value.toULongLong());
+      return json(value.toDouble());
+    }
+    const std::string text = value.toString().trimmed().toStdString();
+    try {
+      if (json n = json::parse(text); n.is_number()) return n;
+    } catch (const std::exception&) {
+    }
+    last_error_ = where + field + ": \"" + text + "\" is not a number";
+    return std::nullopt;
+  };
+  std::optional<json> n;
   switch (index.column()) {
     case col_name: j["name"] = value.toString().toStdString(); break;
-    case col_drones: j["drones"] = value.toDouble(); break;
-    case col_targets: j["targets"]["count"] = value.toDouble(); break;
-    case col_time: j["time"] = value.toDouble(); break;
-    case col_seed: j["seed"] = value.toDouble(); break;
+    case col_drones: if ((n = number("drones"))) j["drones"] = *n; break;
+    case col_targets: if ((n = number("targets.count"))) j["targets"]["count"] = *n; break;
+    case col_time: if ((n = number("time"))) j["time"] = *n; break;
+    case col_seed: if ((n = number("seed"))) j["seed"] = *n; break;
     default: return false;
   }
-  const std::string why = replace(index.row(), j.dump());
+  const std::string why = index.column() != col_name && !n ? last_error_ : replace(index.row(), j.dump());
+  if (!why.empty()) Q_EMIT edit_refused(QString::fromStdString(why));
   return why.empty();
 }
 
@@ -201,7 +219,7 @@ std::string QueueModel::load(const fs::path& file) {
   last_error_.clear();
   std::vector<TestSpec> tests;
   try {
-    tests = load_queue(file, *host_, {}).tests;
+    tests = load_queue(file, *host_, options_).tests;
   } catch (const std::exception& e) {
     return last_error_ = e.what();
   }
@@ -220,7 +238,7 @@ std::string QueueModel::save(const fs::path& file) const {
   if (rows_.empty()) return last_error_ = file.string() + ": the queue holds no tests (add one first)";
   // Read back as `salsa run` reads it, and compared row by row.
   return last_error_ = save_checked(file, queue_json(), [this](const fs::path& aside) -> std::string {
-    const auto back = load_queue(aside, *host_, {}).tests;
+    const auto back = load_queue(aside, *host_, options_).tests;
     if (back.size() != rows_.size()) return "the file reads back as " + std::to_string(back.size()) + " tests";
     for (std::size_t i = 0; i < back.size(); ++i)
       if (resolved_json(back[i], *host_) != resolved_json(rows_[i].test, *host_)) return "row " + std::to_string(i + 1) + " reads back differently";

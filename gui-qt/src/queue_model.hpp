@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "salsa/core/plugin_host.hpp"
+#include "salsa/core/queue.hpp"
 #include "salsa/core/test_spec.hpp"
 
 namespace salsa::gui {
@@ -22,6 +23,9 @@ class QueueModel : public QAbstractTableModel {
 
   explicit QueueModel(std::shared_ptr<const PluginHost> host, QObject* parent = nullptr);
   void set_host(std::shared_ptr<const PluginHost> host) { host_ = std::move(host); }
+  /// salsa-gui --yes: queues over QueueOptions::max_tests tests are read and saved (as salsa run --yes).
+  void set_allow_large(bool yes) { options_.yes = yes; }
+  const QueueOptions& options() const { return options_; }
 
   int rowCount(const QModelIndex& parent = {}) const override;
   int columnCount(const QModelIndex& parent = {}) const override;
@@ -57,6 +61,10 @@ class QueueModel : public QAbstractTableModel {
   void clear_statuses();
   const std::string& last_error() const { return last_error_; }
 
+ Q_SIGNALS:
+  /// A cell edit was refused: why (the page shows it; the row keeps its value).
+  void edit_refused(const QString& why);
+
  private:
   struct Row {
     TestSpec test;
@@ -65,6 +73,7 @@ class QueueModel : public QAbstractTableModel {
   };
   std::string unique_name(const std::string& name, int except_row = -1) const;
   std::shared_ptr<const PluginHost> host_;
+  QueueOptions options_;
   std::vector<Row> rows_;
   mutable std::string last_error_;
 };

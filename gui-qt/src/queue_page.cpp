@@ -34,6 +34,8 @@
 #include <fstream>
 
 #include "salsa/core/queue.hpp"
+#include "salsa/core/queue_summary.hpp"
+#include "save_checked.hpp"
 
 namespace salsa::gui {
 
@@ -122,8 +124,8 @@ class QueueTable : public QTableView {
 
 // ---------------------------------------------------------------- the sweep
 
-SweepDialog::SweepDialog(std::shared_ptr<const PluginHost> host, const TestSpec& base, QWidget* parent)
-    : QWidget(parent), host_(std::move(host)), base_(base) {
+SweepDialog::SweepDialog(std::shared_ptr<const PluginHost> host, const TestSpec& base, QWidget* parent, QueueOptions options)
+    : QWidget(parent), host_(std::move(host)), base_(base), options_(options) {
   auto* form = new QFormLayout(this);
   form->addRow(new QLabel("Everything else (map, targets, drone, time) is the sandbox's test. Every behavior meets the "
                           "same worlds: seeds are paired by repeat and world."));
@@ -157,10 +159,9 @@ SweepDialog::SweepDialog(std::shared_ptr<const PluginHost> host, const TestSpec&
   repeats_ = new QSpinBox;
   repeats_->setRange(1, 1000);
   form->addRow("repeats", repeats_);
-  seed_ = new QSpinBox;
-  seed_->setRange(0, 2'000'000'000);
-  seed_->setValue(1);
-  seed_->setToolTip("the queue seed: each repeat's worlds come from it");
+  seed_ = new QLineEdit("1");  // a line: seeds go to 2^53, past a spin box's int
+  seed_->setObjectName("queue_seed");
+  seed_->setToolTip("the queue seed, a whole number in [0, 9007199254740992]: each repeat's worlds come from it");
   form->addRow("queue seed", seed_);
   count_ = new QLabel;
   count_->setWordWrap(true);
@@ -168,7 +169,7 @@ SweepDialog::SweepDialog(std::shared_ptr<const PluginHost> host, const TestSpec&
   connect(behaviors_, &QListWidget::itemChanged, this, &SweepDialog::update_count);
   connect(drones_, &QLineEdit::textChanged, this, &SweepDialog::update_count);
   connect(repeats_, &QSpinBox::valueChanged, this, &SweepDialog::update_count);
-  connect(seed_, &QSpinBox::valueChanged, this, &SweepDialog::update_count);
+  connect(seed_, &QLineEdit::textChanged, this, &SweepDialog::update_count);
   update_count();
 }
 
@@ -219,7 +220,18 @@ std::string SweepDialog::queue_json(std::string* why) const {
   // The sandbox's test, less what the axes and the queue decide.
   json test = json::parse(resolved_json(base_, *host_));
   for (const char* key : {"name", "behavior", "drones", "seed", "repeat", "versions", "changes"}) test.erase(key);
-  const json queue{{"seed", seed_->value()}, {"repeats", repeats_->value()},
+  // Read as JSON, so a whole number is kept exactly; the queue reader checks its range and says so.
+  json seed;
+  try {
+    seed = json::parse(seed_->text().trimmed().toStdString());
+  } catch (const std::exception&) {
+  }
+  // Checked here too: the reader takes numbers as doubles, and 2^53 + 1 would round into range.
+  if (!seed.is_number_unsigned() || seed.get<std::uint64_t>() > 9007199254740992ULL) {
+    *why = "queue seed: \"" + seed_->text().trimmed().toStdString() + "\" is not a seed (allowed: whole number in [0, 9007199254740992])";
+    return {};
+  }
+  const json queue{{"seed", seed}, {"repeats", repeats_->value()},
                    {"sweep", {{"test", test}, {"behaviors", behaviors}, {"drones", *drones}}}};
   return queue.dump(2);
 }
@@ -232,7 +244,7 @@ std::optional<std::vector<TestSpec>> SweepDialog::expand(std::string* why) const
   const fs::path file = fs::path(dir.path().toStdString()) / "sweep.json";
   std::ofstream(file) << text;
   try {
-    return load_queue(file, *host_, {}).tests;
+    return load_queue(file, *host_, options_).tests;
   } catch (const std::exception& e) {
     *why = e.what();
     if (auto at = why->find(file.string()); at != std::string::npos) why->replace(at, file.string().size(), "sweep");
@@ -269,7 +281,7 @@ QueuePage::QueuePage(std::shared_ptr<const PluginHost> host, std::vector<fs::pat
     std::string why;
     const auto base = sandbox_ ? sandbox_(&why) : std::nullopt;
     if (!base) return show_message(q("no sandbox test to sweep over: " + why));
-    auto* sweep = new SweepDialog(host_, *base);
+    auto* sweep = new SweepDialog(host_, *base, nullptr, model_->options());
     QDialog* d = dialog_around(sweep, this, "Add a sweep");
     if (d->exec() == QDialog::Accepted) add_sweep(*sweep);
     d->deleteLater();
@@ -294,7 +306,8 @@ QueuePage::QueuePage(std::shared_ptr<const PluginHost> host, std::vector<fs::pat
     if (!f.isEmpty()) open(f);
   });
   button("Save…", "save the queue: the file `salsa run` reads", [this] {
-    const QString f = QFileDialog::getSaveFileName(this, "Save the queue", "queue.json", "Queues (*.json)");
+    if (model_->rowCount() == 0) return show_message("the queue holds no tests: add one before saving");  // before a name is asked for
+    const QString f = ask_save_file(this, "Save the queue", "queue.json", "Queues (*.json)");
     if (!f.isEmpty()) save(f);
   });
   layout->addLayout(edit_row);
@@ -312,6 +325,11 @@ QueuePage::QueuePage(std::shared_ptr<const PluginHost> host, std::vector<fs::pat
   table_->setAlternatingRowColors(true);
   connect(model_, &QAbstractItemModel::rowsInserted, table_, [this] { table_->resizeColumnsToContents(); });
   connect(model_, &QAbstractItemModel::modelReset, table_, [this] { table_->resizeColumnsToContents(); });
+  // The progress counts this queue's tests, whatever it holds, from before any run.
+  for (auto sig : {&QAbstractItemModel::rowsInserted, &QAbstractItemModel::rowsRemoved})
+    connect(model_, sig, this, [this] { update_progress(-1); });
+  connect(model_, &QAbstractItemModel::modelReset, this, [this] { update_progress(-1); });
+  connect(model_, &QueueModel::edit_refused, this, [this](const QString& why) { show_message(why); });
   connect(table_, &QTableView::doubleClicked, this, [this](const QModelIndex& i) {
     if (!(model_->flags(i) & Qt::ItemIsEditable) && model_->status(i.row()) == QueueModel::Status::done) show_plots(i.row());
   });
@@ -335,8 +353,7 @@ QueuePage::QueuePage(std::shared_ptr<const PluginHost> host, std::vector<fs::pat
   run_row->addWidget(jobs_);
   run_row->addWidget(plots_);
   progress_ = new QProgressBar;
-  progress_->setFormat("%v / %m tests");
-  progress_->setValue(0);
+  update_progress(0);
   run_row->addWidget(progress_, 1);
   run_row->addWidget(plots_button);
   run_row->addWidget(sandbox_button);
@@ -353,9 +370,9 @@ QueuePage::QueuePage(std::shared_ptr<const PluginHost> host, std::vector<fs::pat
   layout->addWidget(log_);
 
   connect(run_button_, &QPushButton::clicked, this, [this] {
+    if (model_->rowCount() == 0) return show_message("the queue holds no tests: add one before running");  // before a folder is asked for
     const QString base = QDir::homePath() + "/salsa-results/queue-" + QDateTime::currentDateTime().toString("yyyyMMdd-HHmmss");
-    const QString out = QFileDialog::getSaveFileName(this, "Output folder for the queue's results", base, {}, nullptr,
-                                                     QFileDialog::ShowDirsOnly);
+    const QString out = ask_save_file(this, "Output folder for the queue's results", base, {}, {}, true);
     if (!out.isEmpty()) run(out);
   });
   connect(stop_button_, &QPushButton::clicked, this, &QueuePage::stop);
@@ -449,8 +466,23 @@ std::string QueuePage::add_sweep(const SweepDialog& sweep) {
 
 std::string QueuePage::open(const QString& file) {
   const std::string why = model_->load(file.toStdString());
-  show_message(why.empty() ? QString("%1: %2 tests").arg(file).arg(model_->rowCount()) : q(why), !why.empty());
-  return why;
+  if (!why.empty()) return show_message(q(why)), why;
+  QString message = QString("%1: %2 tests").arg(file).arg(model_->rowCount());
+  // Run saves the queue as <out>.queue.json: reopened, it shows what <out> already holds.
+  if (!running() && file.endsWith(".queue.json")) {
+    const QString dir = QFileInfo(file.chopped(int(std::string_view(".queue.json").size()))).absoluteFilePath();
+    if (QFileInfo(dir).isDir()) {
+      out_ = dir;
+      run_names_.clear();
+      for (int i = 0; i < model_->rowCount(); ++i) run_names_.insert(model_->test(i).name);
+      update_statuses();
+      int done = 0;
+      for (int i = 0; i < model_->rowCount(); ++i) done += model_->status(i) == QueueModel::Status::done;
+      message += QString("; %1 already done in %2 (Run into it resumes the rest)").arg(done).arg(dir);
+    }
+  }
+  show_message(message, false);
+  return {};
 }
 
 std::string QueuePage::save(const QString& file) {
@@ -476,18 +508,30 @@ std::string QueuePage::run(const QString& out, const QStringList& extra_args) {
   if (running()) return show_message("a queue is running; stop it first"), "a queue is running";
   const QString dir = QFileInfo(out).absoluteFilePath();
   const QString file = dir + ".queue.json";
+  if (model_->rowCount() == 0) return show_message("the queue holds no tests: add one before running"), "the queue holds no tests";
+  // As salsa run decides: a folder whose queue.json records this queue resumes; another queue's
+  // folder is refused (never taken over with --resume); anything else is salsa run's to judge.
+  bool resume = false;
+  try {
+    std::vector<TestSpec> tests;
+    for (int i = 0; i < model_->rowCount(); ++i) tests.push_back(model_->test(i));
+    const QueueRecord record = queue_record(tests, *host_, {});
+    check_queue_folder(dir.toStdString(), record, false, false);
+    resume = QFileInfo::exists(dir + "/queue.json");
+  } catch (const std::exception& e) {
+    return show_message(q(e.what())), e.what();
+  }
   if (const std::string why = model_->save(file.toStdString()); !why.empty()) return show_message(q(why)), why;
   out_ = dir;
   run_names_.clear();
-  for (int i = 0; i < model_->rowCount(); ++i) run_names_.push_back(model_->test(i).name);
+  for (int i = 0; i < model_->rowCount(); ++i) run_names_.insert(model_->test(i).name);
   model_->clear_statuses();
-  progress_->setRange(0, model_->rowCount());
-  progress_->setValue(0);
+  update_progress(0);
   log_->clear();
   QStringList args{"run", file, "--out", dir, "--jobs", QString::number(jobs_->value())};
   if (!plots_->isChecked()) args << "--no-plots";
-  // A folder with results: finish it (salsa refuses one whose tests differ from these, naming the difference).
-  if (QDir(dir).exists() && !QDir(dir).isEmpty()) args << "--resume";
+  if (resume) args << "--resume";  // its finished tests are kept only where they are the tests asked for now
+  if (model_->options().yes && static_cast<std::size_t>(model_->rowCount()) > model_->options().max_tests) args << "--yes";
   for (const auto& d : plugin_dirs_) args << "--plugin-dir" << q(d.string());
   args << extra_args;
   log_->appendPlainText("salsa " + args.join(' '));
@@ -523,7 +567,7 @@ void QueuePage::update_statuses() {
   int finished = 0;
   for (int row = 0; row < model_->rowCount(); ++row) {
     const std::string name = model_->test(row).name;
-    if (std::find(run_names_.begin(), run_names_.end(), name) == run_names_.end()) continue;  // added since
+    if (!run_names_.contains(name)) continue;  // added since
     const QString done = out_ + "/" + q(name), partial = out_ + "/." + q(name) + ".partial";
     if (QFileInfo::exists(done + "/config.json")) {
       model_->set_status(row, QueueModel::Status::done);
@@ -537,17 +581,39 @@ void QueuePage::update_statuses() {
       finished += running() ? 0 : 1;
     }
   }
-  progress_->setValue(finished);
+  update_progress(finished);
+}
+
+void QueuePage::update_progress(int finished) {
+  const int n = model_->rowCount();
+  if (finished < 0) {  // counted from the table: rows done or failed
+    finished = 0;
+    for (int i = 0; i < n; ++i) finished += model_->status(i) == QueueModel::Status::done || model_->status(i) == QueueModel::Status::failed;
+  }
+  if (n == 0) {  // a range of 0..0 would show a busy bar
+    progress_->setRange(0, 1);
+    progress_->setValue(0);
+    progress_->setFormat("no tests");
+    return;
+  }
+  progress_->setRange(0, n);
+  progress_->setValue(std::min(finished, n));
+  progress_->setFormat("%v / %m tests");
 }
 
 void QueuePage::show_plots(int row) {
   if (row < 0 || row >= model_->rowCount()) return;
-  const QDir folder(out_ + "/" + q(model_->test(row).name));
-  const QStringList pngs = folder.entryList({"*.png"}, QDir::Files, QDir::Name);
-  if (out_.isEmpty() || pngs.isEmpty()) return show_message("no plots yet for this test: run the queue (with plots) first");
+  // salsa run writes a test's PNGs into OUT/<test>/plots/.
+  const QString folder = out_.isEmpty() ? QString() : out_ + "/" + q(model_->test(row).name) + "/plots";
+  const QStringList pngs = folder.isEmpty() ? QStringList() : QDir(folder).entryList({"*.png"}, QDir::Files, QDir::Name);
+  if (pngs.isEmpty())
+    return show_message(folder.isEmpty() ? "no plots yet for this test: run the queue (with plots) first"
+                                         : "no plots in " + folder + ": run the queue with \"plots\" checked");
+  if (open_plots_) return open_plots_(folder, pngs);
+  const QDir dir(folder);
   auto* d = new QDialog(this);
   d->setAttribute(Qt::WA_DeleteOnClose);
-  d->setWindowTitle("Plots of " + q(model_->test(row).name));
+  d->setWindowTitle("Plots of " + q(model_->test(row).name) + " (" + folder + ")");
   d->resize(1100, 760);
   auto* split = new QSplitter(d);
   auto* list = new QListWidget;
@@ -561,7 +627,7 @@ void QueuePage::show_plots(int row) {
   split->addWidget(list);
   split->addWidget(scroll);
   (new QVBoxLayout(d))->addWidget(split);
-  connect(list, &QListWidget::currentTextChanged, d, [image, folder](const QString& f) { image->setPixmap(QPixmap(folder.filePath(f))); });
+  connect(list, &QListWidget::currentTextChanged, d, [image, dir](const QString& f) { image->setPixmap(QPixmap(dir.filePath(f))); });
   list->setCurrentRow(0);
   d->show();
 }

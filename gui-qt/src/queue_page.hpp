@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 #include "queue_model.hpp"
@@ -34,7 +35,7 @@ namespace salsa::gui {
 class SweepDialog : public QWidget {
   Q_OBJECT
  public:
-  SweepDialog(std::shared_ptr<const PluginHost> host, const TestSpec& base, QWidget* parent = nullptr);
+  SweepDialog(std::shared_ptr<const PluginHost> host, const TestSpec& base, QWidget* parent = nullptr, QueueOptions options = {});
   /// The sweep as a queue file's JSON.
   std::string queue_json(std::string* why) const;
   /// The tests it makes, expanded by the core (load_queue), or nullopt with `why`.
@@ -44,7 +45,7 @@ class SweepDialog : public QWidget {
   void set_axis(int row, const QString& behavior_param, const QString& values);  ///< "flocking.cohesion_weight", "1, 2"
   QLineEdit* drones() const { return drones_; }
   QSpinBox* repeats() const { return repeats_; }
-  QSpinBox* seed() const { return seed_; }
+  QLineEdit* seed() const { return seed_; }
   QLabel* count_label() const { return count_; }
 
  Q_SIGNALS:
@@ -54,11 +55,12 @@ class SweepDialog : public QWidget {
   void update_count();
   std::shared_ptr<const PluginHost> host_;
   TestSpec base_;
+  QueueOptions options_;
   QListWidget* behaviors_ = nullptr;
   std::vector<std::pair<QComboBox*, QLineEdit*>> axes_;
   QLineEdit* drones_ = nullptr;
   QSpinBox* repeats_ = nullptr;
-  QSpinBox* seed_ = nullptr;
+  QLineEdit* seed_ = nullptr;
   QLabel* count_ = nullptr;
 };
 
@@ -74,13 +76,20 @@ class QueuePage : public QWidget {
   void set_load_into_sandbox(std::function<void(const TestSpec&)> load) { load_into_sandbox_ = std::move(load); }
   /// The `salsa` program a run starts (default: the one beside this program).
   void set_salsa_program(QString program) { salsa_ = std::move(program); }
+  /// salsa-gui --yes: queues over 10,000 tests are opened, swept and run (salsa run gets --yes).
+  void set_allow_large(bool yes) { model_->set_allow_large(yes); }
+  /// What Plots does with a finished test's plots folder and its PNGs (default: a dialog showing them).
+  void set_plots_opener(std::function<void(const QString& folder, const QStringList& pngs)> open) { open_plots_ = std::move(open); }
 
   // ---- What the buttons do, callable without dialogs. "" or the one-line reason (also shown).
   std::string add_from_sandbox();
   std::string add_sweep(const SweepDialog& sweep);
+  /// A queue file saved by Run (<out>.queue.json) beside its folder shows the results already there.
   std::string open(const QString& file);
   std::string save(const QString& file);
-  /// Saves the queue beside `out` as <out>.queue.json and starts `salsa run` of it into `out`.
+  /// Saves the queue beside `out` as <out>.queue.json and starts `salsa run` of it into `out`. A folder
+  /// whose queue.json records this queue is resumed (--resume); one that records another queue is
+  /// refused with salsa run's message, as salsa run refuses it.
   std::string run(const QString& out, const QStringList& extra_args = {});
   void stop();
   bool running() const;
@@ -91,11 +100,13 @@ class QueuePage : public QWidget {
   QueueModel* model() const { return model_; }
   QTableView* table() const { return table_; }
   QString output_dir() const { return out_; }
+  QProgressBar* progress() const { return progress_; }
   QString log_text() const;
   const QString& last_message() const { return last_message_; }
 
  private:
   void update_statuses();
+  void update_progress(int finished);
   void show_message(const QString& text, bool error = true);
   int selected_row() const;
   std::shared_ptr<const PluginHost> host_;
@@ -112,9 +123,10 @@ class QueuePage : public QWidget {
   QProcess process_;
   QTimer poll_;
   QString out_, salsa_;
-  std::vector<std::string> run_names_;  ///< the tests of the running (or last) run, in order
+  std::unordered_set<std::string> run_names_;  ///< the tests of the running (or last) run
   std::function<std::optional<TestSpec>(std::string*)> sandbox_;
   std::function<void(const TestSpec&)> load_into_sandbox_;
+  std::function<void(const QString&, const QStringList&)> open_plots_;
   QString last_message_;
 };
 

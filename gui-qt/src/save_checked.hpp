@@ -4,7 +4,17 @@
 #include <functional>
 #include <string>
 
+#include <QString>
+
+class QWidget;
+
 namespace salsa::gui {
+
+/// A save dialog that refuses a bad target while it is open: a folder that cannot be written is named
+/// in the dialog as soon as it is entered, and Save keeps the dialog open with the reason when the
+/// folder is not writable or `check(file)` says why not ("" = fine). Returns the file, or "" on Cancel.
+QString ask_save_file(QWidget* parent, const QString& title, const QString& suggested, const QString& filter,
+                      const std::function<std::string(const QString& file)>& check = {}, bool folder = false);
 
 /// Saves `text` as `file` only if it reads back: written to `.NAME.saving` beside `file`, checked by
 /// `read_back(aside)` ("" or why; it may throw), then renamed over `file`. So a file salsa would refuse

@@ -1,0 +1,174 @@
+#pragma once
+// The sandbox page: the view in the middle, the set-up and live parameters (a panel the window docks
+// on the left), live plots and the inspector (docked on the right), and its figures for the status bar.
+// Every control either changes the running simulation (behavior parameters, drone count, drone
+// properties: recorded in the timeline) or loads a new start state (behavior, map, targets, seed). The
+// page owns no simulation logic: it sends commands to the Engine and shows its snapshots.
+#include <QTimer>
+#include <QWidget>
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <future>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine.hpp"
+#include "view.hpp"
+
+class QComboBox;
+class QSpinBox;
+class QLabel;
+class QLineEdit;
+class QPlainTextEdit;
+class QPushButton;
+
+namespace salsa::gui {
+
+class ParamPanel;
+class LiveCharts;
+class Recorder;
+
+/// The largest seed the sandbox takes: 2^53, what a JSON number holds exactly (the CLI's --seed limit).
+inline constexpr std::uint64_t max_sandbox_seed = 9007199254740992ULL;
+
+class SandboxPage : public QWidget {
+  Q_OBJECT
+ public:
+  explicit SandboxPage(std::shared_ptr<const PluginHost> host, QWidget* parent = nullptr);
+  ~SandboxPage() override;
+
+  // ---- What the menus do, callable without dialogs (tests, command line). Each returns "" or the
+  // one-line reason it was refused (also shown); a refusal keeps the current state.
+  std::string open_test(const QString& file);
+  /// Loads `test` (queue mode's "Load into sandbox"): its seed, map file and all.
+  std::string open_test_spec(const TestSpec& test);
+  std::string open_map(const QString& file);
+  std::string save_test(const QString& file);
+  std::string save_screenshot(const QString& file);
+  void start();
+  void pause();
+  void toggle_run();
+  void step();
+  void reset();
+  void toggle_recording();
+  // The same with their file dialogs. A save that cannot succeed is refused before the dialog opens.
+  void ask_open_test();
+  void ask_open_map();
+  void ask_save_test();
+  void ask_screenshot();
+  /// A rescan's plugins: the lists follow; a rebuilt running behavior is switched to its new code.
+  void use_plugins(std::shared_ptr<const PluginHost> host, const QStringList& rebuilt);
+  /// The last session's start state (or the first scene, saying why the last one could not be used).
+  void restore_settings();
+  void save_settings();
+  /// Whether the page is the one shown (its status figures follow).
+  void set_active(bool active);
+
+  // ---- Parts the window places: the left dock, the right docks, the status bar's figures.
+  QWidget* controls() const { return controls_; }
+  LiveCharts* charts() const { return charts_; }
+  QPlainTextEdit* inspector() const { return inspector_; }
+  std::vector<QLabel*> status_labels() const;
+
+  // ---- For tests ----
+  Engine& engine() { return engine_; }
+  SwarmView* view() const { return view_; }
+  ParamPanel* behavior_panel() const { return behavior_panel_; }
+  ParamPanel* drone_panel() const { return drone_panel_; }
+  ParamPanel* map_panel() const { return map_panel_; }
+  QSpinBox* drones_box() const { return drones_; }
+  QSpinBox* targets_box() const { return targets_; }
+  QLineEdit* seed_box() const { return seed_; }
+  QComboBox* behavior_box() const { return behavior_; }
+  QComboBox* map_box() const { return map_; }
+  QLabel* time_label() const { return status_time_; }
+  const QString& last_message() const { return last_message_; }
+  QString inspector_text() const;
+  /// Applies every answer the engine has given so far and a start-state edit still waiting (the timer
+  /// does this 60 times a second).
+  void poll();
+
+ Q_SIGNALS:
+  /// For the window's status line (errors are also shown in a dialog by the page).
+  void message(const QString& text, bool error);
+  /// A recording started (true) or stopped: the window's menu follows.
+  void recording_changed(bool on);
+
+ private:
+  void build_controls();
+  /// The start state the controls describe (parsed like a test file, so the CLI's checks apply).
+  std::optional<TestSpec> spec_from_controls(std::string* why);
+  /// Loads `test` as the new start state; on refusal shows why and puts the controls back.
+  std::string load(const TestSpec& test);
+  /// Shows `test` in the controls, emitting nothing. Panels of the same schema are updated in place.
+  void show_test(const TestSpec& test);
+  /// A start-state control changed: reloads once control returns to the event loop. Never at once: the
+  /// reload rebuilds controls, and the one that asked may still be handling its key or focus event.
+  void schedule_reload();
+  void reload_from_controls();
+  void seed_edited();
+  void live_change(const std::string& key, double value);
+  void apply_drone_config(const QString& name);
+  void save_drone_config();
+  void set_pacing();
+  void show_message(const QString& text, bool error = true);
+  void fill_plugin_lists();
+  void refresh();  ///< 60 Hz: the latest snapshot to the view; status, charts and inspector a few times a second
+  std::vector<DroneConfig> drone_configs() const;  ///< built-in, then the user's saved ones
+
+  std::shared_ptr<const PluginHost> host_;
+  Engine engine_;
+  SwarmView* view_ = nullptr;
+  QWidget* controls_ = nullptr;
+  // Set-up controls.
+  QComboBox* behavior_ = nullptr;
+  QComboBox* map_ = nullptr;
+  ParamPanel* map_panel_ = nullptr;
+  QLabel* map_file_label_ = nullptr;
+  QString map_file_;
+  QComboBox* target_kind_ = nullptr;
+  QSpinBox* targets_ = nullptr;
+  QLineEdit* seed_ = nullptr;
+  QSpinBox* drones_ = nullptr;
+  ParamPanel* behavior_panel_ = nullptr;
+  QComboBox* drone_config_ = nullptr;
+  ParamPanel* drone_panel_ = nullptr;
+  QPushButton* run_button_ = nullptr;
+  QComboBox* pacing_ = nullptr;
+  QSpinBox* pacing_amount_ = nullptr;
+  LiveCharts* charts_ = nullptr;
+  QPlainTextEdit* inspector_ = nullptr;
+  QLabel* status_time_ = nullptr;
+  QLabel* status_speed_ = nullptr;
+  QLabel* status_fps_ = nullptr;
+  QLabel* status_found_ = nullptr;
+  QLabel* status_inexact_ = nullptr;
+  bool active_ = true;
+
+  std::optional<TestSpec> loaded_;  ///< the start state running now
+  TestSpec file_base_;              ///< what an opened test file set that the controls do not show
+  std::uint64_t seed_value_ = 1;    ///< the seed the controls describe (the box holds its text)
+  bool updating_ = false;           ///< controls being set by the program: no commands
+  bool reload_due_ = false;         ///< a start-state edit waits for the event loop
+  /// The loaded test's time was reached: paused once with a message; a Start after it runs on, said
+  /// in the status bar.
+  bool past_time_told_ = false;
+  struct Pending {
+    std::future<std::string> answer;
+    std::function<void(const std::string&)> then;
+  };
+  std::vector<Pending> pending_;
+  QTimer timer_;
+  std::shared_ptr<const Snapshot> shown_;
+  int frames_ = 0;
+  double fps_ = 0;
+  std::chrono::steady_clock::time_point fps_since_, slow_refresh_;
+  std::unique_ptr<Recorder> recorder_;
+  QString last_message_;
+  std::string last_error_shown_;
+};
+
+}  // namespace salsa::gui
