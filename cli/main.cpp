@@ -27,6 +27,7 @@
 #include "salsa/core/plugin_host.hpp"
 #include "salsa/core/queue.hpp"
 #include "salsa/core/queue_summary.hpp"
+#include "salsa/core/output_folder.hpp"
 #include "salsa/core/runner.hpp"
 #include "salsa/core/test_spec.hpp"
 #include "commands.hpp"

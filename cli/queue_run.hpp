@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "salsa/core/plugin_host.hpp"
+#include "salsa/core/output_folder.hpp"
 #include "salsa/core/runner.hpp"
 #include "salsa/core/test_spec.hpp"
 

@@ -16,6 +16,7 @@
 
 #include "salsa/core/csv_writer.hpp"
 #include "salsa/core/names.hpp"
+#include "salsa/core/output_folder.hpp"
 #include "salsa/core/runner.hpp"
 
 namespace salsa {
