@@ -387,7 +387,11 @@ std::pair<std::size_t, std::size_t> shard_option(const po::variables_map& vm) {
     return x;
   };
   const auto id = env("SLURM_ARRAY_TASK_ID"), count = env("SLURM_ARRAY_TASK_COUNT");
-  if (!id || !count) return {0, 1};
+  if (!id) return {0, 1};
+  // Without the count every task would run the whole queue into the same folder.
+  if (!count)
+    throw InputError("SLURM_ARRAY_TASK_ID: " + std::to_string(*id) +
+                     " is set without SLURM_ARRAY_TASK_COUNT, so this task's share is unknown (allowed: both set, as Slurm does; or give --shard i/n)");
   const long long min = env("SLURM_ARRAY_TASK_MIN").value_or(0), step = env("SLURM_ARRAY_TASK_STEP").value_or(1);
   const long long i = step > 0 ? (*id - min) / step : -1;
   if (*count < 1 || i < 0 || i >= *count)
@@ -442,17 +446,24 @@ int cmd_run(int argc, char** argv) {
   std::optional<cli::MpiRun> world;
   if (mpi) world.emplace();
   const bool root = !world || world->rank() == 0;
-  // The checks of the output folder: by rank 0 only under MPI (the others wait for its verdict).
+  // The checks of the output folder: by rank 0 only under MPI (the others wait for its verdict). Rank 0
+  // holds OUT's lock for the whole run (an --isolate child runs under its parent's).
+  OutputLock lock;
   if (root) {
     bool ok = false;
     try {
       std::vector<TestSpec> checked;
       for (std::size_t k : mine) checked.push_back(tests[k]);
       if (world) checked = tests;
+      std::vector<std::string> command{"salsa"};
+      command.insert(command.end(), argv, argv + argc);
+      if (!child || !OutputLock::held_by_parent(options.out)) {
+        std::string line;
+        for (const auto& a : command) line += (line.empty() ? "" : " ") + a;
+        lock = claim_output(options.out, shard, shards, line);
+      }
       std::optional<QueueRecord> record;  // an --isolate child's run has recorded its queue already
       if (!child) {
-        std::vector<std::string> command{"salsa"};
-        command.insert(command.end(), argv, argv + argc);
         record = queue_record(tests, host, command);
         check_queue_folder(options.out, *record, options.resume, options.force);
       }
@@ -474,6 +485,7 @@ int cmd_run(int argc, char** argv) {
   run.plots = !vm.count("no-plots") && !child;
   run.terminal = !world && ::isatty(STDOUT_FILENO);
   run.expected = world ? (root ? tests.size() : 0) : mine.size();
+  if (vm.count("isolate")) lock.share_with_children();
   if (vm.count("isolate"))
     run.isolated = [&, threads = vm["threads"].defaulted() ? std::to_string(options.threads) : ""](const TestSpec& t) {
       return run_isolated(t, host, argc, argv, threads);

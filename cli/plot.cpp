@@ -11,6 +11,7 @@
 #include <map>
 #include <sstream>
 
+#include "salsa/core/queue_summary.hpp"
 #include "commands.hpp"
 #include "salsa/core/comparison.hpp"
 #include "salsa/core/test_spec.hpp"
@@ -127,10 +128,11 @@ void plot_folder(const fs::path& folder, const std::string& metric) {
         fs::is_regular_file(entry.path() / "config.json", ec))
       tests.push_back(entry.path());
   std::sort(tests.begin(), tests.end());
-  const bool queue = fs::is_regular_file(folder / "summary.csv", ec);
+  // A queue folder salsa wrote: a summary.csv of the user's own is not a queue's, and comparison.csv stays theirs.
+  const bool queue = fs::is_regular_file(folder / "summary.csv", ec) && salsa::holds_results(folder);
   if (tests.empty() && !queue)
     throw InputError(salsa::strict_json::printable(folder.string(), 200) +
-                     ": neither a test folder (no config.json) nor a results folder (no test folders, no summary.csv)");
+                     ": neither a test folder (no config.json) nor a results folder (no test folders, no summary.csv in a folder salsa wrote)");
   if (queue) salsa::write_comparison(folder, metric);  // first: a bad summary.csv is refused before anything is drawn
   for (const auto& test : tests) salsa::plots::draw_test_plots(test);
   if (queue) salsa::plots::draw_queue_plots(folder);

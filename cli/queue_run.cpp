@@ -172,7 +172,7 @@ QueueResult run_queue(const std::vector<TestSpec>& tests, const PluginHost& host
         } else if (stop_signal() && (code == 130 || code == 143 || (WIFSIGNALED(status) && WTERMSIG(status) == stop_signal()))) {
           e.kind = Event::interrupted;
         } else {
-          e.kind = code == 1 && e.message.find("write failed") != std::string::npos ? Event::write_error : Event::failed;
+          e.kind = code == 1 && (e.message.find("write failed") != std::string::npos || e.message.find("cannot create file") != std::string::npos) ? Event::write_error : Event::failed;
           if (WIFSIGNALED(status)) record_failure(options.out, test.name, e.message);  // the child could not
         }
       } else {

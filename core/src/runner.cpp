@@ -467,6 +467,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     timing.precision(6);
     timing << "{\"wall_seconds\": " << std::fixed << result.wall_seconds << ", \"steps\": " << result.steps << "}\n";
     write_file(work / "timing.json", timing.str());
+    write_manifest(work, config);  // what --resume checks the folder against
     // config.json last: its presence marks a complete test (what --resume looks for).
     write_file(work / "config.json", config);
     sync_folder(work);

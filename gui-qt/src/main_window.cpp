@@ -615,7 +615,7 @@ std::string MainWindow::save_test(const QString& file) {
   }
   // The file's name names the test (and its output folder), when it is a valid name.
   const std::string stem = QFileInfo(file).completeBaseName().toStdString();
-  if (name_problem(stem).empty()) test->name = stem;
+  if (test_name_problem(stem).empty()) test->name = stem;
   std::ofstream out(file.toStdString(), std::ios::binary);
   out << resolved_json(*test, *host_);
   out.close();

@@ -68,4 +68,61 @@ void record_failure(const std::filesystem::path& out, const std::string& name, c
 /// Whether `run_test` would skip this test (--resume and its folder holds the identical test).
 bool already_done(const TestSpec& test, const PluginHost& host, const RunOptions& options);
 
+/// The lock file in OUT, held (flock) by the run writing OUT for as long as it runs (docs/output-format.md).
+inline constexpr const char* lock_file_name = ".salsa.lock";
+
+/// A finished test's list of the files it holds and their sizes, written before config.json.
+inline constexpr const char* manifest_name = "manifest.json";
+
+/// One writer per output folder, enforced by the system: an flock on OUT/.salsa.lock, released when
+/// the process ends however it ends. A whole run holds it exclusively; shards i/n of one split
+/// share it and each holds OUT/.salsa-shard-<i>.lock exclusively. The lock files hold a note naming
+/// their holder (pid, host, command) and are removed by their last holder.
+class OutputLock {
+ public:
+  OutputLock() = default;
+  OutputLock(OutputLock&& other) noexcept;
+  OutputLock& operator=(OutputLock&& other) noexcept;
+  ~OutputLock();
+
+  /// Takes OUT's lock (OUT exists) for shard `shard` of `shards` (1: the whole queue), or InputError
+  /// (one line) naming the folder and the holder.
+  static OutputLock take(const std::filesystem::path& out, std::size_t shard, std::size_t shards, const std::string& command);
+  /// OUT was created for this run: removed on release when the run left it empty (it was refused).
+  void created_folder() { created_ = true; }
+  /// Lets this process's --isolate children write OUT under this lock (SALSA_OUTPUT_LOCK, checked
+  /// against their parent's pid).
+  void share_with_children() const;
+  /// Whether the parent process holds OUT's lock and shared it (an --isolate child).
+  static bool held_by_parent(const std::filesystem::path& out);
+  void release();
+
+ private:
+  std::filesystem::path out_, shard_file_;
+  int main_fd_ = -1, shard_fd_ = -1;
+  bool exclusive_ = false, created_ = false;
+};
+
+/// Before a run checks anything else in OUT: refuses (InputError, one line) an OUT that is empty
+/// text, a file, or inside a folder salsa wrote (nesting_problem), creates it when missing, and takes
+/// its lock for shard `shard` of `shards` (OutputLock::take; `command` names this run to others).
+/// A refused run's OUT, when created here, is removed again when the lock is released empty.
+OutputLock claim_output(const std::filesystem::path& out, std::size_t shard, std::size_t shards, const std::string& command);
+
+/// Why OUT may not be an output folder because it is, or is inside, a folder salsa wrote (a test
+/// folder, a .partial folder, or a queue's output folder), "" when it may.
+std::string nesting_problem(const std::filesystem::path& out);
+
+/// Why `folder` (about to be replaced) may not be: it holds salsa output folders of its own; "" when
+/// it may.
+std::string nested_results(const std::filesystem::path& folder);
+
+/// Writes work/manifest.json: every file of the finished test and its size, config.json's given.
+void write_manifest(const std::filesystem::path& work, const std::string& config);
+
+/// Why a finished test's folder does not hold its whole data ("" when it does): a file its manifest
+/// lists is missing or of another size, drones.csv is wanted and was not written; for a folder
+/// without a manifest, a data file missing or empty.
+std::string data_problem(const std::filesystem::path& folder, bool drones_wanted);
+
 }  // namespace salsa
