@@ -396,18 +396,47 @@ std::string class_name(const std::string& name) {
   return out;
 }
 
-/// Empty when `name` may name the plugin (a C identifier the loader accepts and CMake does not reserve).
+/// Names a plugin may not take although they are identifiers: C and C++ keywords (with the
+/// alternative tokens) and standard names that are macros or would read as the language's own.
+constexpr std::string_view language_names[] = {
+    "alignas", "alignof", "and", "and_eq", "asm", "assert", "atomic_cancel", "atomic_commit", "atomic_noexcept", "auto",
+    "bitand", "bitor", "bool", "break", "case", "catch", "char", "char8_t", "char16_t", "char32_t", "class", "co_await",
+    "co_return", "co_yield", "compl", "complex", "concept", "const", "const_cast", "consteval", "constexpr", "constinit",
+    "continue", "decltype", "default", "defined", "delete", "do", "double", "dynamic_cast", "else", "enum", "errno",
+    "explicit", "export", "extern", "false", "final", "float", "for", "fortran", "friend", "goto", "if", "imaginary",
+    "import", "inline", "int", "long", "main", "module", "mutable", "namespace", "new", "noexcept", "noreturn", "not",
+    "not_eq", "nullptr", "offsetof", "operator", "or", "or_eq", "override", "private", "protected", "public", "reflexpr",
+    "register", "reinterpret_cast", "requires", "restrict", "return", "salsa", "setjmp", "short", "signed", "sizeof",
+    "static", "static_assert", "static_cast", "std", "stderr", "stdin", "stdout", "struct", "switch", "synchronized",
+    "template", "this", "thread_local", "throw", "true", "try", "typedef", "typeid", "typename", "union", "unsigned",
+    "using", "va_arg", "va_copy", "va_end", "va_start", "virtual", "void", "volatile", "wchar_t", "while", "xor", "xor_eq"};
+
+/// Empty when `name` may name the plugin: it becomes the plugin's name, its files, CMake targets, and
+/// (as MyName) a C++ class, so it must be a plain lowercase identifier that no compiler, standard
+/// header or CMake reads as its own.
 std::string name_problem(const std::string& name) {
+  const std::string allowed =
+      " (allowed: a lowercase letter, then lowercase letters, digits and single '_', 1 to 64 characters, not a C or C++ "
+      "keyword or standard name; e.g. my_behavior)";
   auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); };
   bool identifier = !name.empty() && (letter(name[0]) || name[0] == '_');
   for (char c : name) identifier = identifier && (letter(c) || (c >= '0' && c <= '9') || c == '_');
-  const std::string shown = name.size() > 70 ? name.substr(0, 70) + "..." : name;
-  if (!identifier) return "\"" + shown + "\" is not a C identifier (allowed: letters, digits and '_', starting with a letter)";
-  if (!letter(name[0])) return "\"" + shown + "\" starts with '_' (allowed: a letter first, as plugin names do)";
-  if (name.size() > 64) return "\"" + shown + "\" is " + std::to_string(name.size()) + " characters long (allowed: 1 to 64)";
+  std::string shown = name.size() > 70 ? name.substr(0, 70) + "..." : name;
+  for (char& c : shown)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';  // one line, whatever the input
+  const std::string quoted = "\"" + shown + "\"";
+  if (!identifier) return quoted + " is not a C identifier" + allowed;
+  if (!letter(name[0])) return quoted + " starts with '_' (C and C++ reserve such names)" + allowed;
+  if (name.size() > 64) return quoted + " is " + std::to_string(name.size()) + " characters long" + allowed;
+  if (std::any_of(name.begin(), name.end(), [](char c) { return c >= 'A' && c <= 'Z'; }))
+    return quoted + " has capital letters (C and C++ use such names for macros: NULL, EOF, NDEBUG...)" + allowed;
+  if (name.find("__") != std::string::npos) return quoted + " holds '__' (C and C++ reserve such names)" + allowed;
+  if (name.back() == '_') return quoted + " ends with '_'" + allowed;
+  if (std::find(std::begin(language_names), std::end(language_names), name) != std::end(language_names))
+    return quoted + " is a C or C++ keyword or standard name" + allowed;
   for (const char* reserved : {"all", "clean", "help", "install", "package", "package_source", "test", "edit_cache",
                                "rebuild_cache", "list_install_components", "preinstall"})
-    if (name == reserved) return "\"" + name + "\" is a name CMake reserves for its own targets";
+    if (name == reserved) return quoted + " is a name CMake reserves for its own targets" + allowed;
   return {};
 }
 

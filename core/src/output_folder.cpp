@@ -473,7 +473,9 @@ void write_manifest(const fs::path& work, const std::string& config) {
   std::error_code ec;
   for (fs::directory_iterator it(work, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (name == folder_marker || name == manifest_name || name == "error.txt" || name == "config.json" || !it->is_regular_file(ec))
+    // timing.json is not data (its size may differ between identical runs; the manifest may not).
+    if (name == folder_marker || name == manifest_name || name == "error.txt" || name == "config.json" || name == "timing.json" ||
+        !it->is_regular_file(ec))
       continue;
     found.emplace_back(name, fs::file_size(it->path(), ec));
   }
@@ -501,7 +503,7 @@ std::string data_problem(const fs::path& folder, bool drones_wanted) {
       const auto st = fs::symlink_status(file, ec);
       if (!fs::is_regular_file(st)) return file.string() + " is missing (it was written)";
       if (const auto now = fs::file_size(file, ec); now != size.get<std::uintmax_t>())
-        return file.string() + " is " + std::to_string(now) + " bytes, " + std::to_string(size.get<std::uintmax_t>()) + " when it was written";
+        return file.string() + " is " + std::to_string(now) + " bytes (" + std::to_string(size.get<std::uintmax_t>()) + " when it was written)";
     }
     if (drones_wanted && !files.contains("drones.csv"))
       return folder.string() + ": was run with --no-drones-csv and drones.csv is wanted now";
