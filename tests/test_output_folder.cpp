@@ -208,7 +208,7 @@ class TestOutputFolder : public QObject {
     QCOMPARE(snapshot(dir.path()), before);
   }
 
-  void resume_checks_the_data() {
+  void resume_checks_what_a_finished_test_holds() {
     QTemporaryDir dir;
     write(dir.filePath("q.json"), small_queue("t", 3));
     QVERIFY(run_env({"run", "q.json", "--out", "whole", "-q", "--no-plots"}, dir.path()).exit_code == 0);
