@@ -3,6 +3,9 @@
 // started together into one empty folder: one wins; Slurm array tasks share it, a task without its
 // count is refused; --isolate children run under their parent's lock), output folders do not nest,
 // summarize leaves folders without salsa results alone, and --resume checks the data, not a marker.
+#include <sys/mount.h>
+#include <unistd.h>
+
 #include <QProcess>
 #include <QThread>
 
@@ -248,14 +251,22 @@ class TestOutputFolder : public QObject {
     QCOMPARE(salsa::write_failure(EROFS), std::string("read-only file system"));
     QCOMPARE(salsa::write_failure(EACCES), std::string("permission denied"));
     QCOMPARE(salsa::write_failure(ENOSPC), std::string("disk full"));
-    if (::geteuid() == 0) QSKIP("root writes into read-only folders");
     QTemporaryDir dir;
     write(dir.filePath("t.json"), R"({"name": "t", "behavior": "flocking", "drones": 3, "time": 1})");
-    QVERIFY(QDir().mkpath(dir.filePath("out")));
-    QVERIFY(QFile::setPermissions(dir.filePath("out"), QFileDevice::ReadOwner | QFileDevice::ExeOwner));
+    const QString out = dir.filePath("out");
+    QVERIFY(QDir().mkpath(out));
+    QString expect;
+    if (::geteuid() == 0) {  // root writes into any folder: a read-only file system instead
+      if (::mount("tmpfs", out.toLocal8Bit().constData(), "tmpfs", MS_RDONLY, "size=1m") != 0) QSKIP("cannot mount a tmpfs here");
+      expect = "read-only file system";
+    } else {
+      QVERIFY(QFile::setPermissions(out, QFileDevice::ReadOwner | QFileDevice::ExeOwner));
+      expect = "permission denied";
+    }
     const CliResult r = run_env({"run", "t.json", "--out", "out"}, dir.path());
-    QFile::setPermissions(dir.filePath("out"), QFileDevice::ReadOwner | QFileDevice::WriteOwner | QFileDevice::ExeOwner);
-    QVERIFY2(one_line(r, "permission denied") && !r.err.contains("disk full"), describe(r));
+    if (::geteuid() == 0) ::umount2(out.toLocal8Bit().constData(), MNT_DETACH);
+    else QFile::setPermissions(out, QFileDevice::ReadOwner | QFileDevice::WriteOwner | QFileDevice::ExeOwner);
+    QVERIFY2(one_line(r, "--out: out: cannot create the lock file out/.salsa.lock (" + expect) && !r.err.contains("disk full"), describe(r));
   }
 };
 

@@ -72,7 +72,8 @@ void remove_ours(const fs::path& folder) {
 
 /// Why a leftover .partial folder cannot be cleaned up ("" when it can, or is absent).
 std::string partial_problem(const fs::path& work) {
-  if (!exists_at_all(work) || salsa_wrote(work)) return {};
+  if (!exists_at_all(work)) return {};
+  if (salsa_wrote(work)) return nested_results(work);  // removed next: never with other results inside
   std::error_code ec;
   if (fs::is_directory(fs::symlink_status(work, ec)) && fs::is_empty(work, ec) && !ec) return {};  // cut off before its marker
   return work.string() + ": salsa did not write this (no " + folder_marker + " file), so it is left alone (remove or rename it yourself)";
