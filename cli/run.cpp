@@ -167,7 +167,8 @@ int cmd_run(int argc, char** argv) {
   run.plots = !vm.count("no-plots") && !child;
   run.terminal = !world && ::isatty(STDOUT_FILENO);
   run.expected = world ? (root ? tests.size() : 0) : mine.size();
-  if (vm.count("isolate")) lock.share_with_children();
+  // Every rank's children: rank 0 holds the lock for all of them.
+  if (vm.count("isolate")) OutputLock::share_with_children(options.out);
   if (vm.count("isolate"))
     run.isolated = [&, threads = vm["threads"].defaulted() ? std::to_string(options.threads) : ""](const TestSpec& t) {
       return run_isolated(t, host, argc, argv, threads);

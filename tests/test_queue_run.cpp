@@ -381,6 +381,11 @@ class TestQueueRun : public QObject {
     QCOMPARE(rows.size(), 13);
     for (int k = 1; k <= 12; ++k) QCOMPARE(rows[k][1], QString("ok"));
     QCOMPARE(results_snapshot(dir.filePath("D")), results_snapshot(dir.filePath("one")));
+    // --isolate on every rank: rank 0 holds the output folder's lock for the other ranks' children too.
+    r = run_with_env({"--allow-run-as-root", "--oversubscribe", "-n", "3", salsa_executable(), "run", "q.json", "--out", "I", "--isolate", "-q"},
+                     dir.path(), {{"OMPI_MCA_rmaps_base_oversubscribe", "1"}, {"ASAN_OPTIONS", "detect_leaks=0:abort_on_error=1"}}, mpirun);
+    QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
+    QCOMPARE(results_snapshot(dir.filePath("I")), results_snapshot(dir.filePath("one")));
   }
 };
 

@@ -404,9 +404,9 @@ OutputLock OutputLock::take(const fs::path& out, std::size_t shard, std::size_t 
   return lock;
 }
 
-void OutputLock::share_with_children() const {
+void OutputLock::share_with_children(const fs::path& out) {
   std::error_code ec;
-  const fs::path where = fs::weakly_canonical(fs::absolute(out_), ec);
+  const fs::path where = fs::weakly_canonical(fs::absolute(out), ec);
   ::setenv("SALSA_OUTPUT_LOCK", (std::to_string(::getpid()) + ":" + where.string()).c_str(), 1);
 }
 

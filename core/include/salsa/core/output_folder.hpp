@@ -90,9 +90,10 @@ class OutputLock {
   static OutputLock take(const std::filesystem::path& out, std::size_t shard, std::size_t shards, const std::string& command);
   /// OUT was created for this run: removed on release when the run left it empty (it was refused).
   void created_folder() { created_ = true; }
-  /// Lets this process's --isolate children write OUT under this lock (SALSA_OUTPUT_LOCK, checked
-  /// against their parent's pid).
-  void share_with_children() const;
+  /// Lets this process's --isolate children write `out` under the lock this process holds, or that
+  /// holds for it (MPI rank 0's, for the other ranks): SALSA_OUTPUT_LOCK, checked against their
+  /// parent's pid.
+  static void share_with_children(const std::filesystem::path& out);
   /// Whether the parent process holds OUT's lock and shared it (an --isolate child).
   static bool held_by_parent(const std::filesystem::path& out);
   void release();
