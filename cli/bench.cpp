@@ -15,6 +15,7 @@
 #include <oneapi/tbb/info.h>
 
 #include "commands.hpp"
+#include "options.hpp"
 #include "salsa/core/bench.hpp"
 #include "salsa/core/test_spec.hpp"
 
@@ -65,7 +66,7 @@ std::vector<Cell> parse_cells(const std::string& text) {
 
 int cmd_bench(int argc, char** argv) {
   po::options_description o("bench options");
-  o.add_options()("help,h", "show this help")("workload", po::value<std::string>(), "table1, scale or queue")(
+  o.add_options()("workload", po::value<std::string>(), "table1, scale or queue")(
       "file", po::value<std::string>(), "queue: the queue or test file to time")(
       "jobs", po::value<int>()->default_value(0), "queue: tests run at once (0: all cores)")(
       "cells", po::value<std::string>(), "table1 cells DRONESxTARGETS, comma-separated (default: the 12 cells of Table I)")(
@@ -78,17 +79,14 @@ int cmd_bench(int argc, char** argv) {
       "0: all phases in sequence (table1's definition: its default); 1: Box2D overlaps sensing and deciding (scale's default)")(
       "floor", "also time the bare-Box2D floor of each cell and print the ratio")(
       "cpu-time", "time runs and floor by this process's CPU clock, not the wall clock (with --threads 1 on a busy machine)")(
-      "profile", "print the time spent in each step phase")("json", po::value<std::string>(), "write all figures to this JSON file")(
-      "plugin-dir", po::value<std::vector<std::string>>()->composing(), "also search this folder for plugins");
+      "profile", "print the time spent in each step phase")("json", po::value<std::string>(), "write all figures to this JSON file");
   po::positional_options_description pos;
   pos.add("workload", 1).add("file", 1);
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(o).positional(pos).run(), vm);
-  po::notify(vm);
-  if (vm.count("help") || !vm.count("workload")) {
-    std::cout << "usage: salsa bench table1|scale [options]\n       salsa bench queue FILE [--jobs N] [--floor] [--json F]\n\n" << o;
-    return vm.count("help") ? 0 : 2;
-  }
+  if (!cli::parse(argc, argv, "bench", "table1|scale [options]\n       salsa bench queue FILE [--jobs N] [--floor] [--json F]", o, vm,
+                  cli::plugin_options, pos))
+    return 0;
+  if (!vm.count("workload")) throw InputError("bench: missing WORKLOAD (allowed: table1, scale, queue; see 'salsa bench --help')");
   const std::string workload = vm["workload"].as<std::string>();
   if (workload != "table1" && workload != "scale" && workload != "queue")
     throw InputError("bench: unknown workload '" + workload + "' (allowed: table1, scale, queue)");
@@ -98,10 +96,7 @@ int cmd_bench(int argc, char** argv) {
     throw InputError("--time: out of range (allowed: 1/60 to 10000000 s)");
   if (workload == "queue") {
     PluginHost host;
-    std::vector<std::filesystem::path> extra;
-    if (vm.count("plugin-dir"))
-      for (const auto& d : vm["plugin-dir"].as<std::vector<std::string>>()) extra.emplace_back(d);
-    host.load(PluginHost::default_search_path(extra));
+    host.load(PluginHost::default_search_path(cli::plugin_dirs(vm)));
     return bench_queue(vm, host, cpu_model());
   }
   const bool is_table1 = workload == "table1";
@@ -133,10 +128,7 @@ int cmd_bench(int argc, char** argv) {
   }
 
   PluginHost host;
-  std::vector<std::filesystem::path> extra;
-  if (vm.count("plugin-dir"))
-    for (const auto& d : vm["plugin-dir"].as<std::vector<std::string>>()) extra.emplace_back(d);
-  host.load(PluginHost::default_search_path(extra));
+  host.load(PluginHost::default_search_path(cli::plugin_dirs(vm)));
   const std::string behavior = vm["behavior"].as<std::string>();
   try {
     host.behavior(behavior);

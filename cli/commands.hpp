@@ -1,11 +1,29 @@
 #pragma once
-// Subcommands implemented outside main.cpp.
+// The subcommands, one file each: run.cpp, summarize.cpp, validate.cpp, queue_expand.cpp,
+// plugins.cpp (plugins, describe), bench.cpp, plot.cpp, new_plugin.cpp. Each takes the arguments
+// after its name and returns the exit status; bad input throws InputError (main prints it, status 2).
+#include <boost/program_options/variables_map.hpp>
+
+#include <filesystem>
+#include <string>
+
+namespace salsa { class PluginHost; }
+
+int cmd_run(int argc, char** argv);
+int cmd_summarize(int argc, char** argv);
+int cmd_validate(int argc, char** argv);
+int cmd_queue(int argc, char** argv);
+int cmd_plugins(int argc, char** argv);
+int cmd_describe(int argc, char** argv);
 int cmd_bench(int argc, char** argv);
 int cmd_plot(int argc, char** argv);
 int cmd_new_plugin(int argc, char** argv);
 
-#include <boost/program_options/variables_map.hpp>
-#include <string>
-namespace salsa { class PluginHost; }
 /// salsa bench queue FILE (cli/bench_queue.cpp).
 int bench_queue(const boost::program_options::variables_map& vm, const salsa::PluginHost& host, const std::string& cpu);
+
+namespace salsa::cli {
+/// The queue folder's summary.csv, comparison.csv and (with `draw_plots`) queue plots, from its test
+/// folders alone (summarize.cpp).
+void finish_queue(const std::filesystem::path& out, const PluginHost& host, bool draw_plots);
+}  // namespace salsa::cli

@@ -11,7 +11,9 @@
 #include <map>
 #include <sstream>
 
+#include "salsa/core/queue_summary.hpp"
 #include "commands.hpp"
+#include "options.hpp"
 #include "salsa/core/comparison.hpp"
 #include "salsa/core/test_spec.hpp"
 #include "salsa/plots/chart.hpp"
@@ -127,10 +129,11 @@ void plot_folder(const fs::path& folder, const std::string& metric) {
         fs::is_regular_file(entry.path() / "config.json", ec))
       tests.push_back(entry.path());
   std::sort(tests.begin(), tests.end());
-  const bool queue = fs::is_regular_file(folder / "summary.csv", ec);
+  // A queue folder salsa wrote: a summary.csv of the user's own is not a queue's, and comparison.csv stays theirs.
+  const bool queue = fs::is_regular_file(folder / "summary.csv", ec) && salsa::holds_results(folder);
   if (tests.empty() && !queue)
     throw InputError(salsa::strict_json::printable(folder.string(), 200) +
-                     ": neither a test folder (no config.json) nor a results folder (no test folders, no summary.csv)");
+                     ": neither a test folder (no config.json) nor a results folder (no test folders, no summary.csv in a folder salsa wrote)");
   if (queue) salsa::write_comparison(folder, metric);  // first: a bad summary.csv is refused before anything is drawn
   for (const auto& test : tests) salsa::plots::draw_test_plots(test);
   if (queue) salsa::plots::draw_queue_plots(folder);
@@ -143,22 +146,17 @@ void plot_folder(const fs::path& folder, const std::string& metric) {
 
 int cmd_plot(int argc, char** argv) {
   po::options_description o("plot options");
-  o.add_options()("help,h", "show this help")("file", po::value<std::string>(), "a results folder, a test folder, a bench JSON file or a summary.csv")(
+  o.add_options()("file", po::value<std::string>(), "a results folder, a test folder, a bench JSON file or a summary.csv")(
       "out,o", po::value<std::string>(), "PNG file to write (for a FILE)")(
       "column", po::value<std::string>()->default_value("targets_found"), "summary.csv column to plot over time")(
       "metric", po::value<std::string>()->default_value("fraction_found"), "queue summary.csv column compared in comparison.csv (FOLDER)");
-  po::positional_options_description pos;
-  pos.add("file", 1);
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(o).positional(pos).run(), vm);
-  po::notify(vm);
-  if (vm.count("help")) {
-    std::cout << "usage: salsa plot FOLDER          redraw the plots of a results folder (every test's, the queue's,\n"
-                 "                                  comparison.csv) or of one test folder, from their files alone\n"
-                 "       salsa plot FILE --out PNG  chart a bench JSON file or a summary.csv column\n\n"
-              << o;
+  if (!salsa::cli::parse(argc, argv, "plot",
+                         "FOLDER          redraw the plots of a results folder (every test's, the queue's,\n"
+                         "                                  comparison.csv) or of one test folder, from their files alone\n"
+                         "       salsa plot FILE --out PNG  chart a bench JSON file or a summary.csv column",
+                         o, vm, salsa::cli::help_only, salsa::cli::positional("file", 1)))
     return 0;
-  }
   if (!vm.count("file")) throw InputError("plot: needs a FOLDER, or a FILE and --out PNG (see 'salsa plot --help')");
   const fs::path file = vm["file"].as<std::string>();
   std::error_code ec;  // a link loop or an unreadable folder is "not a folder" here; reading it says why

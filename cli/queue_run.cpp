@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "salsa/plots/results.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <csignal>
@@ -172,7 +174,7 @@ QueueResult run_queue(const std::vector<TestSpec>& tests, const PluginHost& host
         } else if (stop_signal() && (code == 130 || code == 143 || (WIFSIGNALED(status) && WTERMSIG(status) == stop_signal()))) {
           e.kind = Event::interrupted;
         } else {
-          e.kind = code == 1 && e.message.find("write failed") != std::string::npos ? Event::write_error : Event::failed;
+          e.kind = code == 1 && (e.message.find("write failed") != std::string::npos || e.message.find("cannot create file") != std::string::npos) ? Event::write_error : Event::failed;
           if (WIFSIGNALED(status)) record_failure(options.out, test.name, e.message);  // the child could not
         }
       } else {
@@ -192,8 +194,8 @@ QueueResult run_queue(const std::vector<TestSpec>& tests, const PluginHost& host
       e.kind = Event::failed, e.message = x.what();
     }
     // Its plots, drawn here so that they keep pace with the tests (QPainter on QImage: any thread).
-    if (e.kind == Event::ok && run.plots && hooks().draw_test_plots) try {
-        hooks().draw_test_plots(options.out / test.name);
+    if (e.kind == Event::ok && run.plots) try {
+        plots::draw_test_plots(options.out / test.name);
       } catch (const std::exception& x) {
         e.plots_failed = x.what();
       }
@@ -205,7 +207,7 @@ QueueResult run_queue(const std::vector<TestSpec>& tests, const PluginHost& host
   };
 
   // ---- The main thread: starts tests in queue order, handles what ended, draws progress.
-  if (run.plots && hooks().start_plotting) hooks().start_plotting();
+  if (run.plots) plots::start_plotting();
   Progress progress(run, run.expected, tests.size());
   std::size_t running = 0, done = 0, failed = 0;
   double simulated = 0, remaining = 0;  // s simulated here so far; s left of the tests handed out

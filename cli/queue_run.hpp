@@ -1,6 +1,6 @@
 #pragma once
 // Running a queue: tests side by side (--jobs), started in queue order, with progress, per-test plots
-// drawn on the main thread, and the indices coming from a Dispatch (all of them, a shard, or MPI).
+// drawn as each test ends, and the indices coming from a Dispatch (all of them, a shard, or MPI).
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -8,20 +8,11 @@
 #include <vector>
 
 #include "salsa/core/plugin_host.hpp"
+#include "salsa/core/output_folder.hpp"
 #include "salsa/core/runner.hpp"
 #include "salsa/core/test_spec.hpp"
 
 namespace salsa::cli {
-
-/// What other parts of salsa do after tests and queues are written, set once at start-up (main.cpp,
-/// wire_hooks). Each may be empty: then that step is skipped.
-struct Hooks {
-  std::function<void()> start_plotting;  // main thread, before draw_test_plots runs on any other
-  std::function<void(const std::filesystem::path& test_folder)> draw_test_plots;  // any thread, at once
-  std::function<void(const std::filesystem::path& out)> write_comparison;        // after summary.csv
-  std::function<void(const std::filesystem::path& out)> draw_queue_plots;        // main thread only (Qt)
-};
-Hooks& hooks();
 
 /// Where this process's tests come from; called on the main thread only.
 class Dispatch {
@@ -54,7 +45,7 @@ class ListDispatch final : public Dispatch {
 struct QueueRunOptions {
   std::size_t jobs = 1;       ///< tests at once
   bool quiet = false;         ///< no progress (errors still go to stderr)
-  bool plots = true;          ///< draw each finished test's plots (hooks().draw_test_plots)
+  bool plots = true;          ///< draw each finished test's plots (plots::draw_test_plots)
   bool terminal = false;      ///< progress as a live bar (else one line per finished test)
   std::size_t expected = 0;   ///< tests this process expects to run, for the progress (0: all)
   /// --isolate: runs one test in its own process and returns (wait status, what it wrote on stderr).

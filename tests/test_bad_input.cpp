@@ -204,9 +204,9 @@ class TestBadInput : public QObject {
     CliResult r = run_two_tests(test, out);
     QVERIFY2(r.exit_code == 0, describe(r));
     const auto before = snapshot(out);
-    // 2 tests × .salsa-test, config.json, map.json, summary.csv, drones.csv, targets.csv, outcome.csv;
+    // 2 tests × .salsa-test, config.json, manifest.json, map.json, summary.csv, drones.csv, targets.csv, outcome.csv;
     // the queue's summary.csv and comparison.csv (plots left out)
-    QCOMPARE(results_snapshot(out).size(), 16);
+    QCOMPARE(results_snapshot(out).size(), 18);
 
     r = run_salsa({"run", test, "--out", out});
     QVERIFY2(!r.crashed && r.exit_code != 0, describe(r));

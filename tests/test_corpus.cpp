@@ -20,6 +20,7 @@ struct Case {
   QList<QPair<QString, QString>> symlinks;  // link -> target
   QStringList dirs;
   QList<QPair<QString, QByteArray>> files;
+  QList<QPair<QString, QString>> env;  // NAME=VALUE set for salsa
   QString error;  // a malformed case file
 };
 
@@ -52,6 +53,11 @@ Case parse_case(const QString& path) {
     else if (key == "timeout") c.timeout = value.toInt();
     else if (key == "changes") c.changes << value;
     else if (key == "mkdir") c.dirs << value;
+    else if (key == "env") {
+      const qsizetype eq = value.indexOf('=');
+      if (eq <= 0) c.error = "env needs 'NAME=VALUE'";
+      else c.env.append({value.left(eq), value.mid(eq + 1)});
+    }
     else if (key == "symlink") {
       const QStringList parts = value.split(" -> ");
       if (parts.size() != 2) c.error = "symlink needs 'LINK -> TARGET'";
@@ -158,6 +164,7 @@ class TestCorpus : public QObject {
     QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
     env.remove("SALSA_PLUGIN_PATH");
     env.insert("HOME", dir + "/home");
+    for (const auto& [name, value] : c.env) env.insert(name, value);
     p.setProcessEnvironment(env);
     p.setWorkingDirectory(dir);
     p.start(salsa_executable(), c.args);

@@ -273,6 +273,8 @@ class TestPlots : public QObject {
         }
     summary += "t99,failed,boom,c5,flocking,x,6,7,5,50,tree,forest,10,\n";
     write_file(out + "/summary.csv", summary);
+    // A queue folder's record: a summary.csv without one is the user's own, left alone.
+    write_file(out + "/queue.json", R"({"tests": ["t0"], "configs_hash": "0123456789abcdef", "command": ["salsa", "run"]})");
     const CliResult r = run_salsa({"plot", out});
     QVERIFY2(r.exit_code == 0, describe(r));
     QCOMPARE(non_empty_lines(QString::fromUtf8(read_file(out + "/comparison.csv"))).size(), 3);

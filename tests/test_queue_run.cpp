@@ -91,7 +91,7 @@ class TestQueueRun : public QObject {
     r = run_salsa(QStringList{"run", "q.json", "--out", "many", "-q"} + options, dir.path());
     QVERIFY2(r.exit_code == 0 && r.out.isEmpty() && r.err.isEmpty(), describe(r));
     const auto one = results_snapshot(dir.filePath("one")), many = results_snapshot(dir.filePath("many"));
-    QCOMPARE(one.size(), 8 * 7 + 2);  // per test .salsa-test, config.json, map.json, summary, drones, targets, outcome; summary.csv, comparison.csv
+    QCOMPARE(one.size(), 8 * 8 + 2);  // per test .salsa-test, config.json, manifest.json, map.json, summary, drones, targets, outcome; summary.csv, comparison.csv
     QCOMPARE(many, one);
     // timing.json: wall seconds and steps (5 s at 60 steps per second).
     for (int i = 0; i < 8; ++i) {
@@ -290,6 +290,8 @@ class TestQueueRun : public QObject {
     // outcome.csv's final values (written by the run when metrics are on) join the row; a column
     // named like an input is prefixed.
     write(dir.filePath("out/plain/outcome.csv"), "targets,targets_found,fraction_found,coverage\n3,1,0.333333,0.5\n");
+    // Edited by hand: without its manifest it counts as a folder from before manifests (data present).
+    QVERIFY(QFile::remove(dir.filePath("out/plain/manifest.json")));
     r = run_salsa({"summarize", "out", "-q"}, dir.path());
     QVERIFY2(r.exit_code == 0, describe(r));
     const auto with_outcome = csv_rows(dir.filePath("out/summary.csv"));
@@ -385,6 +387,11 @@ class TestQueueRun : public QObject {
     QCOMPARE(rows.size(), 13);
     for (int k = 1; k <= 12; ++k) QCOMPARE(rows[k][1], QString("ok"));
     QCOMPARE(results_snapshot(dir.filePath("D")), results_snapshot(dir.filePath("one")));
+    // --isolate on every rank: rank 0 holds the output folder's lock for the other ranks' children too.
+    r = run_with_env({"--allow-run-as-root", "--oversubscribe", "-n", "3", salsa_executable(), "run", "q.json", "--out", "I", "--isolate", "-q"},
+                     dir.path(), {{"OMPI_MCA_rmaps_base_oversubscribe", "1"}, {"ASAN_OPTIONS", "detect_leaks=0:abort_on_error=1"}}, mpirun);
+    QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
+    QCOMPARE(results_snapshot(dir.filePath("I")), results_snapshot(dir.filePath("one")));
   }
 };
 

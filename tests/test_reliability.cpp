@@ -396,7 +396,7 @@ class TestReliability : public QObject {
     write(dir.filePath("q.json"), small_queue);
     CliResult r = run_salsa({"run", "q.json", "--out", disk + "/out", "--threads", "1", "--no-plots", "-q"}, dir.path());
     QVERIFY2(r.exit_code == 1 && !r.crashed && non_empty_lines(r.err).size() == 1, describe(r));
-    QVERIFY2(r.err.startsWith("salsa: test 'b' (q.json: [1]): " + disk + "/out/.b.partial/") && r.err.contains(".csv: write failed (disk full?)"),
+    QVERIFY2(r.err.startsWith("salsa: test 'b' (q.json: [1]): " + disk + "/out/.b.partial/") && r.err.contains(".csv: write failed (disk full)"),
              describe(r));
     QVERIFY(QFileInfo::exists(disk + "/out/a/config.json"));
     QVERIFY(!QFileInfo::exists(disk + "/out/b"));

@@ -13,9 +13,21 @@ namespace {
 constexpr std::size_t wake_bytes = 1 << 20;
 }  // namespace
 
+std::string write_failure(int error) {
+  switch (error) {
+    case ENOSPC: return "disk full";
+    case EDQUOT: return "disk quota exceeded";
+    case EACCES:
+    case EPERM: return "permission denied";
+    case EROFS: return "read-only file system";
+    case EIO: return "input/output error";
+    default: return std::strerror(error);
+  }
+}
+
 CsvWriter::CsvWriter(const std::filesystem::path& file, const std::string& header) : path_(file) {
   file_ = std::fopen(file.c_str(), "wb");
-  if (!file_) throw WriteError(file.string() + ": cannot create file (" + std::strerror(errno) + ")");
+  if (!file_) throw WriteError(file.string() + ": cannot create file (" + write_failure(errno) + ")");
   pending_ = header + "\n";
   thread_ = std::thread([this] { run(); });
 }
@@ -61,7 +73,7 @@ void CsvWriter::end_row() {
 }
 
 void CsvWriter::fail() const {
-  throw WriteError(path_.string() + ": write failed (disk full?): " + std::strerror(error_));
+  throw WriteError(path_.string() + ": write failed (" + write_failure(error_) + ")");
 }
 
 // The writer thread: every flush_period (or when woken) it takes the rows ended so far and writes them.

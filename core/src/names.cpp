@@ -16,4 +16,25 @@ std::string name_problem(std::string_view name) {
          " letters, digits, '_', '-' and '.', starting with a letter or digit; it names a folder)";
 }
 
+std::string test_name_problem(std::string_view name) {
+  if (std::string why = name_problem(name); !why.empty()) return why;
+  std::string lower(name);
+  for (char& c : lower)
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  std::string list;
+  bool reserved = false;
+  for (const std::string_view r : reserved_names) {
+    if (!list.empty()) list.append(", ");
+    list.append(r);
+    reserved = reserved || lower == r || (lower.size() > r.size() && lower.starts_with(r) && lower[r.size()] == '.');
+  }
+  if (!reserved) return {};
+  std::string why = "\"";
+  why.append(name);
+  why.append("\" is a name salsa uses for its own files in the output folder (allowed: any other name; reserved: ");
+  why.append(list);
+  why.append(" and those names followed by '.')");
+  return why;
+}
+
 }  // namespace salsa

@@ -442,7 +442,7 @@ std::string fitted(const std::string& name, const std::string& suffix) {
 /// A test without "name" is named after its file; that name must be fit for a folder too.
 void name_after_file(TestSpec& t, const std::string& name) {
   if (!t.name.empty()) return;
-  if (const std::string why = name_problem(name); !why.empty())
+  if (const std::string why = test_name_problem(name); !why.empty())
     throw InputError(t.source + ": name: missing, and the file name cannot stand in for it: " + why + "; give the test a \"name\"");
   t.name = name;
 }

@@ -16,6 +16,7 @@
 
 #include "salsa/core/csv_writer.hpp"
 #include "salsa/core/names.hpp"
+#include "salsa/core/output_folder.hpp"
 #include "salsa/core/runner.hpp"
 
 namespace salsa {
@@ -206,21 +207,20 @@ std::vector<std::string> names_in(const fs::path& out) {
 
 void replace_file(const fs::path& file, const std::string& text) {
   const fs::path tmp = file.string() + "." + std::to_string(::getpid()) + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw WriteError(file.string() + ": write failed (disk full?)");
-    }
+  try {
+    write_file(tmp, text);
+  } catch (const WriteError&) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
   }
   std::error_code ec;
   fs::rename(tmp, file, ec);
-  if (ec) throw WriteError(file.string() + ": cannot write (" + ec.message() + ")");
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw WriteError(file.string() + ": cannot write (" + write_failure(ec.value()) + ")");
+  }
 }
-
 
 std::string cell_of(const std::string& config_json) {
   json config = json::parse(config_json);
@@ -277,7 +277,11 @@ void claim_queue_folder(const fs::path& out, const QueueRecord& record, bool res
   for (int attempt = 0; attempt < 2; ++attempt) {
     std::optional<json> there;
     if (const auto same = same_queue(file, text, there)) {
-      if (!*same) replace_file(file, text.dump(2) + "\n");  // --resume or --force: this queue now
+      if (*same) return;
+      // Another queue's record: written meanwhile by another run (the second attempt) is refused like
+      // one found at the start; only --resume or --force make it this queue's.
+      if (attempt > 0) check_queue_folder(out, record, resume, force);
+      replace_file(file, text.dump(2) + "\n");
       return;
     }
     // Absent: written under a temporary name and linked into place, so one of several shards wins.
@@ -292,7 +296,19 @@ void claim_queue_folder(const fs::path& out, const QueueRecord& record, bool res
   }
 }
 
+bool holds_results(const fs::path& out) {
+  if (const auto record = read_json(out / "queue.json"); record && record->is_object() && record->contains("configs_hash")) return true;
+  std::error_code ec;
+  for (fs::directory_iterator it(out, ec), end; !ec && it != end; it.increment(ec))
+    if (salsa_wrote(it->path())) return true;
+  return false;
+}
+
 void write_queue_summary(const fs::path& out, const PluginHost* host) {
+  // OUT's summary.csv and comparison.csv are replaced: only in a folder salsa wrote results into.
+  if (!holds_results(out))
+    throw InputError(out.string() + ": holds no salsa results (no queue.json record, no test folder with a " + folder_marker +
+                     " file), so its files are left alone (allowed: a folder 'salsa run --out' wrote)");
   std::vector<Row> rows;
   std::vector<std::string> input_columns, outcome_names;
   std::set<std::string> seen_inputs, seen_outcomes;
@@ -300,7 +316,7 @@ void write_queue_summary(const fs::path& out, const PluginHost* host) {
     Row row;
     row.name = name;
     const fs::path folder = out / name;
-    const auto config_text = name_problem(name).empty() ? read_text(folder / "config.json") : std::nullopt;
+    const auto config_text = test_name_problem(name).empty() ? read_text(folder / "config.json") : std::nullopt;
     std::optional<json> config;
     if (config_text) try {
         config = json::parse(*config_text);
@@ -308,6 +324,8 @@ void write_queue_summary(const fs::path& out, const PluginHost* host) {
       }
     if (config && config->is_object()) {
       row.status = "ok";
+      // Its data as written: a file deleted or cut since makes the row incomplete, saying which.
+      if (std::string missing = data_problem(folder, false); !missing.empty()) row.status = "incomplete", row.error = std::move(missing);
       row.cells["cell"] = cell_of(*config_text);
       for (auto& [column, text] : inputs_of(*config)) {
         if (std::find(fixed_columns.begin(), fixed_columns.end(), column) == fixed_columns.end() && seen_inputs.insert(column).second)

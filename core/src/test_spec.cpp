@@ -105,7 +105,7 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
   TestSpec t;
   if (j.contains("name")) {
     t.name = r.string(j["name"], "name");
-    if (const std::string why = name_problem(t.name); !why.empty()) r.fail("name", why);
+    if (const std::string why = test_name_problem(t.name); !why.empty()) r.fail("name", why);
   }
 
   // behavior: "name" or {"name": ..., "params": {...}}

@@ -487,7 +487,7 @@ std::string SandboxPage::save_test(const QString& file) {
   }
   // The file's name names the test (and its output folder), when it is a valid name.
   const std::string stem = QFileInfo(file).completeBaseName().toStdString();
-  if (name_problem(stem).empty()) test->name = stem;
+  if (test_name_problem(stem).empty()) test->name = stem;
   std::ofstream out(file.toStdString(), std::ios::binary);
   out << resolved_json(*test, *host_);
   out.close();
@@ -526,7 +526,7 @@ void SandboxPage::ask_save_test() {
   if (!engine_.as_test(&why)) return show_message(q("nothing to save as a test: " + why));  // before a name is asked for
   const QString f = ask_save_file(this, "Save as test", "sandbox.json", "Tests (*.json)", [](const QString& file) {
     const std::string stem = QFileInfo(file).completeBaseName().toStdString();
-    return name_problem(stem).empty() ? std::string() : "the file's name names the test: " + name_problem(stem);
+    return test_name_problem(stem).empty() ? std::string() : "the file's name names the test: " + test_name_problem(stem);
   });
   if (!f.isEmpty()) save_test(f);
 }

@@ -18,6 +18,10 @@ struct WriteError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// What a failed write's errno means, for WriteError's message: "disk full", "permission denied",
+/// "read-only file system", ... (so a read-only folder is not reported as a full disk).
+std::string write_failure(int error);
+
 class CsvWriter {
  public:
   /// The longest a finished row waits in memory before it is written.

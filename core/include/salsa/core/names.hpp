@@ -14,4 +14,14 @@ inline constexpr std::size_t max_name_length = 128;
 /// characters; it names a folder)".
 std::string name_problem(std::string_view name);
 
+/// The names of the files and folders a queue writes at its output folder's top level (plots/,
+/// summary.csv, queue.json, comparison.csv, timing.json, timing.csv); the lock file and markers start with '.',
+/// which name_problem refuses already.
+inline constexpr const char* reserved_names[] = {"plots", "summary.csv", "queue.json", "comparison.csv", "timing.json", "timing.csv"};
+
+/// name_problem() for a test's name (it names OUT/<name>/): also refuses the reserved names, in any
+/// case and with any ".<suffix>" (the temporary files salsa writes beside them), e.g. "\"plots\" is a
+/// name salsa writes in the output folder itself (allowed: any other name; reserved: plots, ...)".
+std::string test_name_problem(std::string_view name);
+
 }  // namespace salsa

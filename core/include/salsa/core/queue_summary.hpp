@@ -38,7 +38,11 @@ void claim_queue_folder(const std::filesystem::path& out, const QueueRecord& rec
 /// reader never sees half of it; WriteError naming the file.
 void replace_file(const std::filesystem::path& file, const std::string& text);
 
+/// Refuses (InputError) an OUT that holds no salsa results (no queue.json record, no marked folder).
 void write_queue_summary(const std::filesystem::path& out, const PluginHost* host = nullptr);
+
+/// Whether OUT holds salsa results: a queue.json record salsa wrote or a test folder with the marker.
+bool holds_results(const std::filesystem::path& out);
 
 /// 12 hex digits naming a test's experimental condition apart from its behavior: a hash of its
 /// config.json without behavior, name, seed, repeat and the behavior's version.

@@ -2,9 +2,7 @@
 // Runs tests at full speed and writes their data: per test a folder with config.json, map.json,
 // summary.csv, drones.csv, targets.csv and outcome.csv (docs/output-format.md).
 //
-// Output folders: a test writes to OUT/.<name>.partial/ and renames it to OUT/<name>/ when complete.
-// Both carry a marker file (folder_marker) written before anything else, and salsa removes or replaces
-// only folders that carry it: never a path computed from user text alone.
+// How output folders are claimed, checked and replaced: output_folder.hpp.
 #include <atomic>
 #include <filesystem>
 #include <functional>
@@ -18,9 +16,6 @@
 #include "salsa/core/test_spec.hpp"
 
 namespace salsa {
-
-/// The file that marks a folder as one salsa wrote (a test's folder or its .partial folder).
-inline constexpr const char* folder_marker = ".salsa-test";
 
 struct RunOptions {
   std::filesystem::path out = "results";
@@ -50,27 +45,11 @@ struct Interrupted : std::runtime_error {
   int signal;
 };
 
-/// Before anything runs: refuses (InputError, one line) a bad output folder, names that fail
-/// name_problem(), and tests whose folders may not be written: an existing folder without --resume
-/// or --force, a finished test that differs from the one asked for (--resume, naming the first
-/// difference), a folder salsa did not write (--force). Creates OUT when all is well.
-void check_outputs(const std::vector<TestSpec>& tests, const PluginHost& host, const RunOptions& options);
-
-/// What the test's config.json holds (the resolved test, a map file's path made absolute).
-std::string test_config(const TestSpec& test, const PluginHost& host);
-
 /// What a test's map.json holds: `map` (its spawn replaced by `spawn`, the point the drones started
 /// around) in the map file format the json map plugin reads (docs/maps.md). Numbers are the shortest
 /// text that reads back to the same double, so the json map plugin gives back the same MapData and
 /// the same map gives the same bytes on every run.
 std::string map_json(const MapData& map, Vec2 spawn);
-
-/// Writes `line` to OUT/.<name>.partial/error.txt (when salsa wrote that folder): why the test
-/// failed. run_test does this itself for TestFailure and WriteError.
-void record_failure(const std::filesystem::path& out, const std::string& name, const std::string& line);
-
-/// Whether `run_test` would skip this test (--resume and its folder holds the identical test).
-bool already_done(const TestSpec& test, const PluginHost& host, const RunOptions& options);
 
 /// Runs one test into `options.out / test.name`, written in a hidden ".partial" folder first and moved
 /// into place only when complete, with timing.json (wall seconds and steps). Throws InputError,

@@ -1,0 +1,115 @@
+// salsa plugins (what was found, where, and what was refused) and salsa describe NAME (a plugin's
+// parameters and, for a metric, its columns).
+#include <array>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <type_traits>
+
+#include "salsa/core/plugin_host.hpp"
+#include "commands.hpp"
+#include "options.hpp"
+
+namespace fs = std::filesystem;
+using namespace salsa;
+using namespace salsa::cli;
+
+int cmd_plugins(int argc, char** argv) {
+  po::variables_map vm;
+  if (!parse(argc, argv, "plugins", "[options]", po::options_description("plugins options"), vm, plugin_options)) return 0;
+  PluginHost host;
+  load_plugins(host, vm, false);
+  std::cout << "Folders searched, in order:\n";
+  std::error_code ec;  // a link loop is "missing" here; the Refused list below says why
+  for (const auto& d : host.searched())
+    std::cout << "  " << std::left << std::setw(18) << d.origin << " " << d.path.string()
+              << (fs::is_directory(d.path, ec) ? "" : "  (missing)") << "\n";
+  // Columns as wide as their longest entry.
+  std::vector<std::array<std::string, 5>> rows{{"KIND", "NAME", "VERSION", "BRIEF", "FILE"}};
+  auto add = [&](const char* kind, const auto& entries) {
+    for (const auto& e : entries)
+      rows.push_back({kind, e.factory.name, e.plugin().version, e.factory.brief, e.plugin().file.string()});
+  };
+  add("behavior", host.behaviors());
+  add("target", host.target_kinds());
+  add("map", host.maps());
+  add("contact handler", host.contact_handlers());
+  add("metric", host.metrics());
+  std::array<std::size_t, 5> width{};
+  for (const auto& r : rows)
+    for (std::size_t c = 0; c < r.size(); ++c) width[c] = std::max(width[c], r[c].size());
+  std::cout << "\nPlugins:\n";
+  for (const auto& r : rows) {
+    std::cout << " ";
+    for (std::size_t c = 0; c < r.size(); ++c) std::cout << " " << std::left << std::setw(c + 1 < r.size() ? int(width[c]) : 0) << r[c];
+    std::cout << "\n";
+  }
+  if (!host.failures().empty()) {
+    std::cout << "\nRefused:\n";
+    for (const auto& f : host.failures()) std::cout << "  " << f.file.string() << ": " << f.reason << "\n";
+  }
+  return 0;
+}
+
+namespace {
+
+/// A metric's columns with its default parameters (they may depend on the parameters).
+void describe_columns(const Entry<Metric>& e) {
+  std::shared_ptr<Metric> metric;
+  std::vector<Column> step, final;
+  try {
+    metric = PluginHost::create(e, ParameterValues(e.factory.parameters));
+    step = metric->step_columns();
+    final = metric->final_columns();
+  } catch (const std::exception& x) {
+    std::cout << "  columns cannot be listed: " << x.what() << "\n\n";
+    return;
+  }
+  std::cout << "  " << std::left << std::setw(28) << "COLUMN" << std::setw(20) << "FILE" << std::setw(8) << "UNIT" << "MEANING\n";
+  for (auto [file, columns] : {std::pair{"summary.csv", &step}, {"outcome.csv", &final}})
+    for (const Column& c : *columns)
+      std::cout << "  " << std::setw(28) << c.name << std::setw(20) << file << std::setw(8) << (c.unit.empty() ? "-" : c.unit)
+                << c.meaning << "\n";
+  std::cout << "\n";
+}
+
+}  // namespace
+
+int cmd_describe(int argc, char** argv) {
+  po::options_description o("describe options");
+  o.add_options()("name", po::value<std::string>(), "plugin name (behavior, target kind, map, contact handler or metric)");
+  po::variables_map vm;
+  if (!parse(argc, argv, "describe", "NAME [options]", o, vm, plugin_options, positional("name"))) return 0;
+  if (!vm.count("name")) throw InputError("describe: missing NAME (see 'salsa plugins' for the names)");
+  const std::string name = vm["name"].as<std::string>();
+  PluginHost host;
+  load_plugins(host, vm, true);
+  bool found = false;
+  auto describe = [&](const char* kind, const auto& entries) {
+    for (const auto& e : entries) {
+      if (e.factory.name != name) continue;
+      found = true;
+      std::cout << kind << " '" << name << "': " << e.factory.brief << "\n  from " << e.plugin().file.string()
+                << " (plugin " << e.plugin().name << " " << e.plugin().version << ")\n\n";
+      if constexpr (std::is_same_v<std::decay_t<decltype(e)>, Entry<Metric>>) describe_columns(e);
+      if (e.factory.parameters.empty()) {
+        std::cout << "  no parameters\n";
+        continue;
+      }
+      std::cout << "  " << std::left << std::setw(28) << "PARAMETER" << std::setw(10) << "DEFAULT" << std::setw(10) << "MIN"
+                << std::setw(10) << "MAX" << std::setw(8) << "UNIT" << "MEANING\n";
+      for (const auto& p : e.factory.parameters)
+        std::cout << "  " << std::setw(28) << p.name << std::setw(10) << Parameter::format(p.value) << std::setw(10)
+                  << Parameter::format(p.min) << std::setw(10) << Parameter::format(p.max) << std::setw(8)
+                  << (p.unit.empty() ? "-" : p.unit) << p.description << (p.is_integer() ? " (whole number)" : "") << "\n";
+    }
+  };
+  describe("behavior", host.behaviors());
+  describe("target kind", host.target_kinds());
+  describe("map", host.maps());
+  describe("contact handler", host.contact_handlers());
+  describe("metric", host.metrics());
+  if (!found) throw InputError("describe: no plugin named '" + name + "' (see 'salsa plugins')");
+  return 0;
+}
+

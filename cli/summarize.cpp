@@ -1,0 +1,42 @@
+// salsa summarize OUT: a queue folder's summary.csv, comparison.csv and plots, from its test folders alone.
+#include <iostream>
+
+#include "salsa/core/comparison.hpp"
+#include "salsa/core/queue_summary.hpp"
+#include "salsa/plots/results.hpp"
+#include "commands.hpp"
+#include "options.hpp"
+
+namespace fs = std::filesystem;
+using namespace salsa;
+using namespace salsa::cli;
+
+namespace salsa::cli {
+
+/// The queue folder's summary, comparison and plots, from its test folders alone.
+void finish_queue(const fs::path& out, const PluginHost& host, bool draw_plots) {
+  write_queue_summary(out, &host);
+  write_comparison(out);
+  if (draw_plots) plots::draw_queue_plots(out);
+}
+
+
+}  // namespace salsa::cli
+
+int cmd_summarize(int argc, char** argv) {
+  po::options_description o("summarize options");
+  o.add_options()("out", po::value<std::string>(), "a queue's output folder (what 'salsa run --out' wrote)")(
+      "no-plots", "do not draw the queue plots");
+  po::variables_map vm;
+  if (!parse(argc, argv, "summarize", "OUT [options]", o, vm, plugin_options, positional("out"))) return 0;
+  if (!vm.count("out")) throw InputError("summarize: missing OUT (the folder 'salsa run --out OUT' wrote)");
+  const fs::path out = vm["out"].as<std::string>();
+  std::error_code ec;
+  if (!fs::is_directory(out, ec)) throw InputError("summarize: " + out.string() + " is not a folder (allowed: the folder 'salsa run --out' wrote)");
+  PluginHost host;
+  load_plugins(host, vm, false);
+  finish_queue(out, host, !vm.count("no-plots"));
+  if (!vm.count("quiet")) std::cout << "wrote " << (out / "summary.csv").string() << std::endl;
+  return 0;
+}
+
