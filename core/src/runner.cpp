@@ -472,6 +472,35 @@ std::string signal_name(int signal) {
 
 int stop_signal() { return stop_requested.load(); }
 
+std::string failed_plugin(const PluginFailure& failure, const TestSpec& test, const PluginHost& host) {
+  std::string name;
+  std::filesystem::path file;
+  try {
+    if (failure.kind == "behavior") {
+      name = test.behavior.name;
+      file = host.behavior(name).plugin().file;
+    } else if (failure.kind == "target kind") {
+      name = test.target.name;
+      file = host.target_kind(name).plugin().file;
+    } else if (failure.kind == "contact handler" && failure.index < test.contact_handlers.size()) {
+      name = test.contact_handlers[failure.index].name;
+      file = host.contact_handler(name).plugin().file;
+    } else if (failure.kind == "map") {
+      name = test.map.name;
+      file = host.map(name).plugin().file;
+    } else if (failure.kind == "metric" && failure.index < test.metrics.size()) {
+      name = test.metrics[failure.index].name;
+      file = host.metric(name).plugin().file;
+    }
+  } catch (const std::exception&) {  // unknown to this host: the name alone
+  }
+  std::string out = failure.kind;
+  if (failure.kind == "contact handler" && name.empty()) out += " #" + std::to_string(failure.index);
+  if (!name.empty()) out += " '" + name + "'";
+  if (!file.empty()) out += " (" + file.string() + ")";
+  return out;
+}
+
 void install_signal_handlers() {
   if (handlers_installed.exchange(true)) return;
   // Crash notes run on their own stack, so a stack overflow on the main thread is still reported.
@@ -565,7 +594,6 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     return TestFailure(line);
   };
   const std::string where = "test '" + test.name + "' (" + test.source + ")";
-  const std::string behavior = "behavior '" + test.behavior.name + "' (" + host.behavior(test.behavior.name).plugin().file.string() + ")";
   const auto start = std::chrono::steady_clock::now();
   {
     std::optional<Simulation> sim;
@@ -573,6 +601,8 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     try {
       sim.emplace(make_setup(test, host, options.threads));
       metrics.emplace(test, host);
+    } catch (const PluginFailure& e) {
+      throw failed(where + ": could not start: " + failed_plugin(e, test, host) + " failed: " + e.what());
     } catch (const std::exception& e) {
       throw failed(where + ": could not start: " + e.what());
     }
@@ -606,8 +636,11 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
           try {
             apply_change(*sim, changed, test.changes[next_change], host);
           } catch (const std::exception& e) {
-            throw failed(where + ": the change at t = " + format_time(test.changes[next_change].time) + " s could not be applied: " +
-                         e.what() + " (rows so far in " + work.string() + ")");
+            const auto* plugin = dynamic_cast<const PluginFailure*>(&e);
+            throw failed(where + ": the change at t = " + format_time(test.changes[next_change].time) + " s (" +
+                         test.changes[next_change].key + ") could not be applied: " +
+                         (plugin ? failed_plugin(*plugin, changed, host) + " failed: " : "") + e.what() +
+                         " (rows so far in " + work.string() + ")");
           }
         }
         if (const int sig = stop_requested.load(std::memory_order_relaxed)) {
@@ -633,9 +666,11 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     } catch (const WriteError& e) {
       record_failure(options.out, test.name, where + ": " + e.what());
       throw WriteError(where + ": " + e.what());
-    } catch (const std::exception& e) {
-      throw failed(where + ": " + behavior + " failed at t = " + format_time(sim->time()) + " s: " + e.what() +
-                        " (rows so far in " + work.string() + ")");
+    } catch (const PluginFailure& e) {
+      throw failed(where + ": " + failed_plugin(e, changed, host) + " failed at t = " + format_time(sim->time()) + " s: " +
+                   e.what() + " (rows so far in " + work.string() + ")");
+    } catch (const std::exception& e) {  // not plugin code
+      throw failed(where + ": failed at t = " + format_time(sim->time()) + " s: " + e.what() + " (rows so far in " + work.string() + ")");
     }
     std::vector<std::pair<std::string, std::string>> finals;
     try {

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "salsa/core/metrics.hpp"
+#include "salsa/core/runner.hpp"
 #include "salsa/core/simulation.hpp"
 
 namespace salsa::gui {
@@ -174,10 +175,12 @@ struct Engine::Worker {
   void step() {
     try {
       sim->step();
-    } catch (const std::exception& e) {
-      const auto& entry = host->behavior(current.behavior.name);
-      error = "behavior '" + current.behavior.name + "' (" + entry.plugin().file.string() + ") failed at t = " +
-              format_time(sim->time()) + " s: " + e.what();
+    } catch (const PluginFailure& e) {
+      error = failed_plugin(e, current, *host) + " failed at t = " + format_time(sim->time()) + " s: " + e.what();
+      state = RunState::failed;
+      return;
+    } catch (const std::exception& e) {  // not plugin code
+      error = "the simulation failed at t = " + format_time(sim->time()) + " s: " + e.what();
       state = RunState::failed;
       return;
     }
@@ -329,6 +332,8 @@ struct Engine::Worker {
     try {
       const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
       next = std::make_unique<Simulation>(make_setup(test, *host, static_cast<int>(std::max(1u, cores - 1))));
+    } catch (const PluginFailure& e) {
+      return failed_plugin(e, test, *host) + " failed: " + e.what();
     } catch (const std::exception& e) {
       return e.what();
     }
@@ -390,6 +395,8 @@ struct Engine::Worker {
     const Change change{sim->time(), key, value};
     try {
       apply_change(*sim, current, change, *host);
+    } catch (const PluginFailure& e) {
+      return key + ": " + failed_plugin(e, current, *host) + " failed: " + e.what();
     } catch (const std::exception& e) {
       return e.what();
     }

@@ -83,6 +83,10 @@ bool already_done(const TestSpec& test, const PluginHost& host, const RunOptions
 /// error.txt. Tests may run at once on several threads (each with its own crash note).
 RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOptions& options);
 
+/// The plugin a PluginFailure is about, as `test` chose it: "contact handler 'h' (/path/libh.so)"
+/// (without the file when the host no longer knows the name).
+std::string failed_plugin(const PluginFailure& failure, const TestSpec& test, const PluginHost& host);
+
 /// For front-ends that run tests in the foreground (the CLI), once, before the first test:
 /// - SIGINT / SIGTERM ask the running test to stop (run_test then throws Interrupted); a second one
 ///   ends the process at once;
