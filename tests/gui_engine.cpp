@@ -177,6 +177,20 @@ class GuiEngine : public QObject {
                    error.find("first line second line third line") != std::string::npos,
                error.c_str());
     }
+    {  // the inspector asks the behavior between steps: a throw is shown there, the desktop goes on
+      Engine engine(host);
+      QCOMPARE(engine.load(parse_test(R"({"behavior": {"name": "blame_behavior", "params": {"inspect_throws": 1}}, "drones": 3})",
+                                      "blame", host))
+                   .get(),
+               std::string());
+      engine.select(0);
+      QCOMPARE(engine.step_once().get(), std::string());
+      QTRY_VERIFY_WITH_TIMEOUT(engine.snapshot()->selected.has_value(), 5000);
+      const std::string memory = engine.snapshot()->selected->memory;
+      QVERIFY2(memory.starts_with("behavior 'blame_behavior' (") &&
+                   memory.find("failed in inspect: first line second line third line") != std::string::npos,
+               memory.c_str());
+    }
     Engine engine(host);
     const std::string why =
         engine.load(parse_test(head + R"("contact_handlers": [{"name": "blame_handler", "params": {"mode": 2}}]})", "blame", host)).get();

@@ -298,7 +298,15 @@ struct Engine::Worker {
       if (j != id && distance_squared(p[j], p[id]) <= range * range) in.neighbours.push_back(j);
     const auto hits = sim->obstacle_hits(id);
     in.hits.assign(hits.begin(), hits.end());
-    in.memory = sim->behavior().inspect(id);
+    try {  // plugin code on the worker thread: a throw must not end the desktop
+      in.memory = sim->behavior().inspect(id);
+    } catch (const std::exception& e) {
+      const PluginFailure failure("behavior", 0, e.what());  // its message on one line
+      in.memory = failed_plugin(failure, current, *host) + " failed in inspect: " + failure.what();
+    } catch (...) {
+      in.memory = failed_plugin(PluginFailure("behavior", 0, ""), current, *host) +
+                  " failed in inspect: an exception that is not a std::exception";
+    }
     return in;
   }
 

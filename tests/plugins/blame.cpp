@@ -11,13 +11,19 @@ namespace {
 constexpr const char* three_lines = "first line\nsecond line\nthird line";
 
 /// Flies straight; configure() refuses `gain` above `limit` (a combination, not a range); decide throws
-/// for every drone from id `throw_from` on (in parallel: the lowest id's failure must be the one told).
+/// for every drone from id `throw_from` on (in parallel: the lowest id's failure must be the one told);
+/// inspect throws on request.
 class BlameBehavior final : public salsa::Behavior {
  public:
   static salsa::Parameters declare() {
     return {{"gain", 1, 0, 10, "", "any value up to limit"},
             {"limit", 10, 0, 10, "", "the largest gain configure() accepts"},
-            {"throw_from", -1, -1, 1e6, "", "decide throws for drones with this id and above (-1: never)", 1}};
+            {"throw_from", -1, -1, 1e6, "", "decide throws for drones with this id and above (-1: never)", 1},
+            {"inspect_throws", 0, 0, 1, "", "1: inspect throws", 1}};
+  }
+  std::string inspect(std::uint32_t) const override {
+    if (param("inspect_throws") == 1) throw std::runtime_error(three_lines);
+    return "fine";
   }
   salsa::Vec2 decide(const salsa::Perception& me, salsa::Rng&) override {
     if (param("throw_from") >= 0 && me.id >= param("throw_from"))
