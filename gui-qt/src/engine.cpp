@@ -437,6 +437,8 @@ struct Engine::Worker {
         start.behavior.params = start_values;
         reloaded_at = sim->time();
         if (state == RunState::failed) state = RunState::paused, error.clear();
+      } catch (const PluginFailure& e) {  // the new code's reset threw
+        return "the old code keeps running: " + failed_plugin(e, current, *next) + " failed: " + e.what();
       } catch (const std::exception& e) {
         return std::string("the old code keeps running: ") + e.what();
       }
