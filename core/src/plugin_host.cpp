@@ -469,10 +469,12 @@ std::string probe_initialisers(const fs::path& copy) {
   ::close(fds[0]);
   if (timed_out) ::kill(pid, SIGKILL);  // an initialiser waiting on a lock the fork copied: no verdict
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  pid_t waited;
+  while ((waited = ::waitpid(pid, &status, 0)) < 0 && errno == EINTR) {
   }
   if (timed_out) return {};
   const std::string head = "its static initialiser ";
+  if (waited < 0) return told.empty() ? "" : head + one_line(told.c_str());  // SIGCHLD ignored: what it wrote
   if (WIFSIGNALED(status)) {
     const char* name = sigabbrev_np(WTERMSIG(status));
     return head + "crashed (" + (name ? "SIG" + std::string(name) : "signal " + std::to_string(WTERMSIG(status))) +
