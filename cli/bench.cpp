@@ -163,7 +163,7 @@ int cmd_bench(int argc, char** argv) {
     std::vector<double> walls, setups, floors, found;
     std::array<double, 6> phases{};
     std::size_t peak = 0;
-    for (int seed = 1; seed <= seeds; ++seed) {
+    for (int seed = 1; seed <= seeds; ++seed) try {
       bench::Workload w = is_table1 ? bench::Workload{} : bench::scale(cell.drones, 0, 0);
       w.drones = cell.drones;
       w.targets = cell.targets;
@@ -192,6 +192,11 @@ int cmd_bench(int argc, char** argv) {
       // The floor's recording is not salsa's memory.
       peak = std::max(peak, bench::peak_rss_bytes() - (recording ? recording->bytes() : 0));
       if (recording) floors.push_back(recording->replay_seconds(setup, cpu));
+    } catch (const PluginFailure& e) {  // only the behavior is the user's choice: name it, the others by kind
+      const std::string plugin = e.kind == "behavior" ? "behavior '" + behavior + "' (" + host.behavior(behavior).plugin().file.string() + ")"
+                                                      : e.kind;
+      throw std::runtime_error("bench " + workload + " (" + std::to_string(cell.drones) + " drones, seed " + std::to_string(seed) +
+                               "): " + plugin + " failed: " + e.what());
     }
     const Stats wall = stats(walls), setup_s = stats(setups), found_s = stats(found);
     const double rtf = wall.mean / sim_time;

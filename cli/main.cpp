@@ -31,6 +31,14 @@ commands:
 
 }  // namespace
 
+/// The last safety net of "one line per failure": a message that still holds a line break (plugin
+/// text passed on somewhere) is joined.
+static std::string one_line(std::string text) {
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  return text;
+}
+
 int main(int argc, char** argv) {
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h" || std::string(argv[1]) == "help") {
     std::cout << usage;
@@ -57,10 +65,10 @@ int main(int argc, char** argv) {
     std::cerr << "salsa " << command << ": " << e.what() << " (see 'salsa " << command << " --help')\n";
     return 2;
   } catch (const InputError& e) {
-    std::cerr << "salsa: " << e.what() << "\n";
+    std::cerr << "salsa: " << one_line(e.what()) << "\n";
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "salsa: " << e.what() << "\n";
+    std::cerr << "salsa: " << one_line(e.what()) << "\n";
     return 1;
   }
 }

@@ -77,16 +77,30 @@ salsa::plots::Chart bench_chart(const fs::path& file) {
 }
 
 salsa::plots::Chart csv_chart(const fs::path& file, const std::string& column) {
+  // Whatever the file and the option hold is shown printable (escaped, cut short): one line.
+  const std::string shown_file = salsa::strict_json::printable(file.string(), 200);
   std::ifstream in(file);
-  if (!in) throw InputError(file.string() + ": cannot open file");
+  if (!in) throw InputError(shown_file + ": cannot open file");
   std::string header;
   std::getline(in, header);
+  if (!header.empty() && header.back() == '\r') header.pop_back();
+  if (header.empty()) throw InputError(shown_file + ": empty (allowed: a CSV written by salsa with a header row)");
   std::vector<std::string> names;
   std::stringstream hs(header);
   for (std::string n; std::getline(hs, n, ',');) names.push_back(n);
+  if (names.empty() || names[0] != "time")
+    throw InputError(shown_file + ": the first column is '" + salsa::strict_json::printable(names.empty() ? "" : names[0]) +
+                     "', not 'time' (allowed: a CSV written by salsa whose first column is time, e.g. summary.csv)");
   const auto col = std::find(names.begin(), names.end(), column);
-  if (names.empty() || names[0] != "time" || col == names.end())
-    throw InputError(file.string() + ": --column: '" + column + "' is not a column (allowed: " + header + ")");
+  if (col == names.end()) {
+    constexpr std::size_t shown_columns = 20;  // a header may hold thousands
+    std::string allowed;
+    for (std::size_t i = 0; i < names.size() && i < shown_columns; ++i)
+      allowed += (i ? ", " : "") + salsa::strict_json::printable(names[i]);
+    if (names.size() > shown_columns) allowed += ", ... (" + std::to_string(names.size()) + " columns in all)";
+    throw InputError(shown_file + ": --column: '" + salsa::strict_json::printable(column) + "' is not a column (allowed: " +
+                     allowed + ")");
+  }
   const auto k = static_cast<std::size_t>(col - names.begin());
   salsa::plots::Chart c;
   c.title = file.parent_path().filename().string() + ": " + column;

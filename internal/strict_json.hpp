@@ -35,17 +35,42 @@ struct Error : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// User text for a message: control characters escaped so the message stays one line, cut after
-/// `limit` bytes (at a character boundary) with "...".
+/// The length of the valid UTF-8 sequence `text` starts with (2 to 4 bytes, not overlong, no
+/// surrogates, at most U+10FFFF), or 0.
+inline std::size_t utf8_length(std::string_view text) {
+  const auto b = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+  const unsigned char c = b(0);
+  const std::size_t n = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+  if (n == 0 || text.size() < n) return 0;
+  for (std::size_t k = 1; k < n; ++k)
+    if ((b(k) & 0xC0) != 0x80) return 0;
+  if (c == 0xE0 && b(1) < 0xA0) return 0;   // overlong
+  if (c == 0xED && b(1) >= 0xA0) return 0;  // surrogates
+  if (c == 0xF0 && b(1) < 0x90) return 0;   // overlong
+  if (c == 0xF4 && b(1) >= 0x90) return 0;  // above U+10FFFF
+  return n;
+}
+
+/// User text for a message: control characters and bytes that are not UTF-8 escaped, so the message
+/// stays one line of text, cut after `limit` bytes (at a character boundary) with "...".
 inline std::string printable(std::string_view text, std::size_t limit = 60) {
   std::string out;
   for (std::size_t i = 0; i < text.size(); ++i) {
-    if (out.size() >= limit) {
-      while (!out.empty() && (static_cast<unsigned char>(out.back()) & 0xC0) == 0x80) out.pop_back();
-      if (!out.empty() && static_cast<unsigned char>(out.back()) >= 0xC0) out.pop_back();
-      return out + "...";
-    }
+    if (out.size() >= limit) return out + "...";  // whole characters only are appended: a boundary
     const auto c = static_cast<unsigned char>(text[i]);
+    if (c >= 0x80) {  // a valid UTF-8 sequence is kept whole; any other byte is escaped
+      const std::size_t n = utf8_length(text.substr(i));
+      if (n > 0) {
+        out.append(text.data() + i, n);
+        i += n - 1;
+      } else {
+        const char* hex = "0123456789abcdef";
+        out += "\\x";
+        out += hex[c >> 4];
+        out += hex[c & 15];
+      }
+      continue;
+    }
     if (c == '\n') out += "\\n";
     else if (c == '\t') out += "\\t";
     else if (c == '\r') out += "\\r";

@@ -195,6 +195,46 @@ class GuiEngine : public QObject {
     QCOMPARE(engine.snapshot()->state, RunState::paused);
   }
 
+  // The sandbox names the plugin that threw, not the behavior: a contact handler's on_contact while
+  // running, its reset when the test is loaded, a target kind's in_view.
+  void throwing_plugin_of_any_kind_is_named() {
+    PluginHost host;
+    host.load({{plugin_dir(), "build"}, {test_plugins_dir() / "blame", "test"}});
+    const std::string head = R"({"behavior": "blame_behavior", "drones": 30, "seed": 1, )";
+    for (const auto& [rest, named] : std::vector<std::pair<std::string, std::string>>{
+             {R"("targets": {"count": 2000}, "contact_handlers": ["detect_targets", {"name": "blame_handler", "params": {"mode": 1}}]})",
+              "contact handler 'blame_handler' ("},
+             {R"("targets": {"kind": "blame_target", "count": 2000, "params": {"mode": 1}}})", "target kind 'blame_target' ("}}) {
+      Engine engine(host);
+      QCOMPARE(engine.load(parse_test(head + rest, "blame", host)).get(), std::string());
+      engine.start();
+      QTRY_VERIFY_WITH_TIMEOUT(engine.snapshot()->state == RunState::failed, 20000);
+      const std::string error = engine.snapshot()->error;
+      QVERIFY2(error.starts_with(named) && error.find("libtest_blame.so) failed at t = ") != std::string::npos &&
+                   error.find("first line second line third line") != std::string::npos,
+               error.c_str());
+    }
+    {  // the inspector asks the behavior between steps: a throw is shown there, the desktop goes on
+      Engine engine(host);
+      QCOMPARE(engine.load(parse_test(R"({"behavior": {"name": "blame_behavior", "params": {"inspect_throws": 1}}, "drones": 3})",
+                                      "blame", host))
+                   .get(),
+               std::string());
+      engine.select(0);
+      QCOMPARE(engine.step_once().get(), std::string());
+      QTRY_VERIFY_WITH_TIMEOUT(engine.snapshot()->selected.has_value(), 5000);
+      const std::string memory = engine.snapshot()->selected->memory;
+      QVERIFY2(memory.starts_with("behavior 'blame_behavior' (") &&
+                   memory.find("failed in inspect: first line second line third line") != std::string::npos,
+               memory.c_str());
+    }
+    Engine engine(host);
+    const std::string why =
+        engine.load(parse_test(head + R"("contact_handlers": [{"name": "blame_handler", "params": {"mode": 2}}]})", "blame", host)).get();
+    QVERIFY2(why.starts_with("contact handler 'blame_handler' (") && why.find("failed: first line second line third line") != std::string::npos,
+             why.c_str());
+  }
+
   void running_publishes_snapshots_and_rows() {
     Engine engine(*host_);
     QCOMPARE(engine.load(spec()).get(), std::string());

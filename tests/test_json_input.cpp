@@ -83,6 +83,22 @@ class TestJsonInput : public QObject {
     QCOMPARE(strict_json::shown(nlohmann::json(std::string(1000000, 'x'))).size(), std::size_t(60));
   }
 
+  // User text in a message is valid UTF-8 on one line: other bytes escaped, characters kept whole, a
+  // cut never inside a character.
+  void printable_escapes_what_is_not_utf8() {
+    using strict_json::printable;
+    QCOMPARE(printable("a\xff" "b"), std::string("a\\xff" "b"));
+    QCOMPARE(printable("caf\xc3\xa9"), std::string("caf\xc3\xa9"));             // é kept
+    QCOMPARE(printable("\xc3"), std::string("\\xc3"));                            // cut short
+    QCOMPARE(printable("\xc0\x80"), std::string("\\xc0\\x80"));                  // overlong NUL
+    QCOMPARE(printable("\xed\xa0\x80"), std::string("\\xed\\xa0\\x80"));        // a surrogate
+    QCOMPARE(printable("\xf4\x90\x80\x80"), std::string("\\xf4\\x90\\x80\\x80"));  // above U+10FFFF
+    QCOMPARE(printable("\xf0\x9f\x90\x9f"), std::string("\xf0\x9f\x90\x9f"));     // an emoji kept
+    QCOMPARE(printable("a\nb"), std::string("a\\nb"));
+    QCOMPARE(printable(std::string(10, 'x') + "\xc3\xa9\xc3\xa9", 11), std::string(10, 'x') + "\xc3\xa9...");
+    QCOMPARE(printable(std::string(100000, '\xff')).size(), std::size_t(60 + 3));
+  }
+
   void duplicate_keys_are_refused_with_their_path() {
     check(parse(R"({"behavior": "flocking", "drones": 3, "drones": 4})"),
           {"t.json: drones: duplicate key at line 1, column 39 (each key may appear once)"});

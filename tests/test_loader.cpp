@@ -80,7 +80,7 @@ QString all_failures(const salsa::PluginHost& host) {
 void fill_bad_folder(const QString& dir) {
   for (const auto& [folder, file] : std::vector<std::pair<const char*, const char*>>{
            {"abi99", "libtest_abi99.so"}, {"noentry", "libtest_noentry.so"}, {"notalib", "notalib.so"},
-           {"registration-throws", "libtest_registration_throws.so"}})
+           {"registration-throws", "libtest_registration_throws.so"}, {"static-init", "libtest_static_init.so"}})
     QVERIFY(QFile::copy(q(plugin_file(folder, file)), dir + "/" + file));
 }
 
@@ -182,6 +182,16 @@ class TestLoader : public QObject {
     QTest::newRow("registration throws an int")
         << "registration-throws-int" << "libtest_registration_throws_int.so"
         << "registration threw: an exception of type int (not a std::exception)" << "test_registered_before_throw";
+    // Thrown inside dlopen, before the entry point: this file alone is refused (it once ended salsa).
+    QTest::newRow("static initialiser throws")
+        << "static-init" << "libtest_static_init.so"
+        << "its static initialiser threw while the file was loaded: static init exploded" << "test_static_init";
+    QTest::newRow("static initialiser calls exit")
+        << "static-init-exit" << "libtest_static_init_exit.so"
+        << "its static initialiser called exit(3) while the file was loaded" << "test_static_init";
+    QTest::newRow("static initialiser aborts")
+        << "static-init-abort" << "libtest_static_init_abort.so"
+        << "its static initialiser crashed (SIGABRT) while the file was loaded" << "test_static_init";
     QTest::newRow("old C++ ABI") << "old-cxx-abi" << "libtest_old_cxx_abi.so"
                                  << "incompatible C++ standard library: built with the old C++ ABI "
                                     "(_GLIBCXX_USE_CXX11_ABI=0), this salsa uses the new one; std::string is 8 "
@@ -600,7 +610,7 @@ class TestLoader : public QObject {
                {plugin_folder("dup-b"), "test"},
                {plugin_folder("good"), "test"},
                {plugin_dir(), "build"}});
-    QCOMPARE(host.failures().size(), std::size_t(5));  // 4 bad files + the duplicate registration
+    QCOMPARE(host.failures().size(), std::size_t(6));  // 5 bad files + the duplicate registration
     QCOMPARE(host.searched().size(), std::size_t(5));
     QVERIFY(has_behavior(host, "test_good"));
     QVERIFY(has_behavior(host, "test_dup"));
@@ -691,6 +701,8 @@ class TestLoader : public QObject {
     QVERIFY2(line_of("notalib.so").contains("not a shared library"), describe(r));
     QVERIFY2(line_of("libtest_noentry.so").contains("no entry point"), describe(r));
     QVERIFY2(line_of("libtest_registration_throws.so").contains("registration threw"), describe(r));
+    QVERIFY2(line_of("libtest_static_init.so").contains("its static initialiser threw while the file was loaded: static init exploded"),
+             describe(r));
   }
 
   void cli_plugins_duplicate_names_both_files() {

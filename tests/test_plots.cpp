@@ -290,6 +290,39 @@ class TestPlots : public QObject {
     QVERIFY2(r.exit_code == 0, describe(r));
     check_png(path("s/found.png"), 960, 600);
   }
+
+  // What `salsa plot FILE.csv` says of a bad CSV is one short line of text: it says what a CSV needs
+  // when empty, escapes bytes that are not UTF-8, cuts a huge header, and lists only columns that are
+  // there (a column in the list is never the one reported missing).
+  void csv_refusals_are_one_printable_line_data() {
+    QTest::addColumn<QByteArray>("csv");
+    QTest::addColumn<QString>("column");
+    QTest::addColumn<QString>("expect");
+    QTest::newRow("empty") << QByteArray() << "targets_found" << "empty (allowed: a CSV written by salsa with a header row)";
+    QTest::newRow("blank line") << QByteArray("\n") << "targets_found" << "empty (allowed: a CSV written by salsa with a header row)";
+    QTest::newRow("not UTF-8") << QByteArray("time,a\xff\xfe,b\xc3\n0,1,2\n") << "nope"
+                               << "--column: 'nope' is not a column (allowed: time, a\\xff\\xfe, b\\xc3)";
+    QTest::newRow("UTF-8 kept") << QByteArray("time,caf\xc3\xa9\n0,1\n") << "nope" << "(allowed: time, caf\u00e9)";
+    QTest::newRow("1.4 MB header") << "time" + QByteArray(",column_with_a_long_name").repeated(60000) + "\n" << "nope"
+                                   << ", ... (60001 columns in all))";
+    QTest::newRow("1.4 MB column name") << "time," + QByteArray(1400000, 'x') + "\n" << "nope" << "(allowed: time, xxxxx";
+    QTest::newRow("time not first") << QByteArray("targets_found,time\n0,0\n") << "targets_found"
+                                    << "the first column is 'targets_found', not 'time'";
+    QTest::newRow("CRLF header") << QByteArray("time,targets_found\r\n") << "nope" << "(allowed: time, targets_found)";
+  }
+  void csv_refusals_are_one_printable_line() {
+    QFETCH(QByteArray, csv);
+    QFETCH(QString, column);
+    QFETCH(QString, expect);
+    write_file(path("bad/summary.csv"), csv);
+    const CliResult r = run_salsa({"plot", path("bad/summary.csv"), "--out", path("bad/out.png"), "--column", column});
+    QVERIFY2(r.exit_code == 2 && !r.crashed, describe(r));
+    const QStringList lines = non_empty_lines(r.err);
+    QVERIFY2(lines.size() == 1 && r.err.size() < 2000, qPrintable(r.err.left(300)));
+    QVERIFY2(lines[0].contains(path("bad/summary.csv") + ": ") && lines[0].contains(expect), qPrintable(r.err.left(300)));
+    QVERIFY2(!r.err.contains(QChar::ReplacementCharacter), qPrintable(r.err.left(300)));  // valid UTF-8 throughout
+    QVERIFY(!QFileInfo::exists(path("bad/out.png")));
+  }
 };
 
 QTEST_GUILESS_MAIN(TestPlots)

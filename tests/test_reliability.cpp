@@ -304,6 +304,62 @@ class TestReliability : public QObject {
              describe(r));
   }
 
+  // ---- Every failure names its plugin: a plugin that throws, from any call site, fails its test on
+  // one line naming the test, the plugin's kind, registered name and file, and the time; never another
+  // plugin (a throwing contact handler or target kind was once blamed on the behavior).
+  void every_failure_names_its_plugin_data() {
+    QTest::addColumn<QByteArray>("test");
+    QTest::addColumn<QString>("named");
+    const QByteArray head = R"({"name": "b", "behavior": {"name": "blame_behavior", "params": {"throw_from": %1}}, "drones": 50, "time": 2, )";
+    auto row = [&](const char* name, const QByteArray& rest, const char* named, int throw_from = -1) {
+      QTest::newRow(name) << QByteArray(head).replace("%1", QByteArray::number(throw_from)) + rest + "}" << QString(named);
+    };
+    row("behavior decide", R"("targets": {"count": 10})", "behavior 'blame_behavior' (", 0);
+    row("target kind in_view", R"("targets": {"kind": "blame_target", "count": 2000, "params": {"mode": 1}})",
+        "target kind 'blame_target' (");
+    row("contact handler on_contact, second in the list",
+        R"("targets": {"count": 2000}, "contact_handlers": ["detect_targets", {"name": "blame_handler", "params": {"mode": 1}}])",
+        "contact handler 'blame_handler' (");
+    row("contact handler reset", R"("contact_handlers": [{"name": "blame_handler", "params": {"mode": 2}}])",
+        "could not start: contact handler 'blame_handler' (");
+    row("contact handler reset in a change",
+        R"("contact_handlers": [{"name": "blame_handler", "params": {"mode": 3}}], "changes": [{"time": 1, "set": {"drones": 60}}])",
+        "could not be applied: contact handler 'blame_handler' (");
+    row("metric reset", R"("metrics": [{"name": "blame_metric", "params": {"mode": 2}}])", "metric 'blame_metric' (");
+    row("metric observe", R"("metrics": [{"name": "blame_metric", "params": {"mode": 3}}])", "metric 'blame_metric' (");
+    row("metric finish", R"("metrics": [{"name": "blame_metric", "params": {"mode": 4}}])", "metric 'blame_metric' (");
+  }
+  void every_failure_names_its_plugin() {
+    QFETCH(QByteArray, test);
+    QFETCH(QString, named);
+    QTemporaryDir dir;
+    write(dir.filePath("t.json"), test);
+    const CliResult r = run_salsa({"run", "t.json", "--out", "out", "--plugin-dir", q(test_plugins_dir() / "blame")}, dir.path());
+    QVERIFY2(r.exit_code == 1 && !r.crashed, describe(r));
+    QVERIFY2(non_empty_lines(r.err).size() == 1, describe(r));
+    QVERIFY2(r.err.startsWith("salsa: test 'b' (t.json): "), describe(r));
+    QVERIFY2(r.err.contains(named + q(test_plugins_dir() / "blame" / "libtest_blame.so") + ")"), describe(r));
+    QVERIFY2(named.startsWith("behavior") || !r.err.contains("behavior 'blame_behavior'"), describe(r));
+    QVERIFY2(!r.err.contains("detect_targets"), describe(r));
+    QVERIFY2(r.err.contains(named.startsWith("behavior") ? "failed at t = 0 s: drone 0 threw" : "first line second line third line"),
+             describe(r));
+  }
+
+  // decide and in_view run in parallel: the failure told is the lowest drone id's, whatever the
+  // thread count and whichever thread threw first (2000 drones: many chunks of 64, run in any order).
+  void parallel_failure_is_the_lowest_drone_id() {
+    QTemporaryDir dir;
+    write(dir.filePath("t.json"),
+          R"({"name": "b", "behavior": {"name": "blame_behavior", "params": {"throw_from": 150}}, "drones": 2000, "time": 1})");
+    for (const char* threads : {"1", "2", "2", "2"}) {  // more than the cores makes TBB warn on stderr
+      const CliResult r = run_salsa({"run", "t.json", "--out", "out", "--threads", threads, "--plugin-dir",
+                                     q(test_plugins_dir() / "blame")},
+                                    dir.path());
+      QVERIFY2(r.exit_code == 1 && non_empty_lines(r.err).size() == 1, describe(r));
+      QVERIFY2(r.err.contains("behavior 'blame_behavior' (") && r.err.contains("failed at t = 0 s: drone 150 threw"), describe(r));
+    }
+  }
+
   void isolate_fails_only_the_crashing_test_data() {
     QTest::addColumn<int>("mode");
     QTest::addColumn<QString>("what");

@@ -72,9 +72,12 @@ void apply_change(Simulation& sim, TestSpec& test, const Change& c, const Plugin
     const ParameterValues old = sim.behavior().parameters();
     try {
       sim.behavior().set_parameters(changed.behavior.params);
-    } catch (...) {
+    } catch (const std::exception& e) {
       sim.behavior().set_parameters(old);  // configure() refused the combination: back to what ran
-      throw;
+      throw PluginFailure("behavior", 0, e.what());
+    } catch (...) {
+      sim.behavior().set_parameters(old);
+      throw PluginFailure("behavior", 0, "an exception that is not a std::exception");
     }
   } else if (key == "drones") {
     sim.set_drone_count(changed.drones);
@@ -82,6 +85,32 @@ void apply_change(Simulation& sim, TestSpec& test, const Change& c, const Plugin
     sim.set_drone_config(changed.drone);
   }
   test = std::move(changed);
+}
+
+std::string refused_change(const TestSpec& test, const PluginHost& host) {
+  std::shared_ptr<Behavior> behavior;  // made at the first change of a behavior parameter
+  TestSpec state = test;
+  for (const Change& c : test.changes) {
+    apply_to_test(state, c);
+    if (!std::string_view(c.key).starts_with(params_prefix)) continue;
+    const Entry<Behavior>& entry = host.behavior(test.behavior.name);
+    if (!behavior) behavior = PluginHost::create(entry, test.behavior.params);  // throws naming the plugin
+    std::string why;
+    try {
+      behavior->set_parameters(state.behavior.params);
+    } catch (const std::exception& e) {
+      why = e.what();
+    } catch (...) {
+      why = "an exception that is not a std::exception";
+    }
+    if (why.empty()) continue;
+    for (char& ch : why)
+      if (ch == '\n' || ch == '\r') ch = ' ';
+    std::string time = Parameter::format(c.time);
+    return "changes at t = " + time + " s: " + c.key + " = " + Parameter::format(c.value) + ": behavior '" +
+           test.behavior.name + "' (" + entry.plugin().file.string() + ") refused it: " + why;
+  }
+  return {};
 }
 
 }  // namespace salsa

@@ -12,7 +12,7 @@ CsvReader::CsvReader(const std::filesystem::path& file) : path_(file) {
   file_ = std::fopen(file.c_str(), "rb");
   if (!file_) throw InputError(strict_json::printable(file.string(), 200) + ": cannot open file");
   if (!read_record() || (ends_.size() == 1 && cells_.empty()))
-    throw InputError(strict_json::printable(file.string(), 200) + ": empty file (a CSV file with a header row)");
+    throw InputError(strict_json::printable(file.string(), 200) + ": empty (allowed: a CSV written by salsa with a header row)");
   for (std::size_t i = 0; i < ends_.size(); ++i) header_.emplace_back((*this)[i]);
 }
 

@@ -38,6 +38,13 @@ std::string format_value(double v, int decimals) {
   return ec == std::errc{} ? std::string(text, end) : std::string();
 }
 
+/// A plugin's message on one line.
+std::string one_line(std::string text) {
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  return text;
+}
+
 std::string time_text(double t) {
   std::ostringstream s;
   s.precision(6);
@@ -88,14 +95,20 @@ MetricSet::MetricSet(const std::vector<PluginChoice>& metrics, const PluginHost&
         throw MetricListError(i, "metric '" + choice.name + "' is listed twice (also metrics[" + std::to_string(k) +
                                      "]; allowed: each metric once)");
     Slot slot;
+    const char* call = "";  // the metric's own call that threw, once it exists
     try {
       const Entry<Metric>& entry = host.metric(choice.name);
       slot.label = "metric '" + choice.name + "' (" + entry.plugin().file.string() + ")";
-      slot.metric = PluginHost::create(entry, choice.params);
+      slot.metric = PluginHost::create(entry, choice.params);  // its message names the metric
+      call = "step_columns";
       slot.step = slot.metric->step_columns();
+      call = "final_columns";
       slot.final = slot.metric->final_columns();
     } catch (const std::exception& e) {
-      throw MetricListError(i, e.what());
+      throw MetricListError(i, one_line(*call ? slot.label + " failed in " + call + ": " + e.what() : e.what()));
+    } catch (...) {
+      throw MetricListError(i, *call ? slot.label + " failed in " + call + ": an exception that is not a std::exception"
+                                     : "metric '" + choice.name + "': an exception that is not a std::exception");
     }
     auto claim = [&](const std::vector<Column>& columns, std::vector<std::pair<std::string, std::string>>& owners,
                      const char* file) {
@@ -145,7 +158,7 @@ void MetricSet::each(const Simulation& sim, const char* what, Call call) {
     try {
       call(s);
     } catch (const std::exception& e) {
-      throw MetricFailure(s.label + " failed in " + what + " at t = " + time_text(sim.time()) + " s: " + e.what());
+      throw MetricFailure(s.label + " failed in " + what + " at t = " + time_text(sim.time()) + " s: " + one_line(e.what()));
     } catch (...) {
       throw MetricFailure(s.label + " failed in " + what + " at t = " + time_text(sim.time()) +
                           " s: an exception that is not a std::exception");

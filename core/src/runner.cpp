@@ -293,6 +293,7 @@ std::string signal_name(int signal) {
 
 int stop_signal() { return stop_requested.load(); }
 
+
 void install_signal_handlers() {
   if (handlers_installed.exchange(true)) return;
   // Crash notes run on their own stack, so a stack overflow on the main thread is still reported.

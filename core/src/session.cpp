@@ -6,6 +6,35 @@
 #include <cmath>
 
 namespace salsa {
+std::string failed_plugin(const PluginFailure& failure, const TestSpec& test, const PluginHost& host) {
+  std::string name;
+  std::filesystem::path file;
+  try {
+    if (failure.kind == "behavior") {
+      name = test.behavior.name;
+      file = host.behavior(name).plugin().file;
+    } else if (failure.kind == "target kind") {
+      name = test.target.name;
+      file = host.target_kind(name).plugin().file;
+    } else if (failure.kind == "contact handler" && failure.index < test.contact_handlers.size()) {
+      name = test.contact_handlers[failure.index].name;
+      file = host.contact_handler(name).plugin().file;
+    } else if (failure.kind == "map") {
+      name = test.map.name;
+      file = host.map(name).plugin().file;
+    } else if (failure.kind == "metric" && failure.index < test.metrics.size()) {
+      name = test.metrics[failure.index].name;
+      file = host.metric(name).plugin().file;
+    }
+  } catch (const std::exception&) {  // unknown to this host: the name alone
+  }
+  std::string out = failure.kind;
+  if (failure.kind == "contact handler" && name.empty()) out += " #" + std::to_string(failure.index);
+  if (!name.empty()) out += " '" + name + "'";
+  if (!file.empty()) out += " (" + file.string() + ")";
+  return out;
+}
+
 SummaryRow summary_row(const Simulation& sim) {
   SummaryRow row;
   row.time = sim.time();
@@ -35,6 +64,8 @@ Session::Session(TestSpec test, const PluginHost& host, SessionOptions options)
     if (options.behavior) setup.behavior = std::move(options.behavior);
     sim_ = std::make_unique<Simulation>(std::move(setup));
     metrics_ = std::make_unique<MetricSet>(test_, host);
+  } catch (const PluginFailure& e) {
+    throw TestFailure(where() + ": could not start: " + failed_plugin(e, test_, host) + " failed: " + e.what());
   } catch (const std::exception& e) {
     throw TestFailure(where() + ": could not start: " + e.what());
   }
@@ -49,10 +80,6 @@ Session::~Session() = default;
 
 std::string Session::where() const { return "test '" + test_.name + "' (" + test_.source + ")"; }
 
-std::string Session::blame(const std::exception&) const {
-  return "behavior '" + current_.behavior.name + "' (" + host_->behavior(current_.behavior.name).plugin().file.string() + ")";
-}
-
 bool Session::finished() const { return sim_->step_count() >= test_.steps(); }
 
 void Session::apply_due_changes() {
@@ -62,7 +89,9 @@ void Session::apply_due_changes() {
     try {
       apply_change(*sim_, current_, c, *host_);
     } catch (const std::exception& e) {
-      throw TestFailure(where() + ": the change at t = " + format::seconds(c.time) + " s could not be applied: " + e.what());
+      const auto* plugin = dynamic_cast<const PluginFailure*>(&e);
+      throw TestFailure(where() + ": the change at t = " + format::seconds(c.time) + " s (" + c.key + ") could not be applied: " +
+                        (plugin ? failed_plugin(*plugin, current_, *host_) + " failed: " : "") + e.what());
     }
   }
 }
@@ -76,14 +105,21 @@ void Session::step() {
     throw;  // an observer's file: the caller knows which
   } catch (const MetricFailure& e) {
     throw TestFailure(where() + ": " + e.what());
-  } catch (const std::exception& e) {
-    throw TestFailure(where() + ": " + blame(e) + " failed at t = " + format::seconds(sim_->time()) + " s: " + e.what());
+  } catch (const PluginFailure& e) {
+    throw TestFailure(where() + ": " + failed_plugin(e, current_, *host_) + " failed at t = " + format::seconds(sim_->time()) +
+                      " s: " + e.what());
+  } catch (const std::exception& e) {  // not plugin code
+    throw TestFailure(where() + ": failed at t = " + format::seconds(sim_->time()) + " s: " + e.what());
   }
 }
 
 void Session::change(const std::string& key, double value) {
   const Change c{sim_->time(), key, value};
-  apply_change(*sim_, current_, c, *host_);  // throws when refused, leaving both as they were
+  try {
+    apply_change(*sim_, current_, c, *host_);  // throws when refused, leaving both as they were
+  } catch (const PluginFailure& e) {
+    throw std::invalid_argument(key + ": " + failed_plugin(e, current_, *host_) + " failed: " + e.what());
+  }
   timeline_.insert(timeline_.begin() + static_cast<std::ptrdiff_t>(next_change_), c);
   ++next_change_;
 }

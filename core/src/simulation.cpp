@@ -7,9 +7,14 @@
 #include <oneapi/tbb/task_group.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include <cxxabi.h>
+
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
+#include <mutex>
 #include <stdexcept>
 
 namespace salsa {
@@ -92,6 +97,27 @@ class EventView final : public WorldView {
   double time_;
 };
 
+constexpr const char* behavior_kind = "behavior";
+constexpr const char* target_kind = "target kind";
+constexpr const char* handler_kind = "contact handler";
+
+/// Calls plugin code: whatever it throws comes back as a PluginFailure naming the plugin (a failure
+/// already named, from a nested call, passes through; so does a thread's cancellation).
+template <class Fn>
+decltype(auto) plugin_call(const char* kind, std::size_t index, Fn&& fn) {
+  try {
+    return fn();
+  } catch (const PluginFailure&) {
+    throw;
+  } catch (const abi::__forced_unwind&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw PluginFailure(kind, index, e.what());
+  } catch (...) {
+    throw PluginFailure(kind, index, "an exception that is not a std::exception");
+  }
+}
+
 /// Ids are 32-bit (and Box2D's user data holds id + 1).
 void check_drone_count(std::size_t n) {
   if (n >= std::numeric_limits<std::uint32_t>::max())
@@ -101,6 +127,16 @@ void check_drone_count(std::size_t n) {
 }  // namespace
 
 // ---------------------------------------------------------------- limits
+
+PluginFailure::PluginFailure(std::string kind_, std::size_t index_, const std::string& message)
+    : std::runtime_error([&] {
+        std::string line = message;  // one line, whatever the plugin wrote
+        for (char& c : line)
+          if (c == '\n' || c == '\r') c = ' ';
+        return line;
+      }()),
+      kind(std::move(kind_)),
+      index(index_) {}
 
 static_assert(box2d_max_step == b2_maxTranslation, "the step limit quoted to users is Box2D's own");
 
@@ -176,7 +212,7 @@ Problem check_targets(std::span<const Vec2> positions, std::size_t count, double
 }
 
 Problem check_view_range(const TargetKind& kind, const DroneConfig& drone) {
-  const double range = kind.view_range(drone.camera_range);
+  const double range = plugin_call(target_kind, 0, [&] { return kind.view_range(drone.camera_range); });
   if (std::isfinite(range) && range >= 0) return {};
   return {"view_range", num(range) + " m for a camera range of " + num(drone.camera_range) +
                             " m (allowed: a finite distance ≥ 0 m)"};
@@ -199,12 +235,13 @@ std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, con
                                   std::uint64_t seed) {
   if (count == 0) return {};
   // The radius first: placement keeps targets `radius` clear of obstacles.
-  if (auto p = check_targets({}, 0, kind.radius(), map.bounds)) throw std::invalid_argument(p.text());
+  const double radius = plugin_call(target_kind, 0, [&] { return kind.radius(); });
+  if (auto p = check_targets({}, 0, radius, map.bounds)) throw std::invalid_argument(p.text());
   if (auto p = check_view_range(kind, drone)) throw std::invalid_argument(p.text());
   const StateView view(map, geometry, drone_properties(drone), 0, dt);
   Rng rng(seed, targets_stream);
-  std::vector<Vec2> positions = kind.place(count, view, rng);
-  if (auto p = check_targets(positions, count, kind.radius(), map.bounds)) throw std::invalid_argument(p.text());
+  std::vector<Vec2> positions = plugin_call(target_kind, 0, [&] { return kind.place(count, view, rng); });
+  if (auto p = check_targets(positions, count, radius, map.bounds)) throw std::invalid_argument(p.text());
   return positions;
 }
 
@@ -240,21 +277,52 @@ struct Simulation::Parallel {
     });
   }
 
+  /// What fn threw for the lowest drone id: the failure reported whatever the thread count and the
+  /// order the drones ran in. Drones above the lowest failing id so far are skipped (none of theirs
+  /// can be reported).
+  struct FirstFailure {
+    std::atomic<std::uint32_t> id{std::numeric_limits<std::uint32_t>::max()};
+    std::mutex mutex;
+    std::exception_ptr error;
+    bool skip(std::uint32_t i) const { return i > id.load(std::memory_order_relaxed); }
+    void note(std::uint32_t i) {
+      const std::lock_guard lock(mutex);
+      if (i < id.load(std::memory_order_relaxed) || !error) {
+        id.store(i, std::memory_order_relaxed);
+        error = std::current_exception();
+      }
+    }
+  };
+
   /// fn(order[k], scratch) for every k, spread over the arena's threads. Drones go in grid-cell order,
-  /// so that neighbouring drones, which read the same cells, run one after the other.
+  /// so that neighbouring drones, which read the same cells, run one after the other. A throw is
+  /// caught where it happens (not left to TBB, which would pass on whichever came first) and the
+  /// lowest drone id's is rethrown once all are done.
   template <class Fn>
   void for_each(std::span<const std::uint32_t> order, Fn&& fn) {
+    FirstFailure failure;
+    auto one = [&](std::uint32_t i, Scratch& s) {
+      if (failure.skip(i)) return;
+      try {
+        fn(i, s);
+      } catch (const abi::__forced_unwind&) {
+        throw;
+      } catch (...) {
+        failure.note(i);
+      }
+    };
     if (order.size() <= grain) {  // one chunk: not worth a task
       Scratch& s = scratch.local();
-      for (std::uint32_t i : order) fn(i, s);
-      return;
-    }
-    arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), grain), [&](const tbb::blocked_range<std::size_t>& r) {
-        Scratch& s = scratch.local();
-        for (std::size_t k = r.begin(); k != r.end(); ++k) fn(order[k], s);
+      for (std::uint32_t i : order) one(i, s);
+    } else {
+      arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), grain), [&](const tbb::blocked_range<std::size_t>& r) {
+          Scratch& s = scratch.local();
+          for (std::size_t k = r.begin(); k != r.end(); ++k) one(order[k], s);
+        });
       });
-    });
+    }
+    if (failure.error) std::rethrow_exception(failure.error);
   }
 };
 
@@ -272,7 +340,7 @@ Simulation::Simulation(SimulationSetup setup)
   if (!setup_.behavior) throw std::invalid_argument("behavior: none given");
   if (setup_.log_every == 0) setup_.log_every = 1;
   World world = build_world(setup_);
-  setup_.behavior->reset(setup_.drones);
+  plugin_call(behavior_kind, 0, [&] { setup_.behavior->reset(setup_.drones); });
   install(std::move(world));
   drone_properties_ = drone_properties(setup_.drone);
   reset_handlers(*this);
@@ -369,7 +437,7 @@ Simulation::Targets Simulation::make_targets(std::vector<Vec2> positions, const 
   Targets t;
   if (kind && !positions.empty()) {
     if (auto p = check_view_range(*kind, drone)) throw std::invalid_argument(p.text());
-    t.reach = kind->view_range(drone.camera_range);
+    t.reach = plugin_call(target_kind, 0, [&] { return kind->view_range(drone.camera_range); });
   }
   t.states.reserve(positions.size());
   for (Vec2 p : positions) t.states.push_back({p});
@@ -379,7 +447,8 @@ Simulation::Targets Simulation::make_targets(std::vector<Vec2> positions, const 
 }
 
 void Simulation::reset_handlers(const WorldView& world) const {
-  for (const auto& handler : setup_.contact_handlers) handler->reset(world);
+  for (std::size_t k = 0; k < setup_.contact_handlers.size(); ++k)
+    plugin_call(handler_kind, k, [&] { setup_.contact_handlers[k]->reset(world); });
 }
 
 void Simulation::install(World&& w) noexcept {
@@ -396,7 +465,7 @@ void Simulation::set_drone_count(std::size_t n) {
   Rng rng = spawn_rng_;
   Drones next = resized(drones_, n, setup_, geometry_, spawn_, rng);
   physics_->bodies.reserve(n);
-  setup_.behavior->reset(n);
+  plugin_call(behavior_kind, 0, [&] { setup_.behavior->reset(n); });
   reset_handlers(StateView(setup_.map, geometry_, drone_properties_, time(), setup_.dt, next.positions, next.velocities));
   // Nothing below throws.
   const std::size_t before = drones_.positions.size();
@@ -441,7 +510,7 @@ void Simulation::set_dt(double dt) {
 
 void Simulation::set_behavior(std::shared_ptr<Behavior> behavior) {
   if (!behavior) throw std::invalid_argument("behavior: none given");
-  behavior->reset(drones_.positions.size());
+  plugin_call(behavior_kind, 0, [&] { behavior->reset(drones_.positions.size()); });
   setup_.behavior = std::move(behavior);
 }
 
@@ -451,7 +520,7 @@ void Simulation::set_map(const MapData& map, std::optional<Vec2> spawn) {
   next.spawn = spawn;
   next.drones = drones_.positions.size();
   World world = build_world(next);
-  setup_.behavior->reset(next.drones);
+  plugin_call(behavior_kind, 0, [&] { setup_.behavior->reset(next.drones); });
   reset_handlers(StateView(next.map, world.geometry, drone_properties_, time(), next.dt, world.drones.positions,
                            world.drones.velocities));
   // Nothing below throws.
@@ -525,7 +594,8 @@ void Simulation::sense() {
     seen_[i].clear();
     if (kind)
       targets_.grid.query(p, reach, [&](std::uint32_t t, Vec2, double d2) {
-        if (const double d = std::sqrt(d2); kind->in_view(d, cfg.camera_range)) seen_[i].emplace_back(t, d);
+        const double d = std::sqrt(d2);
+        if (plugin_call(target_kind, 0, [&] { return kind->in_view(d, cfg.camera_range); })) seen_[i].emplace_back(t, d);
       });
   });
 }
@@ -569,10 +639,11 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
 // so any thread count gives the same result.
 void Simulation::decide() {
   Behavior& behavior = *setup_.behavior;
-  behavior.prepare(*this);
-  const Senses senses = behavior.senses();
+  plugin_call(behavior_kind, 0, [&] { behavior.prepare(*this); });
+  const Senses senses = plugin_call(behavior_kind, 0, [&] { return behavior.senses(); });
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
-    drones_.steering[i] = behavior.decide(perceive(i, senses, s), drones_.rngs[i]);
+    const Perception me = perceive(i, senses, s);
+    drones_.steering[i] = plugin_call(behavior_kind, 0, [&] { return behavior.decide(me, drones_.rngs[i]); });
   });
 }
 
@@ -584,7 +655,7 @@ void Simulation::act() {
   for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
     const Vec2 a = drones_.steering[i];
     if (!std::isfinite(a.x) || !std::isfinite(a.y))
-      throw std::runtime_error("decide returned a non-finite steering " + point(a) + " for drone " + std::to_string(i));
+      throw PluginFailure(behavior_kind, 0, "decide returned a non-finite steering " + point(a) + " for drone " + std::to_string(i));
     const Vec2 v = (drones_.velocities[i] + a).clamped(max_speed);
     drones_.commanded[i] = v;
     physics_->bodies[i]->SetLinearVelocity(to_b2(v));
@@ -637,7 +708,8 @@ void Simulation::dispatch_sightings() {
     for (const auto& [t, d] : seen_[i]) {
       ++targets_.states[t].observations;
       const ContactEvent e{ContactKind::target_in_view, i, t, targets_.states[t].position, step_end};
-      for (const auto& handler : setup_.contact_handlers) handler->on_contact(e, actions);
+      for (std::size_t k = 0; k < setup_.contact_handlers.size(); ++k)
+        plugin_call(handler_kind, k, [&] { setup_.contact_handlers[k]->on_contact(e, actions); });
     }
   }
 }
@@ -647,7 +719,8 @@ void Simulation::dispatch_contacts() {
   for (ContactEvent e : physics_->begun) {
     e.time = time();
     ++collisions_;
-    for (const auto& handler : setup_.contact_handlers) handler->on_contact(e, actions);
+    for (std::size_t k = 0; k < setup_.contact_handlers.size(); ++k)
+      plugin_call(handler_kind, k, [&] { setup_.contact_handlers[k]->on_contact(e, actions); });
   }
 }
 

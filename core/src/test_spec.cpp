@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <tuple>
 
+#include "salsa/core/changes.hpp"
 #include "salsa/core/metrics.hpp"
 #include "salsa/core/names.hpp"
 #include "salsa/core/queue.hpp"
@@ -364,6 +365,8 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   } catch (const std::exception& e) {
     throw InputError(t.source + ": " + e.what());
   }
+  // A change the behavior's configure() refuses would end the run at its time: refuse it now.
+  if (const std::string why = refused_change(t, host); !why.empty()) throw InputError(t.source + ": " + why);
   s.spawn = t.spawn;
   s.spawn_mode = t.spawn_mode;
   s.spawn_radius = t.spawn_radius;
@@ -383,10 +386,12 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   try {
     Rng map_rng(t.seed, 0);
     s.map = map->generate(t.map_file, map_rng);
-  } catch (const MapError& e) {
-    throw InputError(e.what());
-  } catch (const std::exception& e) {
-    throw InputError(t.source + ": " + provider("map", *map_entry) + " failed: " + e.what());
+  } catch (const std::exception& e) {  // MapError too: the map file's own errors already name the file
+    std::string why = e.what();
+    for (char& c : why)
+      if (c == '\n' || c == '\r') c = ' ';
+    if (!t.map_file.empty() && why.find(t.map_file) != std::string::npos) throw InputError(t.source + ": " + why);
+    throw InputError(t.source + ": " + provider("map", *map_entry) + " failed: " + why);
   }
   if (const Problem p = check_map(s.map)) throw InputError(t.source + ": " + provider("map", *map_entry) + " returned " + p.text());
   const std::string map_name = t.map_file.empty() ? "map '" + t.map.name + "'" : "map " + t.map_file;

@@ -278,7 +278,15 @@ struct Engine::Worker {
       if (j != id && distance_squared(p[j], p[id]) <= range * range) in.neighbours.push_back(j);
     const auto hits = sim->obstacle_hits(id);
     in.hits.assign(hits.begin(), hits.end());
-    in.memory = sim->behavior().inspect(id);
+    try {  // plugin code on the worker thread: a throw must not end the desktop
+      in.memory = sim->behavior().inspect(id);
+    } catch (const std::exception& e) {
+      const PluginFailure failure("behavior", 0, e.what());  // its message on one line
+      in.memory = failed_plugin(failure, session->current(), *host) + " failed in inspect: " + failure.what();
+    } catch (...) {
+      in.memory = failed_plugin(PluginFailure("behavior", 0, ""), session->current(), *host) +
+                  " failed in inspect: an exception that is not a std::exception";
+    }
     return in;
   }
 
@@ -395,6 +403,8 @@ struct Engine::Worker {
         start.behavior.params = start_values;
         reloaded_at = sim->time();
         if (state == RunState::failed) state = RunState::paused, error.clear();
+      } catch (const PluginFailure& e) {  // the new code's reset threw
+        return "the old code keeps running: " + failed_plugin(e, session->current(), *next) + " failed: " + e.what();
       } catch (const std::exception& e) {
         return std::string("the old code keeps running: ") + e.what();
       }

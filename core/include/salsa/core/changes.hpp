@@ -44,4 +44,11 @@ void apply_to_test(TestSpec& test, const Change& change);
 /// plugin's configure() or the simulation throws; either way `sim` and `test` are left as they were.
 void apply_change(Simulation& sim, TestSpec& test, const Change& change, const PluginHost& host);
 
+/// The timed changes applied as a run will apply them, short of running: a behavior made with the
+/// test's parameters gets each behavior.params change in order through set_parameters, so what its
+/// configure() refuses is found before the run. Empty, or the first refusal on one line: "changes at
+/// t = 1 s: behavior.params.k = 5: behavior 'b' (/path/libb.so) refused it: <its message>". Call
+/// after each change passed check_change.
+std::string refused_change(const TestSpec& test, const PluginHost& host);
+
 }  // namespace salsa

@@ -57,6 +57,7 @@ std::string map_json(const MapData& map, Vec2 spawn);
 /// error.txt. Tests may run at once on several threads (each with its own crash note).
 RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOptions& options);
 
+
 /// For front-ends that run tests in the foreground (the CLI), once, before the first test:
 /// - SIGINT / SIGTERM ask the running test to stop (run_test then throws Interrupted); a second one
 ///   ends the process at once;

@@ -40,6 +40,10 @@ struct SummaryRow {
 };
 SummaryRow summary_row(const Simulation& sim);
 
+/// The plugin a PluginFailure is about, as `test` chose it: "contact handler 'h' (/path/libh.so)"
+/// (without the file when the host no longer knows the name).
+std::string failed_plugin(const PluginFailure& failure, const TestSpec& test, const PluginHost& host);
+
 struct SessionOptions {
   int threads = 0;                     ///< decide threads (SimulationSetup::threads); 0: all cores
   std::shared_ptr<Behavior> behavior;  ///< replaces the test's behavior (the plugin fixture)
@@ -88,7 +92,6 @@ class Session {
 
  private:
   void apply_due_changes();
-  std::string blame(const std::exception& e) const;
 
   TestSpec test_, current_;
   const PluginHost* host_;

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,16 @@ class Observer {
  public:
   virtual ~Observer() = default;
   virtual void observe(const Simulation& sim) = 0;
+};
+
+/// A plugin threw: which one (kind and index), and its own message in what() (on one line). `kind` is
+/// "behavior", "target kind", "contact handler" (index: its position in
+/// SimulationSetup::contact_handlers; 0 otherwise), "map" or "metric". The caller, who knows the
+/// registered names and files, turns this into the line the user reads (failed_plugin in session.hpp).
+struct PluginFailure : std::runtime_error {
+  PluginFailure(std::string kind, std::size_t index, const std::string& message);
+  std::string kind;
+  std::size_t index = 0;
 };
 
 enum class SpawnMode { disc, uniform };
