@@ -6,6 +6,7 @@
 #include <memory>
 #include <type_traits>
 
+#include "salsa/core/drone_config.hpp"
 #include "salsa/core/plugin_host.hpp"
 #include "commands.hpp"
 #include "options.hpp"
@@ -77,11 +78,33 @@ void describe_columns(const Entry<Metric>& e) {
 
 int cmd_describe(int argc, char** argv) {
   po::options_description o("describe options");
-  o.add_options()("name", po::value<std::string>(), "plugin name (behavior, target kind, map, contact handler or metric)");
+  o.add_options()("name", po::value<std::string>(), "plugin name (behavior, target kind, map, contact handler or metric), or drone");
   po::variables_map vm;
   if (!parse(argc, argv, "describe", "NAME [options]", o, vm, plugin_options, positional("name"))) return 0;
   if (!vm.count("name")) throw InputError("describe: missing NAME (see 'salsa plugins' for the names)");
   const std::string name = vm["name"].as<std::string>();
+  auto table = [](const Parameters& parameters) {
+    std::cout << "  " << std::left << std::setw(28) << "PARAMETER" << std::setw(10) << "DEFAULT" << std::setw(10) << "MIN"
+              << std::setw(10) << "MAX" << std::setw(14) << "UNIT" << "MEANING\n";
+    for (const auto& p : parameters)
+      std::cout << "  " << std::setw(28) << p.name << std::setw(10) << Parameter::format(p.value) << std::setw(10)
+                << Parameter::format(p.min) << std::setw(10) << Parameter::format(p.max) << std::setw(14)
+                << (p.unit.empty() ? "-" : p.unit) << p.description << (p.is_integer() ? " (whole number)" : "") << "\n";
+  };
+  if (name == "drone") {  // not a plugin: the drone properties every test has (drone_schema)
+    std::cout << "drone: the properties of a test's \"drone\" (defaults: the \"small\" drone); timed changes set them as\n"
+                 "drone.<property>\n\n";
+    Parameters parameters;
+    for (const DroneProperty& p : drone_schema()) parameters.push_back(p.spec);
+    table(parameters);
+    std::cout << "\n  named configurations (\"drone\": \"NAME\", or {\"base\": \"NAME\", ...}):\n";
+    for (const DroneConfig& c : builtin_drone_configs()) {
+      std::cout << "  " << std::setw(8) << c.name;
+      for (const DroneProperty& p : drone_schema()) std::cout << " " << p.spec.name << "=" << Parameter::format(p.get(c));
+      std::cout << "\n";
+    }
+    return 0;
+  }
   PluginHost host;
   load_plugins(host, vm, true);
   bool found = false;
@@ -96,12 +119,7 @@ int cmd_describe(int argc, char** argv) {
         std::cout << "  no parameters\n";
         continue;
       }
-      std::cout << "  " << std::left << std::setw(28) << "PARAMETER" << std::setw(10) << "DEFAULT" << std::setw(10) << "MIN"
-                << std::setw(10) << "MAX" << std::setw(8) << "UNIT" << "MEANING\n";
-      for (const auto& p : e.factory.parameters)
-        std::cout << "  " << std::setw(28) << p.name << std::setw(10) << Parameter::format(p.value) << std::setw(10)
-                  << Parameter::format(p.min) << std::setw(10) << Parameter::format(p.max) << std::setw(8)
-                  << (p.unit.empty() ? "-" : p.unit) << p.description << (p.is_integer() ? " (whole number)" : "") << "\n";
+      table(e.factory.parameters);
     }
   };
   describe("behavior", host.behaviors());

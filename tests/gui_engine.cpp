@@ -210,7 +210,7 @@ class GuiEngine : public QObject {
       engine.start();
       QTRY_VERIFY_WITH_TIMEOUT(engine.snapshot()->state == RunState::failed, 20000);
       const std::string error = engine.snapshot()->error;
-      QVERIFY2(error.starts_with(named) && error.find("libtest_blame.so) failed at t = ") != std::string::npos &&
+      QVERIFY2(error.starts_with("test 'test' (blame): " + named) && error.find("libtest_blame.so) failed at t = ") != std::string::npos &&
                    error.find("first line second line third line") != std::string::npos,
                error.c_str());
     }
@@ -231,7 +231,7 @@ class GuiEngine : public QObject {
     Engine engine(host);
     const std::string why =
         engine.load(parse_test(head + R"("contact_handlers": [{"name": "blame_handler", "params": {"mode": 2}}]})", "blame", host)).get();
-    QVERIFY2(why.starts_with("contact handler 'blame_handler' (") && why.find("failed: first line second line third line") != std::string::npos,
+    QVERIFY2(why.starts_with("test 'test' (blame): could not start: contact handler 'blame_handler' (") && why.find("failed: first line second line third line") != std::string::npos,
              why.c_str());
   }
 

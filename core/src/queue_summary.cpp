@@ -225,7 +225,17 @@ void replace_file(const fs::path& file, const std::string& text) {
 std::string cell_of(const std::string& config_json) {
   json config = json::parse(config_json);
   for (const char* key : {"behavior", "name", "seed", "repeat"}) config.erase(key);
-  if (config.contains("versions") && config["versions"].is_object()) config["versions"].erase("behavior");
+  if (config.contains("versions") && config["versions"].is_object()) {
+    config["versions"].erase("behavior");
+    // Where a plugin was found is not the condition (its version and hash are): the same queue run
+    // from another install or build folder gets the same cells.
+    for (auto& [kind, v] : config["versions"].items()) {
+      if (v.is_object()) v.erase("file");
+      if (v.is_array())
+        for (json& e : v)
+          if (e.is_object()) e.erase("file");
+    }
+  }
   return hex(fnv1a(config.dump()), 12);
 }
 

@@ -421,7 +421,8 @@ Simulation::Drones Simulation::resized(const Drones& from, std::size_t n, const 
   bool scarce = false;
   for (std::size_t i = kept; i < n; ++i) {
     d.positions.push_back(spawn_position(s, geometry, spawn, n, spawn_rng, scarce));
-    d.velocities.push_back(Vec2::polar(spawn_rng.uniform(0.1 * cfg.max_speed, cfg.max_speed), spawn_rng.angle()));
+    const double heading = spawn_rng.angle();  // drawn first, as g++ evaluated the call: the order is fixed, not the compiler's
+    d.velocities.push_back(Vec2::polar(spawn_rng.uniform(0.1 * cfg.max_speed, cfg.max_speed), heading));
   }
   d.steering.assign(n, {});
   d.commanded.resize(n);

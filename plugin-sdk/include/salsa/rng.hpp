@@ -40,7 +40,10 @@ class Rng {
     return mean + stddev * std::sqrt(-2.0 * std::log(u1)) * std::cos(2 * pi * u2);
   }
   /// Uniform point in a disc.
-  Vec2 in_disc(Vec2 centre, double radius) { return centre + Vec2::polar(radius * std::sqrt(uniform()), angle()); }
+  Vec2 in_disc(Vec2 centre, double radius) {
+    const double a = angle();  // drawn first, in its own statement: the order must not be the compiler's
+    return centre + Vec2::polar(radius * std::sqrt(uniform()), a);
+  }
   /// Uniform point in a rectangle.
   Vec2 in_rect(const Rect& r) { return {uniform(r.min.x, r.max.x), uniform(r.min.y, r.max.y)}; }
 

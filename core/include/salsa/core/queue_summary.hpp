@@ -45,7 +45,7 @@ void write_queue_summary(const std::filesystem::path& out, const PluginHost* hos
 bool holds_results(const std::filesystem::path& out);
 
 /// 12 hex digits naming a test's experimental condition apart from its behavior: a hash of its
-/// config.json without behavior, name, seed, repeat and the behavior's version.
+/// config.json without behavior, name, seed, repeat, the behavior's version and the plugin files' paths.
 std::string cell_of(const std::string& config_json);
 
 }  // namespace salsa

@@ -61,10 +61,10 @@ struct SimulationSetup {
   std::uint64_t seed = 1;
   int threads = 0;                    ///< worker threads for `decide`; 0: all cores
   std::size_t log_every = 60;         ///< steps between observer calls
-  /// 1: a decision takes effect one step later (as in ARGoS), so Box2D steps on one core while the
-  /// drones sense and decide on the others. 0: it takes effect in the step it was made (all phases in
-  /// sequence; slower on several cores).
-  int decision_lag = 1;
+  /// 0 (the default, the SALSA paper's sequential definition): a decision takes effect in the step it
+  /// was made from (all phases in sequence). 1: one step later (as in ARGoS), so Box2D steps on one
+  /// core while the drones sense and decide on the others (faster on several cores).
+  int decision_lag = 0;
   bool profile = false;               ///< time each phase (Simulation::profile); off saves ~12 clock reads a step
 };
 
