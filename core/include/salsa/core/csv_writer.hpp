@@ -18,6 +18,11 @@ struct WriteError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// `value` with `decimals` fixed decimals, or, when that would not fit in 63 characters (finite values
+/// of about 1e57 and above), in the shortest exponent form that reads back ("1e+300"): every finite
+/// number is written; empty stays reserved for "no value".
+void append_number(std::string& out, double value, int decimals);
+
 class CsvWriter {
  public:
   /// The longest a finished row waits in memory before it is written.
