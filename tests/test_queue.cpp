@@ -239,6 +239,23 @@ class TestQueue : public QObject {
                 .contains("q.json: the queue expands to 6 tests (allowed: 5 without --yes): check the sweep"));
   }
 
+  // A list of 10^6 values is checked for repeats in one pass (it took 372 s when each value was
+  // compared with all before it): a repeat at its end is found in well under a second or two.
+  void long_sweep_lists_are_checked_fast() {
+    for (const char* axis : {"behaviors\": [{\"name\": \"flocking\", \"params\": {\"cohesion_weight\": ", "drones\": "}) {
+      QByteArray list = "[";
+      const bool weights = QByteArray(axis).startsWith("behaviors");
+      for (int i = 0; i < 1'000'000; ++i) list += QByteArray::number(weights ? 1 + i * 1e-6 : 1.0 + i, 'g', 12) + ",";
+      list += weights ? "1.5]}}]" : "500]";
+      QElapsedTimer timer;
+      timer.start();
+      const QString message = error_of("{\"sweep\": {\"" + QByteArray(axis) + list + "}}");
+      qInfo("%s: %lld ms", axis, static_cast<long long>(timer.elapsed()));
+      QVERIFY2(message.contains("[1000000]: ") && message.contains("is already in the list (allowed: each value once)"), qPrintable(message.left(300)));
+      QVERIFY2(timer.elapsed() < 20000, qPrintable(QString::number(timer.elapsed())));
+    }
+  }
+
   // ---- Seeds: the paired rule
 
   void reordering_tests_or_adding_a_behavior_changes_no_seed() {

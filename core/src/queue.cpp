@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "salsa/core/names.hpp"
 #include "test_reader.hpp"
@@ -151,9 +152,10 @@ std::vector<double> range_values(const json& v, const std::string& field, const 
 /// against the declared range (and whole numbers).
 std::vector<double> param_values(const json& v, const std::string& field, const Parameter& p, const Reader& r) {
   std::vector<double> out;
+  std::unordered_set<double> seen;  // a list or range may hold 10^6 values: no scan per value
   auto add = [&](double x, const std::string& at, const std::string& shown) {
     if (const std::string why = p.check(x); !why.empty()) r.fail(at, shown + " " + why);
-    if (std::find(out.begin(), out.end(), x) != out.end()) r.fail(at, shown + " is already in the list (allowed: each value once)");
+    if (!seen.insert(x == 0 ? 0.0 : x).second) r.fail(at, shown + " is already in the list (allowed: each value once)");
     out.push_back(x);
   };
   if (v.is_number()) {
@@ -357,6 +359,7 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host) {
   if (s.contains("drones")) {
     const json& axis = s["drones"];
     std::vector<double> counts;
+    std::unordered_set<double> seen;
     if (axis.is_object()) {
       for (const double x : range_values(axis, "sweep.drones", r)) {
         if (x != std::floor(x) || x < 1 || x > 1'000'000)
@@ -367,7 +370,7 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host) {
       for (std::size_t i = 0; const json& item : list_axis(axis, "sweep.drones", r, count_example.c_str())) {
         const std::string at = "sweep.drones[" + std::to_string(i++) + "]";
         counts.push_back(static_cast<double>(r.integer(item, at, 1, 1'000'000)));
-        if (std::count(counts.begin(), counts.end(), counts.back()) > 1) r.fail(at, show(item) + " is already in the list (allowed: each value once)");
+        if (!seen.insert(counts.back()).second) r.fail(at, show(item) + " is already in the list (allowed: each value once)");
       }
     }
     for (std::size_t i = 0; i < counts.size(); ++i)
