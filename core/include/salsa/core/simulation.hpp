@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,15 @@ struct SimulationSetup {
   /// sequence; slower on several cores).
   int decision_lag = 1;
   bool profile = false;               ///< time each phase (Simulation::profile); off saves ~12 clock reads a step
+};
+
+/// A plugin broke its contract (or threw) at a call site that knows which plugin it called: `kind`
+/// ("behavior", "contact handler", ...) and `index` (its place in the test's list, 0 for single ones).
+struct PluginFailure : std::runtime_error {
+  PluginFailure(const std::string& what, std::string kind_, std::size_t index_)
+      : std::runtime_error(what), kind(std::move(kind_)), index(index_) {}
+  std::string kind;
+  std::size_t index;
 };
 
 // ---- Limits: what the core can simulate faithfully, whatever made the map or the drones (a JSON file,
