@@ -477,8 +477,11 @@ int cmd_run(int argc, char** argv) {
     run.isolated = [&, threads = vm["threads"].defaulted() ? std::to_string(options.threads) : ""](const TestSpec& t) {
       return run_isolated(t, host, argc, argv, threads);
     };
+  // --isolate: the tests step in child processes, which get the stop signal and stop themselves.
+  if (run.isolated) stop_may_exit(false);
   std::unique_ptr<cli::Dispatch> dispatch = world ? world->dispatch(tests.size()) : std::make_unique<cli::ListDispatch>(mine);
   const cli::QueueResult result = cli::run_queue(tests, host, options, run, *dispatch);
+  stop_may_exit(false);  // the results are whole: the summary and plots are written in full
   int status = result.status;
   if (child || result.write_failed) return status;  // a full disk: nothing more written
   if (world && root && world->others_failed() > 0 && status == 0) status = 1;

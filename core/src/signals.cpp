@@ -2,15 +2,20 @@
 // note prepared before each test (written by the handlers with write(2) only).
 #include "salsa/core/signals.hpp"
 
+#include <semaphore.h>
 #include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <mutex>
+#include <system_error>
+#include <thread>
 #include <vector>
 
 #include "running_notes.hpp"
@@ -23,6 +28,8 @@ namespace {
 
 RunningNote notes[max_notes];
 std::atomic<bool> handlers_installed{false};
+sem_t stop_posted;  // posted once by the first stop signal
+std::atomic<bool> may_exit{true};  // stop_may_exit
 
 void write_all(const char* text, std::size_t size) {
   while (size > 0) {
@@ -110,6 +117,35 @@ extern "C" void on_stop_signal(int sig) {
     ::signal(sig, SIG_DFL);
     ::raise(sig);
   }
+  const int saved = errno;
+  ::sem_post(&stop_posted);  // async-signal-safe: wakes the watchdog
+  errno = saved;
+}
+
+// The run stops between steps, and one step (10^6 drones, a slow plugin) may take minutes: if the
+// process still runs this long after a stop was asked, the watchdog ends it. Each running test's
+// rows so far stay in its .partial folder (never published), which --resume redoes.
+constexpr auto stop_grace = std::chrono::milliseconds(800);
+
+void watchdog() {
+  while (::sem_wait(&stop_posted) != 0) {
+  }
+  const int sig = stop_requested.load();
+  std::this_thread::sleep_for(stop_grace);
+  // Ends the process while a test steps, or while the front-end says nothing of value is under way
+  // (its start-up); not while it writes its summaries or waits for its --isolate children.
+  for (;;) {
+    const bool stepping = std::any_of(std::begin(notes), std::end(notes), [](const RunningNote& n) { return n.active.load(); });
+    if (stepping || may_exit.load()) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  const char* name = signal_text(sig);
+  if (write_notes("stopped by ", name ? name : "a stop signal") == 0) {
+    write_all("salsa: stopped by ");
+    write_all(name ? name : "a stop signal");
+    write_all(" (run again with --resume for the rest)\n");
+  }
+  ::_exit(128 + sig);
 }
 
 extern "C" void on_exit_mid_test() {
@@ -159,6 +195,8 @@ std::string signal_name(int signal) {
   return name ? name : "signal " + std::to_string(signal);
 }
 
+void stop_may_exit(bool yes) { may_exit.store(yes); }
+
 int stop_signal() { return stop_requested.load(); }
 
 void install_signal_handlers() {
@@ -178,6 +216,11 @@ void install_signal_handlers() {
   stop.sa_handler = on_stop_signal;
   stop.sa_flags = SA_RESTART;
   sigemptyset(&stop.sa_mask);
+  ::sem_init(&stop_posted, 0, 0);
+  try {
+    std::thread(watchdog).detach();
+  } catch (const std::system_error&) {  // no thread: a stop waits for the step to end, as before
+  }
   for (int sig : {SIGINT, SIGTERM}) ::sigaction(sig, &stop, nullptr);
 }
 
