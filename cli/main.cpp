@@ -272,7 +272,6 @@ std::vector<TestSpec> load_all(const po::variables_map& vm, const PluginHost& ho
   const QueueOptions options = queue_options(vm);
   std::vector<TestSpec> all;
   std::unordered_map<std::string, std::string> sources;  // name -> where it was given
-  std::unordered_map<std::string, std::string> tests;    // the test without its name -> where
   for (const auto& f : vm["files"].as<std::vector<std::string>>()) {
     for (auto& t : load_queue(f, host, options).tests) {
       if (vm.count("time")) {
@@ -283,15 +282,16 @@ std::vector<TestSpec> load_all(const po::variables_map& vm, const PluginHost& ho
       if (vm.count("log-interval")) t.log_interval = seconds_option(vm, "log-interval", t);
       if (const auto [it, fresh] = sources.emplace(t.name, t.source); !fresh)
         throw InputError(t.source + ": name: \"" + t.name + "\" is already used by " + it->second);
-      // load_queue refuses the same test twice within a file; across files it is the same mistake.
-      TestSpec anonymous = t;
-      anonymous.name.clear();
-      if (const auto [it, fresh] = tests.emplace(resolved_json(anonymous, host), t.source); !fresh)
-        throw InputError(t.source + ": the same test as " + it->second +
-                         " (the same world, seed and behavior give the same data; give one a \"seed\", or use a queue's \"repeats\")");
       all.push_back(std::move(t));
     }
   }
+  // load_queue refuses the same test twice within a file; across files it is the same mistake.
+  std::vector<const TestSpec*> specs;
+  specs.reserve(all.size());
+  for (const TestSpec& t : all) specs.push_back(&t);
+  if (const auto same = first_same_test(specs))
+    throw InputError(all[same->second].source + ": the same test as " + all[same->first].source +
+                     " (the same world, seed and behavior give the same data; give one a \"seed\", or use a queue's \"repeats\")");
   return all;
 }
 

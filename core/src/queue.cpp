@@ -587,15 +587,12 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
 
   // ---- The same test twice is a mistake: same world, same seed, same data.
   {
-    std::unordered_map<std::string, std::size_t> seen;
-    for (std::size_t i = 0; i < configs.size(); ++i) {
-      TestSpec anonymous = configs[i].test;
-      anonymous.name.clear();
-      const auto [it, fresh] = seen.emplace(resolved_json(anonymous, host), i);
-      if (!fresh)
-        throw InputError(configs[i].test.source + ": the same test as " + configs[it->second].test.source +
-                         " (the same world, seed and behavior give the same data; give one a \"seed\", or use the queue's \"repeats\")");
-    }
+    std::vector<const TestSpec*> specs;
+    specs.reserve(configs.size());
+    for (const Config& c : configs) specs.push_back(&c.test);
+    if (const auto same = first_same_test(specs))
+      throw InputError(configs[same->second].test.source + ": the same test as " + configs[same->first].test.source +
+                       " (the same world, seed and behavior give the same data; give one a \"seed\", or use the queue's \"repeats\")");
   }
 
   // ---- Repeats, interleaved: repeat 0 of every configuration before repeat 1 of any.

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <tuple>
+#include <unordered_map>
 
 #include "salsa/core/metrics.hpp"
 #include "salsa/core/names.hpp"
@@ -411,6 +412,37 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
     }
   }
   return s;
+}
+
+std::optional<std::pair<std::size_t, std::size_t>> first_same_test(const std::vector<const TestSpec*>& tests) {
+  // Fields that any two same tests share; equal hashes are then compared field by field.
+  auto key = [](const TestSpec& t) {
+    std::size_t h = std::hash<std::uint64_t>{}(t.seed);
+    auto mix = [&h](std::size_t v) { h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2); };
+    auto mix_double = [&](double v) { mix(std::hash<double>{}(v == 0 ? 0.0 : v)); };  // -0 == 0, as == says
+    mix(t.drones), mix(t.targets), mix(t.repeat);
+    mix_double(t.time), mix_double(t.dt);
+    for (const PluginChoice* c : {&t.behavior, &t.map, &t.target}) {
+      mix(std::hash<std::string>{}(c->name));
+      for (const auto& [name, value] : c->params.items()) mix_double(value);
+    }
+    mix(std::hash<std::string>{}(t.map_file));
+    return h;
+  };
+  auto same = [](const TestSpec& a, const TestSpec& b) {
+    TestSpec x = a;
+    x.name = b.name, x.source = b.source, x.seed_given = b.seed_given;
+    return x == b;
+  };
+  std::unordered_multimap<std::size_t, std::size_t> seen;
+  seen.reserve(tests.size());
+  for (std::size_t j = 0; j < tests.size(); ++j) {
+    const std::size_t k = key(*tests[j]);
+    for (auto [it, end] = seen.equal_range(k); it != end; ++it)
+      if (same(*tests[it->second], *tests[j])) return std::pair{it->second, j};
+    seen.emplace(k, j);
+  }
+  return std::nullopt;
 }
 
 namespace {
