@@ -481,7 +481,6 @@ int cmd_run(int argc, char** argv) {
   if (run.isolated) stop_may_exit(false);
   std::unique_ptr<cli::Dispatch> dispatch = world ? world->dispatch(tests.size()) : std::make_unique<cli::ListDispatch>(mine);
   const cli::QueueResult result = cli::run_queue(tests, host, options, run, *dispatch);
-  stop_may_exit(false);  // the results are whole: the summary and plots are written in full
   int status = result.status;
   if (child || result.write_failed) return status;  // a full disk: nothing more written
   if (world && root && world->others_failed() > 0 && status == 0) status = 1;
@@ -493,6 +492,7 @@ int cmd_run(int argc, char** argv) {
                 << "' writes the queue summary" << std::endl;
     return status;
   }
+  stop_may_exit(false);  // the results are whole: the summary and plots are written in full
   finish_queue(options.out, host, run.plots);
   if (!quiet) std::cout << "results in " << options.out.string() << std::endl;
   return status;

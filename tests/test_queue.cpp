@@ -9,6 +9,8 @@
 
 #include "salsa/core/names.hpp"
 #include "salsa/core/queue.hpp"
+#include "salsa/core/queue_summary.hpp"
+#include "salsa/core/runner.hpp"
 
 using namespace salsa;
 using namespace salsa_test;
@@ -237,6 +239,20 @@ class TestQueue : public QObject {
     options.max_tests = 5;
     QVERIFY(error_of(R"({"sweep": {"behaviors": ["random_walk", "flocking", "pheromone_avoidance"], "drones": [1, 2]}})", options)
                 .contains("q.json: the queue expands to 6 tests (allowed: 5 without --yes): check the sweep"));
+  }
+
+  // The queue record's configs are built once per group of repeats: the same text as test_config.
+  void record_configs_are_the_tests_configs() {
+    const Queue q = load(R"({"repeats": 4, "sweep": {"test": {"time": 2},
+                             "behaviors": ["random_walk", {"name": "flocking", "params": {"cohesion_weight": [1, 2]}}],
+                             "drones": [5, 10]}})");
+    QCOMPARE(q.tests.size(), std::size_t(24));
+    std::size_t calls = 0;
+    for_each_test_config(q.tests, *host_, [&](std::size_t i, const std::string& config) {
+      QCOMPARE(i, calls++);
+      QCOMPARE(config, test_config(q.tests[i], *host_));
+    });
+    QCOMPARE(calls, q.tests.size());
   }
 
   // A list of 10^6 values is checked for repeats in one pass (it took 372 s when each value was
