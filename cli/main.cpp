@@ -477,8 +477,9 @@ int cmd_run(int argc, char** argv) {
     run.isolated = [&, threads = vm["threads"].defaulted() ? std::to_string(options.threads) : ""](const TestSpec& t) {
       return run_isolated(t, host, argc, argv, threads);
     };
-  // --isolate: the tests step in child processes, which get the stop signal and stop themselves.
-  if (run.isolated) stop_may_exit(false);
+  // From here a stop is the run's to handle: it ends the test that steps (the watchdog steps in only
+  // while one does, a step may take minutes) and writes what it owes; --isolate's children stop themselves.
+  stop_may_exit(false);
   std::unique_ptr<cli::Dispatch> dispatch = world ? world->dispatch(tests.size()) : std::make_unique<cli::ListDispatch>(mine);
   const cli::QueueResult result = cli::run_queue(tests, host, options, run, *dispatch);
   int status = result.status;
@@ -492,7 +493,6 @@ int cmd_run(int argc, char** argv) {
                 << "' writes the queue summary" << std::endl;
     return status;
   }
-  stop_may_exit(false);  // the results are whole: the summary and plots are written in full
   finish_queue(options.out, host, run.plots);
   if (!quiet) std::cout << "results in " << options.out.string() << std::endl;
   return status;
