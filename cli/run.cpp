@@ -63,7 +63,6 @@ std::vector<TestSpec> load_all(const po::variables_map& vm, const PluginHost& ho
   const QueueOptions options = queue_settings(vm);
   std::vector<TestSpec> all;
   std::unordered_map<std::string, std::string> sources;  // name -> where it was given
-  std::unordered_map<std::string, std::string> tests;    // the test without its name -> where
   for (const auto& f : vm["files"].as<std::vector<std::string>>()) {
     for (auto& t : load_queue(f, host, options).tests) {
       if (vm.count("time")) {
@@ -74,15 +73,16 @@ std::vector<TestSpec> load_all(const po::variables_map& vm, const PluginHost& ho
       if (vm.count("log-interval")) t.log_interval = seconds_option(vm, "log-interval", t);
       if (const auto [it, fresh] = sources.emplace(t.name, t.source); !fresh)
         throw InputError(t.source + ": name: \"" + t.name + "\" is already used by " + it->second);
-      // load_queue refuses the same test twice within a file; across files it is the same mistake.
-      TestSpec anonymous = t;
-      anonymous.name.clear();
-      if (const auto [it, fresh] = tests.emplace(resolved_json(anonymous, host), t.source); !fresh)
-        throw InputError(t.source + ": the same test as " + it->second +
-                         " (the same world, seed and behavior give the same data; give one a \"seed\", or use a queue's \"repeats\")");
       all.push_back(std::move(t));
     }
   }
+  // load_queue refuses the same test twice within a file; across files it is the same mistake.
+  std::vector<const TestSpec*> specs;
+  specs.reserve(all.size());
+  for (const TestSpec& t : all) specs.push_back(&t);
+  if (const auto same = first_same_test(specs))
+    throw InputError(all[same->second].source + ": the same test as " + all[same->first].source +
+                     " (the same world, seed and behavior give the same data; give one a \"seed\", or use a queue's \"repeats\")");
   return all;
 }
 
@@ -173,6 +173,9 @@ int cmd_run(int argc, char** argv) {
     run.isolated = [&, threads = vm["threads"].defaulted() ? std::to_string(options.threads) : ""](const TestSpec& t) {
       return run_isolated(t, host, argc, argv, threads);
     };
+  // From here a stop is the run's to handle: it ends the test that steps (the watchdog steps in only
+  // while one does, a step may take minutes) and writes what it owes; --isolate's children stop themselves.
+  stop_may_exit(false);
   std::unique_ptr<Dispatch> dispatch = world ? world->dispatch(tests.size()) : std::make_unique<ListDispatch>(mine);
   const QueueResult result = run_queue(tests, host, options, run, *dispatch);
   int status = result.status;

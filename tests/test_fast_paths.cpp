@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "common.hpp"
+#include "salsa/core/map_check.hpp"
 #include "salsa/core/simulation.hpp"
 #include "salsa/core/static_geometry.hpp"
 #include "salsa/core/test_spec.hpp"
@@ -601,6 +602,150 @@ class TestFastPaths : public QObject {
     }
     qInfo("%d free, %d blocked", free, blocked);
     QVERIFY(free > 1000 && blocked > 1000);
+  }
+
+  /// is_free finds solids from its grid (a ray along one row of cells), not by testing every obstacle:
+  /// the same answers as inside_polygon on each, on maps made to trip it: vertices and edges on cell
+  /// lines, overlapping and nested solids, one long concave polygon crossing many cells, points on
+  /// vertices' heights.
+  void inside_solid_matches_brute_force_data() {
+    QTest::addColumn<int>("seed");
+    QTest::addColumn<double>("cell");
+    QTest::newRow("cells of 4 m, corners on cell lines") << 21 << 4.0;
+    QTest::newRow("cells of 1 m") << 22 << 1.0;
+    QTest::newRow("cells of 7.3 m") << 23 << 7.3;
+    QTest::newRow("one cell") << 24 << 1e6;
+  }
+  void inside_solid_matches_brute_force() {
+    QFETCH(int, seed);
+    QFETCH(double, cell);
+    salsa::Rng rng(static_cast<std::uint64_t>(seed), 0);
+    salsa::MapData map;
+    map.bounds = {{-100, -100}, {100, 100}};
+    map.spawn = {0, 0};
+    const salsa::Rect inner{{-90, -90}, {90, 90}};
+    for (int i = 0; i < 150; ++i) {
+      const Vec2 c = rng.in_rect(inner);
+      if (i % 3 == 0) {  // boxes on whole multiples of 4 m: on the cell lines of the 4 m and 1 m grids
+        const double x = 4 * std::floor(c.x / 4), y = 4 * std::floor(c.y / 4);
+        const double w = std::min({4.0 * (1 + static_cast<double>(rng.index(4))), 100 - x, 100 - y});  // within the bounds, as check_map demands
+        map.obstacles.push_back({{x, y}, {x + w, y}, {x + w, y + w}, {x, y + w}});
+      } else {
+        map.obstacles.push_back(random_polygon(rng, c, rng.uniform(0.5, 15), map.bounds));  // they overlap
+      }
+    }
+    salsa::Polyline comb;  // a concave comb across the map: many edges straddle most rows
+    for (int k = 0; k < 40; ++k) {
+      const double x = -80 + 4 * k;
+      comb.push_back({x, -60});
+      comb.push_back({x + 2, 60});
+    }
+    comb.push_back({80, -70});
+    comb.push_back({-80, -70});
+    map.obstacles.push_back(comb);
+    const salsa::StaticGeometry g(map, cell);
+    std::vector<Vec2> vertices;
+    for (const auto& poly : map.obstacles) vertices.insert(vertices.end(), poly.begin(), poly.end());
+    int inside = 0, outside = 0;
+    for (int i = 0; i < 40000; ++i) {
+      Vec2 p = rng.in_rect({{-101, -101}, {101, 101}});
+      if (i % 4 == 0) p = {std::round(p.x), std::round(p.y)};           // on cell lines and box edges
+      if (i % 4 == 1) p.y = vertices[rng.index(vertices.size())].y;      // level with a vertex
+      if (i % 8 == 2) p = vertices[rng.index(vertices.size())];          // on a vertex
+      bool expected = map.bounds.contains(p);
+      for (const auto& poly : map.obstacles)
+        if (salsa::inside_polygon(p, poly)) expected = false;
+      QVERIFY2(g.is_free(p, 0) == expected,
+               qPrintable(QString("(%1, %2): brute force says %3").arg(p.x, 0, 'g', 17).arg(p.y, 0, 'g', 17).arg(expected)));
+      (expected ? outside : inside)++;
+    }
+    qInfo("%d inside a solid or out of bounds, %d free", inside, outside);
+    QVERIFY(inside > 5000 && outside > 5000);
+  }
+
+  /// 40,000 obstacles (the area_coverage case that took 28 s): a free-space query reads one row of
+  /// cells, so 200,000 queries take well under a second where testing every obstacle took minutes.
+  void is_free_with_many_obstacles_is_fast() {
+    salsa::MapData map;
+    map.bounds = {{0, 0}, {2000, 2000}};
+    map.spawn = {1, 1};
+    for (int i = 0; i < 200; ++i)
+      for (int j = 0; j < 200; ++j) {
+        const double x = 10.0 * i + 3, y = 10.0 * j + 3;
+        map.obstacles.push_back({{x, y}, {x + 4, y}, {x + 4, y + 4}, {x, y + 4}});
+      }
+    const salsa::StaticGeometry g(map, 50);
+    salsa::Rng rng(3, 0);
+    QElapsedTimer timer;
+    timer.start();
+    int free = 0;
+    for (int i = 0; i < 200000; ++i) free += g.is_free(rng.in_rect(map.bounds), 0);
+    const auto ms = timer.elapsed();
+    qInfo("200000 queries among 40000 obstacles: %lld ms, %d free", static_cast<long long>(ms), free);
+    QVERIFY(free > 0.8 * 200000 && free < 0.9 * 200000);  // 16 % of the map is obstacle
+    QVERIFY2(ms < 3000, qPrintable(QString("%1 ms").arg(ms)));  // testing every obstacle: ~10 s
+  }
+
+  /// crossing_edges compares only edges that share a grid cell when a polygon has more than 64 vertices:
+  /// the same first crossing pair as comparing every pair, on simple polygons, polygons with crossings
+  /// added, folds and repeated vertices.
+  void crossing_edges_matches_brute_force() {
+    auto brute = [](const salsa::Polyline& poly) -> std::pair<std::size_t, std::size_t> {
+      const std::size_t n = poly.size();
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j) {
+          const Vec2 a = poly[i], b = poly[(i + 1) % n], c = poly[j], d = poly[(j + 1) % n];
+          if (j == i + 1 || (i == 0 && j == n - 1)) {
+            const Vec2 shared = j == i + 1 ? b : a, oi = j == i + 1 ? a : b, oj = j == i + 1 ? d : c;
+            if ((oi - shared).cross(oj - shared) == 0 && (oi - shared).dot(oj - shared) > 0) return {i, j};
+            continue;
+          }
+          if (salsa::segments_touch(a, b, c, d)) return {i, j};
+        }
+      return {0, 0};
+    };
+    salsa::Rng rng(31, 0);
+    int crossing = 0, simple = 0;
+    for (int round = 0; round < 300; ++round) {
+      const std::size_t n = 65 + rng.index(400);
+      salsa::Polyline poly;  // star-shaped around the origin: simple
+      for (std::size_t k = 0; k < n; ++k) {
+        Vec2 v = Vec2::polar(rng.uniform(20, 100), 2 * salsa::pi * static_cast<double>(k) / static_cast<double>(n));
+        if (round % 5 == 0) v = {std::round(v.x), std::round(v.y)};  // whole metres: touching and collinear edges
+        poly.push_back(v);
+      }
+      switch (round % 4) {
+        case 1: poly[rng.index(n)] = Vec2::polar(150, rng.angle()); break;  // a spike out across its neighbours
+        case 2: std::swap(poly[rng.index(n)], poly[rng.index(n)]); break;   // two vertices swapped
+        case 3: poly[rng.index(n)] = poly[rng.index(n)]; break;             // a vertex repeated
+        default: break;
+      }
+      const auto expected = brute(poly);
+      QCOMPARE(salsa::crossing_edges(poly), expected);
+      (expected.first != expected.second ? crossing : simple)++;
+    }
+    qInfo("%d crossing, %d simple", crossing, simple);
+    QVERIFY(crossing > 50 && simple > 50);
+  }
+
+  /// A polygon of 10^6 vertices (the map creator never opened one: every pair of edges was compared).
+  void crossing_edges_of_a_million_vertices_is_fast() {
+    salsa::Polyline poly;
+    salsa::Rng rng(32, 0);
+    const std::size_t n = 1'000'000;
+    for (std::size_t k = 0; k < n; ++k)
+    {  // a wavy outline with a little noise: short edges, as a traced shape has
+      const double angle = 2 * salsa::pi * static_cast<double>(k) / static_cast<double>(n);
+      poly.push_back(Vec2::polar(750 + 200 * std::sin(7 * angle) + rng.uniform(0, 0.001), angle));
+    }
+    QElapsedTimer timer;
+    timer.start();
+    QCOMPARE(salsa::crossing_edges(poly), (std::pair<std::size_t, std::size_t>{0, 0}));
+    poly[1000] = {2000, 2000};  // out and back across its neighbours' edges
+    const auto [i, j] = salsa::crossing_edges(poly);
+    QVERIFY(i != j);
+    qInfo("two checks of %zu vertices: %lld ms", n, static_cast<long long>(timer.elapsed()));
+    QVERIFY2(timer.elapsed() < 10000, qPrintable(QString("%1 ms").arg(timer.elapsed())));
   }
 
   // ---------------------------------------------------------------- parallel decide

@@ -24,6 +24,34 @@ class Straight final : public Behavior {
   Vec2 decide(const Perception& me, Rng&) override { return Vec2{me.max_speed, 0} - me.velocity; }
 };
 
+/// Steers with a fixed vector, however large.
+class Fixed final : public Behavior {
+ public:
+  explicit Fixed(Vec2 steering) : steering_(steering) {}
+  Vec2 decide(const Perception&, Rng&) override { return steering_; }
+
+ private:
+  Vec2 steering_;
+};
+
+/// Trees of radius 1 m.
+class Tree final : public TargetKind {
+ public:
+  double radius() const override { return 1; }
+};
+
+/// Credits every sighting to drone `drone`, which need not exist.
+class Crediting final : public ContactHandler {
+ public:
+  explicit Crediting(std::uint32_t drone) : drone_(drone) {}
+  void on_contact(const ContactEvent& e, ContactActions& actions) override {
+    if (e.kind == ContactKind::target_in_view) actions.mark_found(e.other, drone_);
+  }
+
+ private:
+  std::uint32_t drone_;
+};
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -320,14 +348,14 @@ class TestLimits : public QObject {
     QTest::addColumn<QString>("json");
     QTest::addColumn<QString>("expected");
     const QString map = R"({"behavior": "random_walk", "map": {"name": "test_bad_map", "params": {"kind": %1}}})";
-    QTest::newRow("map: NaN bounds") << map.arg(1) << "libtest_bad_map.so) returned bounds: (0, 0) to (nan, 100) (allowed: finite corners";
-    QTest::newRow("map: infinite point") << map.arg(2) << "libtest_bad_map.so) returned obstacles[0][1]: (inf, 10) is not finite";
-    QTest::newRow("map: point outside") << map.arg(3) << "libtest_bad_map.so) returned obstacles[0][2]: (20, 120) is outside the bounds (0, 0) to (100, 100)";
-    QTest::newRow("map: 2-point polygon") << map.arg(4) << "libtest_bad_map.so) returned obstacles[0]: has 2 points (allowed: a polygon of at least 3 points)";
-    QTest::newRow("map: NaN spawn") << map.arg(5) << "libtest_bad_map.so) returned spawn: (nan, 50) is not a finite point";
-    QTest::newRow("map: 1-point line") << map.arg(6) << "libtest_bad_map.so) returned lines[0]: has 1 point (allowed: a line of at least 2 points)";
+    QTest::newRow("map: NaN bounds") << map.arg(1) << "libtest_bad_map.so) returned bounds.max: [nan, 100] is not finite (allowed: finite corners";
+    QTest::newRow("map: infinite point") << map.arg(2) << "libtest_bad_map.so) returned obstacles[0][1]: [inf, 10] is not finite";
+    QTest::newRow("map: point outside") << map.arg(3) << "libtest_bad_map.so) returned obstacles[0][2]: [20, 120] is outside the bounds (min [0, 0], max [100, 100])";
+    QTest::newRow("map: 2-point polygon") << map.arg(4) << "libtest_bad_map.so) returned obstacles[0]: polygon needs at least 3 points, got 2";
+    QTest::newRow("map: NaN spawn") << map.arg(5) << "libtest_bad_map.so) returned spawn: [nan, 50] is not finite (allowed: a point in free space within the bounds)";
+    QTest::newRow("map: 1-point line") << map.arg(6) << "libtest_bad_map.so) returned lines[0]: line needs at least 2 points, got 1";
     QTest::newRow("map: throws") << map.arg(7) << "libtest_bad_map.so) failed: no terrain today";
-    QTest::newRow("map: NaN hollow point") << map.arg(9) << "libtest_bad_map.so) returned hollow[0][2]: (nan, 70) is not finite";
+    QTest::newRow("map: NaN hollow point") << map.arg(9) << "libtest_bad_map.so) returned hollow[0][2]: [nan, 70] is not finite";
     const QString target = R"({"behavior": "random_walk", "map": {"name": "empty", "params": {"size": 100}},
                                "targets": {"kind": "test_bad_target", "count": 10, "params": {"kind": %1}}})";
     QTest::newRow("target: NaN position") << target.arg(1) << "libtest_bad_target.so): positions[9]: (nan, ";
@@ -368,7 +396,12 @@ class TestLimits : public QObject {
     };
     SimulationSetup s = setup;
     s.map.obstacles = {{{10, 10}, {not_a_number, 10}, {20, 20}}};
-    QCOMPARE(refused(s), "map: obstacles[0][1]: (nan, 10) is not finite (allowed: a point inside the bounds (0, 0) to (100, 100))");
+    QCOMPARE(refused(s), "map: obstacles[0][1]: [nan, 10] is not finite (allowed: a point within the bounds (min [0, 0], max [100, 100]))");
+    s = setup;  // bounds whose extent is beyond a double: refused before any grid is sized from them
+    s.map.bounds = {{-1e308, -1e308}, {1e308, 1e308}};
+    s.map.spawn = {0, 0};
+    QCOMPARE(refused(s), "map: bounds: min [-1e+308, -1e+308], max [1e+308, 1e+308] span inf × inf m, beyond a double "
+                         "(allowed: max − min below 1.7e308 on both axes)");
     s = setup;
     s.drone.detection_range = -1;
     QCOMPARE(refused(s), "drone.detection_range: -1 m is out of range (allowed: [0, 100000] m)");
@@ -385,6 +418,68 @@ class TestLimits : public QObject {
   }
 
   // A behavior steering NaN is a failure while running: exit status 1, one line naming it and the test.
+  // A steering of any finite length clamps to max speed: (1e200, 0) once left the drone at speed 0
+  // (its squared length overflowed).
+  void huge_steering_clamps_to_max_speed() {
+    for (const Vec2 steering : {Vec2{1e200, 0}, Vec2{-1e308, 1e308}, Vec2{0, 1.7e308}, Vec2{1e160, -1e160}}) {
+      SimulationSetup setup;
+      setup.map.bounds = {{0, 0}, {100, 100}};
+      setup.map.spawn = {50, 50};
+      setup.drones = 3;
+      setup.drone.max_speed = 5;
+      setup.behavior = std::make_shared<Fixed>(steering);
+      Simulation sim(setup);
+      sim.run_steps(2);
+      for (const Vec2 v : sim.drone_velocities()) {
+        QVERIFY2(std::abs(v.length() - 5) < 1e-3, qPrintable(QString("speed %1 for steering (%2, %3)").arg(v.length()).arg(steering.x).arg(steering.y)));
+        QVERIFY(v.normalized().dot(steering.normalized()) > 0.999);  // along the steering
+      }
+    }
+    // The SDK's helpers alike, and their ordinary answers unchanged to the bit.
+    QCOMPARE(Vec2(1e200, 0).clamped(5), Vec2(5, 0));
+    QCOMPARE(Vec2(3e200, 4e200).length(), 5e200);
+    QCOMPARE(Vec2(std::numeric_limits<double>::infinity(), 7).clamped(2), Vec2(2, 0));  // inf: its direction
+    QCOMPARE(Vec2(1e200, 0).normalized(), Vec2(1, 0));
+    QVERIFY(distance(Vec2(3e-200, 4e-200).normalized(), Vec2(0.6, 0.8)) < 1e-15);
+    QVERIFY(std::isnan(Vec2(not_a_number, 1).clamped(2).x));  // NaN stays NaN: act refuses it, naming the drone
+    Rng rng(9, 0);
+    for (int i = 0; i < 10000; ++i) {
+      const Vec2 v = Vec2::polar(rng.uniform(0, 20), rng.angle());
+      const double m = rng.uniform(0.1, 10), l2 = v.x * v.x + v.y * v.y;
+      const Vec2 old = l2 <= m * m ? v : v * (m / std::sqrt(l2));
+      QVERIFY(v.clamped(m) == old);
+      QVERIFY(v.length() == std::sqrt(l2));
+      QVERIFY(l2 == 0 || v.normalized() == Vec2(v.x / std::sqrt(l2), v.y / std::sqrt(l2)));
+    }
+  }
+
+  // A contact handler may credit only drones and targets that exist; else the test stops naming it.
+  void contact_handler_ids_are_checked() {
+    auto run = [](std::uint32_t drone) {
+      SimulationSetup setup;
+      setup.map.bounds = {{0, 0}, {100, 100}};
+      setup.map.spawn = {50, 50};
+      setup.drones = 5;
+      setup.drone.camera_range = 200;  // every target in view at once
+      setup.behavior = std::make_shared<Straight>();
+      setup.target_kind = std::make_shared<Tree>();
+      setup.targets = 3;
+      setup.contact_handlers = {std::make_shared<Crediting>(drone)};
+      Simulation sim(setup);
+      try {
+        sim.run_steps(3);
+      } catch (const PluginFailure& e) {
+        return QString::fromStdString(e.kind + " " + std::to_string(e.index) + ": " + e.what());
+      }
+      return QString("found %1").arg(sim.targets_found());
+    };
+    QCOMPARE(run(4), QString("found 3"));
+    QCOMPARE(run(4'000'000'000u), QString("contact handler 0: contact_handlers[0]: mark_found was given drone 4000000000, "
+                                          "which does not exist (allowed: drone ids 0 to 4)"));
+    QCOMPARE(run(5), QString("contact handler 0: contact_handlers[0]: mark_found was given drone 5, which does not exist "
+                             "(allowed: drone ids 0 to 4)"));
+  }
+
   void nan_steering_names_behavior_and_test() {
     QTemporaryDir dir;
     write_file(dir.filePath("nan.json"), R"({"behavior": {"name": "test_nan", "params": {"at": 0.1}}, "time": 1})");
@@ -408,6 +503,19 @@ class TestLimits : public QObject {
                           "neighbours per drone, about 1.2e+11 drone-neighbour checks per simulated second; 60 s simulated: "
                           "expect hours (about "),
              qPrintable(w));
+    // A timed change that raises the drone count (or the detection range) is what the test will cost.
+    const TestSpec grows = parse_test(R"({"behavior": "random_walk", "drones": 10, "drone": {"detection_range": 50},
+                                          "map": {"name": "empty", "params": {"size": 2000}}, "time": 60,
+                                          "changes": [{"time": 1, "set": {"drones": 1000000}}]})",
+                                      "grows.json", *host_);
+    const QString g = QString::fromStdString(workload_warning(grows, make_setup(grows, *host_)));
+    QVERIFY2(g.startsWith("grows.json: 1,000,000 drones (after its timed changes) with detection range 50 m"), qPrintable(g));
+    const TestSpec widens = parse_test(R"({"behavior": "random_walk", "drones": 10000, "drone": {"detection_range": 1},
+                                           "map": {"name": "empty", "params": {"size": 2000}}, "time": 600,
+                                           "changes": [{"time": 10, "set": {"drone.detection_range": 2000}}]})",
+                                       "widens.json", *host_);
+    QVERIFY2(workload_warning(widens, make_setup(widens, *host_)).find("after its timed changes") != std::string::npos,
+             workload_warning(widens, make_setup(widens, *host_)).c_str());
     // Every example runs in minutes at most: no warning.
     for (const auto& entry : std::filesystem::directory_iterator(source_dir() / "examples"))
       if (entry.path().extension() == ".json")

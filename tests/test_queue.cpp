@@ -9,6 +9,9 @@
 
 #include "salsa/core/names.hpp"
 #include "salsa/core/queue.hpp"
+#include "salsa/core/queue_summary.hpp"
+#include "salsa/core/output_folder.hpp"
+#include "salsa/core/runner.hpp"
 
 using namespace salsa;
 using namespace salsa_test;
@@ -237,6 +240,37 @@ class TestQueue : public QObject {
     options.max_tests = 5;
     QVERIFY(error_of(R"({"sweep": {"behaviors": ["random_walk", "flocking", "pheromone_avoidance"], "drones": [1, 2]}})", options)
                 .contains("q.json: the queue expands to 6 tests (allowed: 5 without --yes): check the sweep"));
+  }
+
+  // The queue record's configs are built once per group of repeats: the same text as test_config.
+  void record_configs_are_the_tests_configs() {
+    const Queue q = load(R"({"repeats": 4, "sweep": {"test": {"time": 2},
+                             "behaviors": ["random_walk", {"name": "flocking", "params": {"cohesion_weight": [1, 2]}}],
+                             "drones": [5, 10]}})");
+    QCOMPARE(q.tests.size(), std::size_t(24));
+    std::size_t calls = 0;
+    for_each_test_config(q.tests, *host_, [&](std::size_t i, const std::string& config) {
+      QCOMPARE(i, calls++);
+      QCOMPARE(config, test_config(q.tests[i], *host_));
+    });
+    QCOMPARE(calls, q.tests.size());
+  }
+
+  // A list of 10^6 values is checked for repeats in one pass (it took 372 s when each value was
+  // compared with all before it): a repeat at its end is found in well under a second or two.
+  void long_sweep_lists_are_checked_fast() {
+    for (const char* axis : {"behaviors\": [{\"name\": \"flocking\", \"params\": {\"cohesion_weight\": ", "drones\": "}) {
+      QByteArray list = "[";
+      const bool weights = QByteArray(axis).startsWith("behaviors");
+      for (int i = 0; i < 1'000'000; ++i) list += QByteArray::number(weights ? 1 + i * 1e-6 : 1.0 + i, 'g', 12) + ",";
+      list += weights ? "1.5]}}]" : "500]";
+      QElapsedTimer timer;
+      timer.start();
+      const QString message = error_of("{\"sweep\": {\"" + QByteArray(axis) + list + "}}");
+      qInfo("%s: %lld ms", axis, static_cast<long long>(timer.elapsed()));
+      QVERIFY2(message.contains("[1000000]: ") && message.contains("is already in the list (allowed: each value once)"), qPrintable(message.left(300)));
+      QVERIFY2(timer.elapsed() < 20000, qPrintable(QString::number(timer.elapsed())));
+    }
   }
 
   // ---- Seeds: the paired rule

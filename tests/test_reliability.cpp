@@ -195,6 +195,35 @@ class TestReliability : public QObject {
     check_whole_rows(dir.filePath("out/.slow.partial"));
   }
 
+  // A stop is honoured within a second whatever one step costs: here a step takes several seconds
+  // (20,000 flocking drones that all see each other). The process ends with 128 + SIGTERM, names the
+  // test, its step and its .partial folder, publishes nothing, and --resume then redoes the test.
+  void sigterm_stops_a_slow_step_within_a_second() {
+    QTemporaryDir dir;
+    write(dir.filePath("t.json"), R"({"name": "slow", "behavior": "flocking", "drones": 20000, "drone": {"detection_range": 5000},
+                                      "map": {"name": "empty", "params": {"size": 2000}}, "time": 600})");
+    Background run({"run", "t.json", "--out", "out", "--threads", "1", "-q"}, dir.path());
+    QVERIFY(wait_for(dir.filePath("out/.slow.partial/summary.csv")));
+    QThread::msleep(1500);  // well into a step
+    QElapsedTimer timer;
+    timer.start();
+    run.signal(SIGTERM);
+    const CliResult r = run.finish();
+    const auto ms = timer.elapsed();
+    qInfo("stopped %lld ms after SIGTERM", static_cast<long long>(ms));
+    QVERIFY2(!r.crashed && r.exit_code == 128 + SIGTERM, describe(r));
+    QVERIFY2(ms < 2000, qPrintable(QString::number(ms) + " ms"));
+    QVERIFY2(non_empty_lines(r.err).size() == 1 && r.err.contains("test 'slow' (t.json) stopped by SIGTERM (terminated) at step ") &&
+                 r.err.contains("rows so far in out/.slow.partial"),
+             describe(r));
+    QVERIFY(!QFileInfo::exists(dir.filePath("out/slow")));  // nothing published
+    check_whole_rows(dir.filePath("out/.slow.partial"));
+    // The folder is as an interrupted run leaves it: --resume takes it (here with a short test).
+    write(dir.filePath("t.json"), R"({"name": "slow", "behavior": "flocking", "drones": 5, "time": 1})");
+    const CliResult again = run_salsa({"run", "t.json", "--out", "out", "--resume", "-q"}, dir.path());
+    QVERIFY2(again.exit_code == 0 && QFileInfo::exists(dir.filePath("out/slow/summary.csv")), describe(again));
+  }
+
   // ---- Item 9: config.json reruns exactly; --resume keeps only identical tests; CLI values.
 
   void config_json_reruns_exactly() {

@@ -48,7 +48,7 @@ class TestTestFormat : public QObject {
       // A value in range, not the default; small enough that check_drone's step limit holds.
       const double v = spec.is_integer() ? spec.value + 1 : (spec.name == "max_speed" ? spec.value / 2 : spec.value * 1.5);
       const std::string value = Parameter::format(v);
-      auto with = [&](const std::string& v) { return "{\"behavior\": \"flocking\", \"drone\": {\"" + spec.name + "\": " + v + "}}"; };
+      auto with = [&](const std::string& text) { return "{\"behavior\": \"flocking\", \"drone\": {\"" + spec.name + "\": " + text + "}}"; };
       const TestSpec t = parse_test(with(value), "t.json", *host_);
       QCOMPARE(p.get(t.drone), v);
       QVERIFY2(resolved_json(t, *host_).find("\"" + spec.name + "\": " + value) != std::string::npos, qPrintable(name));

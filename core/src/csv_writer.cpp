@@ -25,6 +25,14 @@ std::string write_failure(int error) {
   }
 }
 
+void append_number(std::string& out, double value, int decimals) {
+  char text[64];
+  auto [end, ec] = std::to_chars(text, text + sizeof text, value, std::chars_format::fixed, decimals);
+  // Too long in fixed form (|value| ≳ 1e57 with 4 decimals): the shortest exponent form that reads back.
+  if (ec != std::errc{}) end = std::to_chars(text, text + sizeof text, value, std::chars_format::scientific).ptr;
+  out.append(text, end);
+}
+
 CsvWriter::CsvWriter(const std::filesystem::path& file, const std::string& header) : path_(file) {
   file_ = std::fopen(file.c_str(), "wb");
   if (!file_) throw WriteError(file.string() + ": cannot create file (" + write_failure(errno) + ")");
@@ -42,10 +50,8 @@ CsvWriter::~CsvWriter() {
 CsvWriter& CsvWriter::field(double value, int decimals) {
   if (!first_field_) row_ += ',';
   first_field_ = false;
-  char text[64];
   if (value == 0) value = 0;  // no "-0.0000"
-  auto [end, ec] = std::to_chars(text, text + sizeof text, value, std::chars_format::fixed, decimals);
-  row_.append(text, ec == std::errc{} ? end : text);
+  append_number(row_, value, decimals);
   return *this;
 }
 

@@ -1,5 +1,7 @@
 #include "salsa/core/metrics.hpp"
 
+#include "salsa/core/csv_writer.hpp"  // append_number
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -33,9 +35,9 @@ const std::vector<std::string>& queue_columns() {
 std::string format_value(double v, int decimals) {
   if (!std::isfinite(v)) return {};
   if (v == 0) v = 0;  // no "-0.0"
-  char text[64];
-  auto [end, ec] = std::to_chars(text, text + sizeof text, v, std::chars_format::fixed, decimals);
-  return ec == std::errc{} ? std::string(text, end) : std::string();
+  std::string text;
+  append_number(text, v, decimals);
+  return text;
 }
 
 /// A plugin's message on one line.

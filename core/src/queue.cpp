@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "salsa/core/names.hpp"
 #include "test_reader.hpp"
@@ -149,9 +150,10 @@ std::vector<double> range_values(const json& v, const std::string& field, const 
 /// against the declared range (and whole numbers).
 std::vector<double> param_values(const json& v, const std::string& field, const Parameter& p, const Reader& r) {
   std::vector<double> out;
+  std::unordered_set<double> seen;  // a list or range may hold 10^6 values: no scan per value
   auto add = [&](double x, const std::string& at, const std::string& shown) {
     if (const std::string why = p.check(x); !why.empty()) r.fail(at, shown + " " + why);
-    if (std::find(out.begin(), out.end(), x) != out.end()) r.fail(at, shown + " is already in the list (allowed: each value once)");
+    if (!seen.insert(x == 0 ? 0.0 : x).second) r.fail(at, shown + " is already in the list (allowed: each value once)");
     out.push_back(x);
   };
   if (v.is_number()) {
@@ -355,6 +357,7 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host) {
   if (s.contains("drones")) {
     const json& axis = s["drones"];
     std::vector<double> counts;
+    std::unordered_set<double> seen;
     if (axis.is_object()) {
       for (const double x : range_values(axis, "sweep.drones", r)) {
         if (x != std::floor(x) || x < 1 || x > 1'000'000)
@@ -365,7 +368,7 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host) {
       for (std::size_t i = 0; const json& item : list_axis(axis, "sweep.drones", r, count_example.c_str())) {
         const std::string at = "sweep.drones[" + std::to_string(i++) + "]";
         counts.push_back(static_cast<double>(r.integer(item, at, 1, 1'000'000)));
-        if (std::count(counts.begin(), counts.end(), counts.back()) > 1) r.fail(at, show(item) + " is already in the list (allowed: each value once)");
+        if (!seen.insert(counts.back()).second) r.fail(at, show(item) + " is already in the list (allowed: each value once)");
       }
     }
     for (std::size_t i = 0; i < counts.size(); ++i)
@@ -582,15 +585,12 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
 
   // ---- The same test twice is a mistake: same world, same seed, same data.
   {
-    std::unordered_map<std::string, std::size_t> seen;
-    for (std::size_t i = 0; i < configs.size(); ++i) {
-      TestSpec anonymous = configs[i].test;
-      anonymous.name.clear();
-      const auto [it, fresh] = seen.emplace(resolved_json(anonymous, host), i);
-      if (!fresh)
-        throw InputError(configs[i].test.source + ": the same test as " + configs[it->second].test.source +
-                         " (the same world, seed and behavior give the same data; give one a \"seed\", or use the queue's \"repeats\")");
-    }
+    std::vector<const TestSpec*> specs;
+    specs.reserve(configs.size());
+    for (const Config& c : configs) specs.push_back(&c.test);
+    if (const auto same = first_same_test(specs))
+      throw InputError(configs[same->second].test.source + ": the same test as " + configs[same->first].test.source +
+                       " (the same world, seed and behavior give the same data; give one a \"seed\", or use the queue's \"repeats\")");
   }
 
   // ---- Repeats, interleaved: repeat 0 of every configuration before repeat 1 of any.

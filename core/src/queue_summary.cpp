@@ -5,6 +5,9 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
+#include <functional>
+#include <unordered_map>
 #include <cerrno>
 #include <cstring>
 #include <cstdio>
@@ -239,13 +242,76 @@ std::string cell_of(const std::string& config_json) {
   return hex(fnv1a(config.dump()), 12);
 }
 
+void for_each_test_config(const std::vector<TestSpec>& tests, const PluginHost& host,
+                          const std::function<void(std::size_t, const std::string&)>& fn) {
+  // A queue's repeats differ in name, seed and repeat alone: each such group builds its config once
+  // through the host (JSON: the costly part, ~50 µs), and its other tests get that text with their
+  // three top-level lines ("name", "seed", "repeat": indented 2, nothing nested is) replaced.
+  struct Template {
+    const TestSpec* test;
+    std::string text;
+    std::array<std::pair<std::size_t, std::size_t>, 3> values;  // [begin, end) of name, seed, repeat
+  };
+  std::vector<Template> templates;
+  std::unordered_multimap<std::size_t, std::size_t> groups;
+  auto key = [](const TestSpec& t) {
+    std::size_t h = std::hash<std::string>{}(t.behavior.name);
+    auto mix = [&h](std::size_t v) { h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2); };
+    mix(t.drones), mix(t.targets), mix(std::hash<double>{}(t.time)), mix(std::hash<std::string>{}(t.map.name));
+    for (const PluginChoice* c : {&t.behavior, &t.map, &t.target})
+      for (const auto& [name, value] : c->params.items()) mix(std::hash<double>{}(value));
+    return h;
+  };
+  auto same_group = [](const TestSpec& a, const TestSpec& b) {
+    TestSpec x = a;
+    x.name = b.name, x.source = b.source, x.seed = b.seed, x.seed_given = b.seed_given, x.repeat = b.repeat;
+    return x == b;
+  };
+  auto values_of = [](const TestSpec& t) {
+    return std::array<std::string, 3>{json(t.name).dump(), std::to_string(t.seed), std::to_string(t.repeat)};
+  };
+  std::string text;
+  for (std::size_t i = 0; i < tests.size(); ++i) {
+    const TestSpec& t = tests[i];
+    const std::size_t k = key(t);
+    const Template* found = nullptr;
+    for (auto [it, end] = groups.equal_range(k); it != end && !found; ++it)
+      if (same_group(*templates[it->second].test, t)) found = &templates[it->second];
+    if (found) {
+      const auto values = values_of(t);
+      text.clear();
+      std::size_t at = 0;
+      for (std::size_t v = 0; v < 3; ++v) {
+        text.append(found->text, at, found->values[v].first - at).append(values[v]);
+        at = found->values[v].second;
+      }
+      text.append(found->text, at);
+      fn(i, text);
+      continue;
+    }
+    Template made{&t, test_config(t, host), {}};
+    const auto values = values_of(t);
+    bool usable = true;
+    std::size_t from = 0;
+    for (std::size_t v = 0; v < 3 && usable; ++v) {  // in the order resolved_json writes them
+      const std::string line = std::string("\n  \"") + (v == 0 ? "name" : v == 1 ? "seed" : "repeat") + "\": ";
+      const std::size_t begin = made.text.find(line, from);
+      usable = begin != std::string::npos && made.text.compare(begin + line.size(), values[v].size(), values[v]) == 0;
+      if (usable) made.values[v] = {begin + line.size(), begin + line.size() + values[v].size()}, from = made.values[v].second;
+    }
+    fn(i, made.text);
+    if (!usable) continue;  // not as expected: this group's tests are built one by one
+    groups.emplace(k, templates.size());
+    templates.push_back(std::move(made));
+  }
+}
+
 QueueRecord queue_record(const std::vector<TestSpec>& tests, const PluginHost& host, std::vector<std::string> command) {
   QueueRecord r;
+  r.tests.reserve(tests.size());
+  for (const auto& t : tests) r.tests.push_back(t.name);
   std::uint64_t h = fnv1a("");
-  for (const auto& t : tests) {
-    r.tests.push_back(t.name);
-    h = fnv1a(test_config(t, host) + '\0', h);
-  }
+  for_each_test_config(tests, host, [&](std::size_t, const std::string& config) { h = fnv1a(config + '\0', h); });
   r.configs_hash = hex(h, 16);
   r.command = std::move(command);
   return r;

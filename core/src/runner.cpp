@@ -23,6 +23,7 @@
 #include "salsa/core/session.hpp"
 #include "salsa/core/names.hpp"
 #include "salsa/core/output_folder.hpp"
+#include "running_notes.hpp"
 
 namespace salsa {
 
@@ -124,161 +125,6 @@ void append_shapes(std::string& out, const char* key, const std::vector<Polyline
   out += last ? "\n" : ",\n";
 }
 
-// ---- Signals: a note prepared before each test, written by the handlers with write(2) only.
-
-std::atomic<int> stop_requested{0};
-std::atomic<bool> handlers_installed{false};
-
-// One note per test running in this process (tests may run side by side, --jobs): a slot is taken by
-// the thread that runs the test, and the handlers find the faulting thread's slot by its thread id.
-struct RunningNote {
-  std::string head;  // "salsa: test 'x' (x.json) "
-  std::string tail;  // " of 600; plugins: behavior 'b' (file), ...\n"
-  std::atomic<bool> taken{false};   // owned by a running test
-  std::atomic<bool> active{false};  // head and tail are ready
-  std::atomic<pid_t> thread{0};     // the thread stepping the test
-  std::atomic<std::uint64_t> step{0};
-};
-constexpr std::size_t max_notes = 1024;  // the most tests that run at once (--jobs at most 1024)
-RunningNote notes[max_notes];
-
-void write_all(const char* text, std::size_t size) {
-  while (size > 0) {
-    const ssize_t n = ::write(STDERR_FILENO, text, size);
-    if (n <= 0) {
-      if (n < 0 && errno == EINTR) continue;
-      return;
-    }
-    text += n, size -= static_cast<std::size_t>(n);
-  }
-}
-void write_all(const char* text) { write_all(text, std::strlen(text)); }
-
-const char* signal_text(int sig) {
-  switch (sig) {
-    case SIGSEGV: return "SIGSEGV (segmentation fault)";
-    case SIGBUS: return "SIGBUS (bus error)";
-    case SIGFPE: return "SIGFPE (arithmetic error)";
-    case SIGILL: return "SIGILL (illegal instruction)";
-    case SIGABRT: return "SIGABRT (aborted)";
-    case SIGINT: return "SIGINT (interrupted)";
-    case SIGTERM: return "SIGTERM (terminated)";
-    case SIGKILL: return "SIGKILL (killed)";
-    default: return nullptr;
-  }
-}
-
-void write_number(std::uint64_t n) {
-  char digits[24];
-  std::size_t i = sizeof digits;
-  do digits[--i] = static_cast<char>('0' + n % 10); while ((n /= 10) > 0);
-  write_all(digits + i, sizeof digits - i);
-}
-
-/// "<head><event><detail> at step <n><tail>", async-signal-safe. `running` > 1 says the faulting
-/// thread was not one stepping a test, so every running test is named.
-void write_note(const RunningNote& note, const char* event, const char* detail, std::size_t running) {
-  write_all(note.head.data(), note.head.size());
-  write_all(event);
-  write_all(detail);
-  if (running > 1) {
-    write_all(" (one of ");
-    write_number(running);
-    write_all(" tests running)");
-  }
-  write_all(" at step ");
-  write_number(note.step.load(std::memory_order_relaxed));
-  write_all(note.tail.data(), note.tail.size());
-}
-
-/// Writes the note of the test run by the calling thread, or else of every running test; returns
-/// how many were written.
-std::size_t write_notes(const char* event, const char* detail) {
-  const pid_t self = ::gettid();
-  std::size_t running = 0;
-  for (const auto& n : notes)
-    if (n.active.load(std::memory_order_acquire)) {
-      if (n.thread.load(std::memory_order_relaxed) == self) {
-        write_note(n, event, detail, 1);
-        return 1;
-      }
-      ++running;
-    }
-  for (const auto& n : notes)
-    if (n.active.load(std::memory_order_acquire)) write_note(n, event, detail, running);
-  return running;
-}
-
-extern "C" void on_fatal_signal(int sig) {
-  const int saved = errno;
-  const char* name = signal_text(sig);
-  if (write_notes("died of ", name ? name : "a fatal signal") == 0) {
-    write_all("salsa: died of ");
-    write_all(name ? name : "a fatal signal");
-    write_all("\n");
-  }
-  errno = saved;
-  ::signal(sig, SIG_DFL);  // SA_RESETHAND did this already; kept for clarity
-  ::raise(sig);
-}
-
-extern "C" void on_stop_signal(int sig) {
-  int none = 0;
-  if (!stop_requested.compare_exchange_strong(none, sig)) {  // the second one: stop now
-    ::signal(sig, SIG_DFL);
-    ::raise(sig);
-  }
-}
-
-extern "C" void on_exit_mid_test() {
-  if (write_notes("ended by a call to exit() in plugin code", "") > 0) ::_exit(1);
-}
-
-/// Takes a note slot for `test` and prepares it (on the stepping thread, before the test's plugins
-/// run); nullptr without signal handlers. Released by NoteGuard.
-RunningNote* prepare_note(const TestSpec& test, const PluginHost& host, const fs::path& work) {
-  if (!handlers_installed.load()) return nullptr;
-  static std::once_flag exit_hooks;  // registered after the plugins are loaded, so they run first at exit
-  std::call_once(exit_hooks, [] {
-    std::atexit(on_exit_mid_test);
-    std::at_quick_exit(on_exit_mid_test);
-  });
-  RunningNote* note = nullptr;
-  for (auto& n : notes)
-    if (bool free = false; n.taken.compare_exchange_strong(free, true)) {
-      note = &n;
-      break;
-    }
-  if (!note) return nullptr;  // more tests at once than slots: the crash line names no test
-  auto plugin = [](const char* kind, const std::string& name, const auto& entry) {
-    return std::string(kind) + " '" + name + "' (" + entry.plugin().file.string() + ")";
-  };
-  std::string plugins = plugin("behavior", test.behavior.name, host.behavior(test.behavior.name)) + ", " +
-                        plugin("map", test.map.name, host.map(test.map.name));
-  if (test.targets > 0) plugins += ", " + plugin("target kind", test.target.name, host.target_kind(test.target.name));
-  for (const auto& h : test.contact_handlers) plugins += ", " + plugin("contact handler", h.name, host.contact_handler(h.name));
-  for (const auto& m : test.metrics) plugins += ", " + plugin("metric", m.name, host.metric(m.name));
-  note->head = "salsa: test '" + test.name + "' (" + test.source + ") ";
-  // One line, whatever the names hold.
-  note->tail = " of " + std::to_string(test.steps()) + "; plugins: " + plugins + "; rows so far in " + work.string();
-  for (char& c : note->tail)
-    if (c == '\n' || c == '\r') c = ' ';
-  note->tail += "\n";
-  note->step.store(0, std::memory_order_relaxed);
-  note->thread.store(::gettid(), std::memory_order_relaxed);
-  note->active.store(true, std::memory_order_release);
-  return note;
-}
-
-struct NoteGuard {
-  RunningNote* note = nullptr;
-  ~NoteGuard() {
-    if (!note) return;
-    note->active.store(false, std::memory_order_release);
-    note->taken.store(false, std::memory_order_release);
-  }
-};
-
 /// What config.json holds (output_folder.hpp); the short name keeps run_test's body as it was.
 std::string config_of(const TestSpec& test, const PluginHost& host) { return test_config(test, host); }
 
@@ -286,33 +132,6 @@ std::string config_of(const TestSpec& test, const PluginHost& host) { return tes
 
 // ---- Public
 
-std::string signal_name(int signal) {
-  const char* name = signal_text(signal);
-  return name ? name : "signal " + std::to_string(signal);
-}
-
-int stop_signal() { return stop_requested.load(); }
-
-
-void install_signal_handlers() {
-  if (handlers_installed.exchange(true)) return;
-  // Crash notes run on their own stack, so a stack overflow on the main thread is still reported.
-  static std::vector<char> alt_stack(std::max<std::size_t>(SIGSTKSZ, 1 << 16));
-  stack_t ss{};
-  ss.ss_sp = alt_stack.data();
-  ss.ss_size = alt_stack.size();
-  ::sigaltstack(&ss, nullptr);
-  struct sigaction fatal {};
-  fatal.sa_handler = on_fatal_signal;
-  fatal.sa_flags = SA_ONSTACK | SA_RESETHAND | SA_NODEFER;
-  sigemptyset(&fatal.sa_mask);
-  for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) ::sigaction(sig, &fatal, nullptr);
-  struct sigaction stop {};
-  stop.sa_handler = on_stop_signal;
-  stop.sa_flags = SA_RESTART;
-  sigemptyset(&stop.sa_mask);
-  for (int sig : {SIGINT, SIGTERM}) ::sigaction(sig, &stop, nullptr);
-}
 
 std::string map_json(const MapData& map, Vec2 spawn) {
   std::string out = "{\n  \"bounds\": {\"min\": ";

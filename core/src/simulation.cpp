@@ -1,6 +1,7 @@
 #include "salsa/core/simulation.hpp"
 
 #include "physics_world.hpp"
+#include "salsa/core/map_check.hpp"
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -161,27 +162,8 @@ Problem check_drone(const DroneConfig& d, double dt) {
 }
 
 Problem check_map(const MapData& map) {
-  const Rect& b = map.bounds;
-  if (!finite(b.min) || !finite(b.max) || !(b.max.x > b.min.x && b.max.y > b.min.y))
-    return {"bounds", rect(b) + " (allowed: finite corners, max greater than min on both axes)"};
-  if (!finite(map.spawn)) return {"spawn", point(map.spawn) + " is not a finite point"};
-  auto lines = [&](const std::vector<Polyline>& list, const char* key, const char* what, std::size_t min_points) -> Problem {
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      const std::string field = std::string(key) + "[" + std::to_string(i) + "]";
-      if (list[i].size() < min_points)
-        return {field, "has " + std::to_string(list[i].size()) + (list[i].size() == 1 ? " point" : " points") +
-                           " (allowed: a " + what + " of at least " + std::to_string(min_points) + " points)"};
-      for (std::size_t j = 0; j < list[i].size(); ++j)
-        if (const Vec2 p = list[i][j]; !finite(p) || !b.contains(p))
-          return {field + "[" + std::to_string(j) + "]",
-                  point(p) + (finite(p) ? " is outside the bounds " : " is not finite (allowed: a point inside the bounds ") +
-                      rect(b) + (finite(p) ? "" : ")")};
-    }
-    return {};
-  };
-  if (auto p = lines(map.obstacles, "obstacles", "polygon", 3)) return p;
-  if (auto p = lines(map.hollow, "hollow", "outline", 3)) return p;
-  return lines(map.lines, "lines", "line", 2);
+  const auto problems = map_problems(map, 0, MapRules::structure, 1);
+  return problems.empty() ? Problem{} : Problem{problems[0].field, problems[0].message};
 }
 
 Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt) {
@@ -677,10 +659,14 @@ void Simulation::read_back() {
 namespace {
 class Actions final : public ContactActions {
  public:
-  Actions(std::vector<TargetState>& targets, std::size_t& found, const WorldView& world, double time)
-      : targets_(targets), found_(found), world_(world, time), time_(time) {}
+  Actions(std::vector<TargetState>& targets, std::size_t& found, std::size_t drones, const WorldView& world, double time)
+      : targets_(targets), found_(found), drones_(drones), world_(world, time), time_(time) {}
+  /// The handler about to be called: ids it gives are checked here, where the fault can be named.
+  std::size_t handler = 0;
   void mark_found(std::uint32_t target, std::uint32_t drone) override {
-    if (target >= targets_.size() || targets_[target].found()) return;
+    if (target >= targets_.size()) refuse("target", target, targets_.size());
+    if (drone >= drones_) refuse("drone", drone, drones_);
+    if (targets_[target].found()) return;
     targets_[target].found_by = drone;
     targets_[target].found_time = time_;
     ++found_;
@@ -689,8 +675,16 @@ class Actions final : public ContactActions {
   const WorldView& world() const override { return world_; }
 
  private:
+  [[noreturn]] void refuse(const char* what, std::uint32_t id, std::size_t count) const {
+    const std::string field = "contact_handlers[" + std::to_string(handler) + "]";
+    throw PluginFailure("contact handler", handler,
+                        field + ": mark_found was given " + what + " " + std::to_string(id) + ", which does not exist (allowed: " +
+                            (count == 0 ? std::string("none, there are no ") + what + "s"
+                                        : std::string(what) + " ids 0 to " + std::to_string(count - 1)) + ")");
+  }
   std::vector<TargetState>& targets_;
   std::size_t& found_;
+  std::size_t drones_;
   EventView world_;
   double time_;
 };
@@ -702,7 +696,7 @@ class Actions final : public ContactActions {
 // what was in view on the snapshot at t is found at t + dt, so a row never misses a found target.
 void Simulation::dispatch_sightings() {
   const double step_end = time_at(steps_ + 1);  // time() once this step is counted
-  Actions actions(targets_.states, targets_.found, *this, step_end);
+  Actions actions(targets_.states, targets_.found, drones_.positions.size(), *this, step_end);
   for (std::uint32_t i = 0; i < seen_.size(); ++i) {
     // Targets lie scattered in memory: ask for a drone's all at once rather than miss on each in turn.
     for (const auto& [t, d] : seen_[i]) __builtin_prefetch(&targets_.states[t], 1);
@@ -710,18 +704,18 @@ void Simulation::dispatch_sightings() {
       ++targets_.states[t].observations;
       const ContactEvent e{ContactKind::target_in_view, i, t, targets_.states[t].position, step_end};
       for (std::size_t k = 0; k < setup_.contact_handlers.size(); ++k)
-        plugin_call(handler_kind, k, [&] { setup_.contact_handlers[k]->on_contact(e, actions); });
+        plugin_call(handler_kind, k, [&] { actions.handler = k, setup_.contact_handlers[k]->on_contact(e, actions); });
     }
   }
 }
 
 void Simulation::dispatch_contacts() {
-  Actions actions(targets_.states, targets_.found, *this, time());
+  Actions actions(targets_.states, targets_.found, drones_.positions.size(), *this, time());
   for (ContactEvent e : physics_->begun) {
     e.time = time();
     ++collisions_;
     for (std::size_t k = 0; k < setup_.contact_handlers.size(); ++k)
-      plugin_call(handler_kind, k, [&] { setup_.contact_handlers[k]->on_contact(e, actions); });
+      plugin_call(handler_kind, k, [&] { actions.handler = k, setup_.contact_handlers[k]->on_contact(e, actions); });
   }
 }
 

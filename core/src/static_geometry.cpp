@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace salsa {
 
@@ -34,6 +36,10 @@ double segment_distance(Vec2 p, const Segment& s) {
 
 StaticGeometry::StaticGeometry(const MapData& map, double cell_size) : bounds_(map.bounds) {
   const Rect& b = bounds_;
+  // The grid's size comes from the extent: one beyond a double (check_map refuses it) has no grid.
+  if (!(std::isfinite(b.width()) && std::isfinite(b.height()) && b.width() >= 0 && b.height() >= 0))
+    throw std::invalid_argument("bounds: the map's extent " + std::to_string(b.width()) + " × " + std::to_string(b.height()) +
+                                " m is not finite (allowed: max − min finite and ≥ 0 on both axes)");
   segments_ = {{b.min, {b.max.x, b.min.y}}, {{b.max.x, b.min.y}, b.max},
                {b.max, {b.min.x, b.max.y}}, {{b.min.x, b.max.y}, b.min}};
   auto add_loop = [&](const Polyline& pts) {
@@ -49,6 +55,7 @@ StaticGeometry::StaticGeometry(const MapData& map, double cell_size) : bounds_(m
     }
     solid_boxes_.push_back(box);
   }
+  solid_end_ = static_cast<std::uint32_t>(segments_.size());  // ids [4, solid_end_): edges of solids, in order
   for (const auto& poly : map.hollow) add_loop(poly);
   for (const auto& line : map.lines)
     for (std::size_t i = 0; i + 1 < line.size(); ++i) segments_.push_back({line[i], line[i + 1]});
@@ -66,6 +73,87 @@ StaticGeometry::StaticGeometry(const MapData& map, double cell_size) : bounds_(m
   cell_ids_.resize(cell_start_.back());
   std::vector<std::uint32_t> fill(cell_start_.begin(), cell_start_.end() - 1);
   for (std::uint32_t i = 0; i < segments_.size(); ++i) cells_of(i, [&](std::size_t c) { cell_ids_[fill[c]++] = i; });
+
+  // Solids for is_free's inside test. A small one (a box of at most 64 cells, at most 64 vertices: a
+  // forest's obstacle) is listed in each cell its box covers and tested as it is; a large one's edges
+  // are filed like the segments, and a ray to the right along one row of cells counts its crossings.
+  if (solids_.empty()) return;
+  std::vector<std::uint32_t> big;
+  small_start_.assign(cell_start_.size(), 0);
+  auto box_cells = [&](std::uint32_t k, auto&& fn) {
+    const Rect& box = solid_boxes_[k];
+    for (int y = row(box.min.y); y <= row(box.max.y); ++y)
+      for (int x = col(box.min.x); x <= col(box.max.x); ++x) fn(static_cast<std::size_t>(y) * cols_ + x);
+  };
+  for (std::uint32_t k = 0; k < solids_.size(); ++k) {
+    const Rect& box = solid_boxes_[k];
+    const double cells = (col(box.max.x) - col(box.min.x) + 1.0) * (row(box.max.y) - row(box.min.y) + 1.0);
+    if (cells <= 64 && solids_[k].size() <= 64) box_cells(k, [&](std::size_t c) { ++small_start_[c + 1]; });
+    else big.push_back(k);
+  }
+  for (std::size_t c = 1; c < small_start_.size(); ++c) small_start_[c] += small_start_[c - 1];
+  small_ids_.resize(small_start_.back());
+  fill.assign(small_start_.begin(), small_start_.end() - 1);
+  for (std::uint32_t k = 0, next_big = 0; k < solids_.size(); ++k) {
+    if (next_big < big.size() && big[next_big] == k) {
+      ++next_big;
+      continue;
+    }
+    box_cells(k, [&](std::size_t c) { small_ids_[fill[c]++] = k; });
+  }
+  if (big.empty()) return;
+  std::vector<std::uint32_t> first_edge(solids_.size() + 1, 4);  // solid k's edges: ids [first_edge[k], first_edge[k + 1])
+  for (std::uint32_t k = 0; k < solids_.size(); ++k) first_edge[k + 1] = first_edge[k] + static_cast<std::uint32_t>(solids_[k].size());
+  solid_of_.assign(solid_end_ - 4, 0);
+  solid_start_.assign(cell_start_.size(), 0);
+  for (std::uint32_t k : big)
+    for (std::uint32_t i = first_edge[k]; i < first_edge[k + 1]; ++i) {
+      solid_of_[i - 4] = k;
+      cells_of(i, [&](std::size_t c) { ++solid_start_[c + 1]; });
+    }
+  for (std::size_t c = 1; c < solid_start_.size(); ++c) solid_start_[c] += solid_start_[c - 1];
+  solid_ids_.resize(solid_start_.back());
+  fill.assign(solid_start_.begin(), solid_start_.end() - 1);
+  for (std::uint32_t k : big)
+    for (std::uint32_t i = first_edge[k]; i < first_edge[k + 1]; ++i) cells_of(i, [&](std::size_t c) { solid_ids_[fill[c]++] = i; });
+}
+
+bool StaticGeometry::inside_solid(Vec2 p) const {
+  // Large solids: inside_polygon(p, solid) for each whose box holds p, answered alike: its even–odd test counts
+  // the edges that straddle the line y = p.y and cross it right of p. Those crossings lie in p's row of
+  // cells, right of p, and each edge is filed in the cell holding its crossing point (a point of the
+  // edge is within half a cell's diagonal of that cell's centre), so each is counted there, once.
+  if (solids_.empty() || !bounds_.contains(p)) return false;  // every solid lies within the bounds
+  const std::size_t row_first = static_cast<std::size_t>(row(p.y)) * cols_;
+  const std::size_t cell = row_first + static_cast<std::size_t>(col(p.x));
+  for (std::uint32_t k = small_start_[cell]; k < small_start_[cell + 1]; ++k)
+    if (const std::uint32_t s = small_ids_[k]; solid_boxes_[s].contains(p) && inside_polygon(p, solids_[s])) return true;
+  if (solid_start_.empty()) return false;  // no large solid
+  int x = col(p.x);
+  const std::uint32_t end = solid_start_[row_first + cols_];
+  thread_local std::vector<std::uint32_t> crossed;  // the solid of each counted crossing
+  crossed.clear();
+  for (std::uint32_t k = solid_start_[row_first + x]; k < end; ++k) {
+    while (solid_start_[row_first + x + 1] <= k) ++x;  // the cell entry k belongs to
+    const std::uint32_t id = solid_ids_[k];
+    const Segment& s = segments_[id];
+    const Vec2 a = s.b, b = s.a;  // inside_polygon's operands: a is the edge's later vertex
+    if ((a.y > p.y) == (b.y > p.y)) continue;
+    const double cross_x = (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x;
+    if (!(p.x < cross_x)) continue;
+    // The crossing's cell; kept within the edge's own columns, where rounding may put it an ulp outside.
+    const int owner = std::clamp(col(cross_x), col(std::min(a.x, b.x)), col(std::max(a.x, b.x)));
+    if (owner == x) crossed.push_back(solid_of_[id - 4]);
+  }
+  if (crossed.empty()) return false;
+  std::sort(crossed.begin(), crossed.end());
+  for (std::size_t i = 0; i < crossed.size();) {  // a solid crossed an odd number of times holds p
+    std::size_t j = i;
+    while (j < crossed.size() && crossed[j] == crossed[i]) ++j;
+    if ((j - i) % 2 == 1 && solid_boxes_[crossed[i]].contains(p)) return true;
+    i = j;
+  }
+  return false;
 }
 
 template <class Fn>
@@ -137,8 +225,7 @@ bool StaticGeometry::is_free(Vec2 p, double clearance) const {
   if (p.x < bounds_.min.x + clearance || p.x > bounds_.max.x - clearance || p.y < bounds_.min.y + clearance ||
       p.y > bounds_.max.y - clearance)
     return false;
-  for (std::size_t i = 0; i < solids_.size(); ++i)
-    if (solid_boxes_[i].contains(p) && inside_polygon(p, solids_[i])) return false;
+  if (inside_solid(p)) return false;
   thread_local std::vector<std::uint32_t> ids;  // called per target placed and per virtual point: no allocation
   candidates(p, clearance, ids);
   return std::none_of(ids.begin(), ids.end(), [&](auto id) { return segment_distance(p, segments_[id]) < clearance; });

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <tuple>
+#include <unordered_map>
 
 #include "salsa/core/changes.hpp"
 #include "salsa/core/metrics.hpp"
@@ -416,6 +417,37 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   return s;
 }
 
+std::optional<std::pair<std::size_t, std::size_t>> first_same_test(const std::vector<const TestSpec*>& tests) {
+  // Fields that any two same tests share; equal hashes are then compared field by field.
+  auto key = [](const TestSpec& t) {
+    std::size_t h = std::hash<std::uint64_t>{}(t.seed);
+    auto mix = [&h](std::size_t v) { h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2); };
+    auto mix_double = [&](double v) { mix(std::hash<double>{}(v == 0 ? 0.0 : v)); };  // -0 == 0, as == says
+    mix(t.drones), mix(t.targets), mix(t.repeat);
+    mix_double(t.time), mix_double(t.dt);
+    for (const PluginChoice* c : {&t.behavior, &t.map, &t.target}) {
+      mix(std::hash<std::string>{}(c->name));
+      for (const auto& [name, value] : c->params.items()) mix_double(value);
+    }
+    mix(std::hash<std::string>{}(t.map_file));
+    return h;
+  };
+  auto same = [](const TestSpec& a, const TestSpec& b) {
+    TestSpec x = a;
+    x.name = b.name, x.source = b.source, x.seed_given = b.seed_given;
+    return x == b;
+  };
+  std::unordered_multimap<std::size_t, std::size_t> seen;
+  seen.reserve(tests.size());
+  for (std::size_t j = 0; j < tests.size(); ++j) {
+    const std::size_t k = key(*tests[j]);
+    for (auto [it, end] = seen.equal_range(k); it != end; ++it)
+      if (same(*tests[it->second], *tests[j])) return std::pair{it->second, j};
+    seen.emplace(k, j);
+  }
+  return std::nullopt;
+}
+
 namespace {
 std::string grouped(double v) {  // 1234567 -> "1,234,567"
   std::string digits = std::to_string(std::llround(v)), out;
@@ -444,17 +476,36 @@ std::string workload_warning(const TestSpec& t, const SimulationSetup& s) {
     free_area -= std::abs(twice) / 2;
   }
   free_area = std::max(free_area, b.area() / 100);
-  const double drones = static_cast<double>(t.drones), range = t.drone.detection_range;
-  const double neighbours = std::min(drones - 1, drones * pi * range * range / free_area);
+  auto neighbours_of = [&](double drones, double range) { return std::min(drones - 1, drones * pi * range * range / free_area); };
+  // The timed changes may raise the drone count or the detection range: the test costs the sum of its
+  // stretches, and the message describes its heaviest one.
+  TestSpec now = t;
+  double seconds = 0, heaviest = -1, drones = 0, range = 0, neighbours = 0;
+  std::uint64_t from = 0;
+  auto stretch = [&](std::uint64_t to) {
+    const double n = static_cast<double>(now.drones), r = now.drone.detection_range, k = neighbours_of(n, r);
+    const double per_step = n * (per_drone_step + per_neighbour * k);
+    seconds += static_cast<double>(to - std::min(from, to)) * per_step;
+    if (per_step > heaviest) heaviest = per_step, drones = n, range = r, neighbours = k;
+    from = std::max(from, to);
+  };
+  const std::uint64_t steps = t.steps();
+  for (const Change& c : t.changes) {
+    const std::uint64_t at = std::min<std::uint64_t>(change_step(c.time, t.dt), steps);
+    if (at > from) stretch(at);
+    if (at >= steps) break;  // after the end: never applied
+    apply_to_test(now, c);
+  }
+  stretch(steps);
   const double steps_per_second = 1 / t.dt;
-  const double seconds = static_cast<double>(t.steps()) * drones * (per_drone_step + per_neighbour * neighbours);
   if (seconds < 3600) return {};
   const double hours = seconds / 3600;
-  return t.source + ": " + grouped(drones) + " drones with detection range " + sig(range, 6) + " m on a " + sig(b.width(), 6) +
-         " m × " + sig(b.height(), 6) + " m map: ~" + grouped(neighbours) + " neighbours per drone, about " +
-         sig(drones * neighbours * steps_per_second, 2) + " drone-neighbour checks per simulated second; " + sig(t.time, 6) +
-         " s simulated: expect " + (hours < 48 ? "hours (about " + sig(hours, 2) + " h" : "days (about " + sig(hours / 24, 2) + " days") +
-         " on one core)";
+  const bool changed = drones != static_cast<double>(t.drones) || range != t.drone.detection_range;
+  return t.source + ": " + grouped(drones) + " drones" + (changed ? " (after its timed changes)" : "") + " with detection range " +
+         sig(range, 6) + " m on a " + sig(b.width(), 6) + " m × " + sig(b.height(), 6) + " m map: ~" + grouped(neighbours) +
+         " neighbours per drone, about " + sig(drones * neighbours * steps_per_second, 2) + " drone-neighbour checks per simulated second; " +
+         sig(t.time, 6) + " s simulated: expect " +
+         (hours < 48 ? "hours (about " + sig(hours, 2) + " h" : "days (about " + sig(hours / 24, 2) + " days") + " on one core)";
 }
 
 bool is_map_file(const std::filesystem::path& file) {
@@ -479,6 +530,7 @@ MapData load_map_file(const std::filesystem::path& file, const PluginHost& host,
   } catch (const std::exception& e) {
     throw InputError(file.string() + ": " + e.what());
   }
+  if (const Problem p = check_map(map)) throw InputError(file.string() + ": " + p.text());  // before a grid is sized from it
   if (!StaticGeometry(map, 50).is_free(map.spawn, drone_radius))
     throw InputError(file.string() + ": spawn: [" + num(map.spawn.x) + ", " + num(map.spawn.y) +
                      "] is inside an obstacle or outside the bounds (allowed: free space, at least " + num(drone_radius) +

@@ -97,7 +97,8 @@ class DynamicSpacePartitioning final : public salsa::BehaviorWithMemory<Sweep> {
   void build(const salsa::WorldView& world) {
     bounds_ = world.bounds();
     built_cell_size_ = cell_size;
-    cell_ = std::max(cell_size.value(), std::sqrt(bounds_.area() / kMaxCells));
+    // At most kMaxCells cells, however thin the map (its long side bounds the count too).
+    cell_ = std::max({cell_size.value(), std::sqrt(bounds_.area() / kMaxCells), std::max(bounds_.width(), bounds_.height()) / kMaxCells});
     cols_ = std::max(1, static_cast<int>(std::ceil(bounds_.width() / cell_)));
     rows_ = std::max(1, static_cast<int>(std::ceil(bounds_.height() / cell_)));
     cells_.assign(static_cast<std::size_t>(cols_) * rows_, Cell{});

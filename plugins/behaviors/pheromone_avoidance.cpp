@@ -79,7 +79,8 @@ class PheromoneAvoidance final : public salsa::Behavior {
   void build(const salsa::Rect& b) {
     bounds_ = b;
     built_cell_size_ = cell_size;
-    cell_ = std::max(cell_size.value(), std::sqrt(b.area() / kMaxCells));
+    // At most ~kMaxCells cells, however thin the map (its long side bounds the count too).
+    cell_ = std::max({cell_size.value(), std::sqrt(b.area() / kMaxCells), std::max(b.width(), b.height()) / kMaxCells});
     cols_ = static_cast<int>(std::ceil(b.width() / cell_)) + 1;
     rows_ = static_cast<int>(std::ceil(b.height() / cell_)) + 1;
     cells_.assign(static_cast<std::size_t>(cols_) * rows_, Cell{});

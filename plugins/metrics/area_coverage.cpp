@@ -29,7 +29,9 @@ class AreaCoverage final : public salsa::Metric {
     range_ = world.drone().camera_range;
     const double side = std::max(b.width(), b.height());
     cell_ = cell_size > 0 ? cell_size.value() : range_ > 0 ? range_ / 4 : side / 1000;
-    cell_ = std::max(cell_, std::sqrt(b.area() / max_cells));  // a byte per cell: at most 16 MB
+    // A byte per cell: at most 16 MB (the long side too, for a thin map whose area is small).
+    cell_ = std::max({cell_, std::sqrt(b.area() / max_cells), side / max_cells});
+    if (!(cell_ > 0 && std::isfinite(cell_))) cell_ = side > 0 && std::isfinite(side) ? side : 1;
     origin_ = b.min;
     cols_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(b.width() / cell_)));
     rows_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(b.height() / cell_)));

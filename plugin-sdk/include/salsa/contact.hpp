@@ -28,7 +28,9 @@ struct ContactEvent {
 class ContactActions {
  public:
   virtual ~ContactActions() = default;
-  /// Mark a target found (for good) by a drone; later calls for the same target do nothing.
+  /// Mark a target found (for good) by a drone; later calls for the same target do nothing. Both ids
+  /// must exist (as given by events or the world): any other stops the test with an error naming the
+  /// handler.
   virtual void mark_found(std::uint32_t target, std::uint32_t drone) = 0;
   virtual bool is_found(std::uint32_t target) const = 0;
   /// The world as the event saw it, so a handler can weigh an event by time (dwell, rates: `dt()` is

@@ -1,6 +1,7 @@
 #pragma once
 // 2D vector math in SI units (metres, metres per second). Plain value type, no dependencies.
 #include <cmath>
+#include <limits>
 
 namespace salsa {
 
@@ -26,20 +27,45 @@ struct Vec2 {
   constexpr double dot(Vec2 o) const { return x * o.x + y * o.y; }
   constexpr double cross(Vec2 o) const { return x * o.y - y * o.x; }
   constexpr double length_squared() const { return x * x + y * y; }
-  double length() const { return std::sqrt(length_squared()); }
+  /// Exact for every finite vector: where x² + y² would overflow (components ≳ 1e154) or underflow, the
+  /// vector is scaled first. Infinite for an infinite component, NaN for a NaN one.
+  double length() const {
+    const double l2 = length_squared();
+    if (ordinary(l2)) return std::sqrt(l2);
+    if (is_zero() || std::isnan(l2)) return l2;
+    if (std::isinf(x) || std::isinf(y)) return std::numeric_limits<double>::infinity();
+    const double s = largest();
+    return s * scaled_down().short_length();
+  }
   double angle() const { return std::atan2(y, x); }
   constexpr bool is_zero() const { return x == 0 && y == 0; }
 
-  /// Unit vector in the same direction; the zero vector stays zero.
+  /// Unit vector in the same direction; the zero vector stays zero, and so does one with a NaN
+  /// component. An infinite component gives the direction it points in: (inf, 5) → (1, 0).
   Vec2 normalized() const {
-    const double l = length();
-    return l > 0 ? Vec2{x / l, y / l} : Vec2{};
+    const double l2 = length_squared();
+    if (ordinary(l2)) {
+      const double l = std::sqrt(l2);
+      return {x / l, y / l};
+    }
+    if (is_zero() || std::isnan(l2)) return {};
+    const Vec2 u = scaled_down();
+    return u / u.short_length();
   }
-  /// Same direction, length at most `max_length`.
+  /// Same direction, length at most `max_length`. Any length clamps, however large (a steering of
+  /// (1e200, 0) gives (max_length, 0)); an infinite component clamps along the direction it points in;
+  /// a NaN component stays NaN (the core refuses a non-finite steering, naming the drone).
   Vec2 clamped(double max_length) const {
     const double l2 = length_squared();
-    if (l2 <= max_length * max_length) return *this;
-    return *this * (max_length / std::sqrt(l2));
+    if (ordinary(l2)) {
+      if (l2 <= max_length * max_length) return *this;
+      return *this * (max_length / std::sqrt(l2));
+    }
+    if (is_zero() || std::isnan(l2)) return *this;
+    const Vec2 u = scaled_down();
+    const double lu = u.short_length();
+    if (!std::isinf(x) && !std::isinf(y) && largest() * lu <= max_length) return *this;
+    return u * (max_length / lu);
   }
   /// Same direction, exactly `new_length` (zero stays zero).
   Vec2 with_length(double new_length) const { return normalized() * new_length; }
@@ -47,6 +73,20 @@ struct Vec2 {
     const double c = std::cos(angle), s = std::sin(angle);
     return {c * x - s * y, s * x + c * y};
   }
+
+ private:
+  /// x² + y² neither overflowed nor underflowed (nor is NaN): the plain formulas are exact enough.
+  static bool ordinary(double l2) { return l2 >= std::numeric_limits<double>::min() && l2 <= std::numeric_limits<double>::max(); }
+  double largest() const { return std::fabs(x) > std::fabs(y) ? std::fabs(x) : std::fabs(y); }
+  /// Divided by its largest |component| (length in [1, √2]); for infinite components, the direction
+  /// they point in. Not for the zero vector or NaN components.
+  Vec2 scaled_down() const {
+    if (std::isinf(x) || std::isinf(y))
+      return {std::isinf(x) ? std::copysign(1.0, x) : 0.0, std::isinf(y) ? std::copysign(1.0, y) : 0.0};
+    const double s = largest();
+    return {x / s, y / s};
+  }
+  double short_length() const { return std::sqrt(length_squared()); }
 };
 
 constexpr Vec2 operator*(double s, Vec2 v) { return v * s; }

@@ -21,6 +21,10 @@ struct WriteError : std::runtime_error {
 /// What a failed write's errno means, for WriteError's message: "disk full", "permission denied",
 /// "read-only file system", ... (so a read-only folder is not reported as a full disk).
 std::string write_failure(int error);
+/// `value` with `decimals` fixed decimals, or, when that would not fit in 63 characters (finite values
+/// of about 1e57 and above), in the shortest exponent form that reads back ("1e+300"): every finite
+/// number is written; empty stays reserved for "no value".
+void append_number(std::string& out, double value, int decimals);
 
 class CsvWriter {
  public:

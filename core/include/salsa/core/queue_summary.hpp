@@ -2,6 +2,7 @@
 // The queue folder: OUT/queue.json says which queue wrote OUT, OUT/summary.csv has one row per test,
 // made from the test folders alone (docs/output-format.md).
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,10 @@ struct QueueRecord {
 };
 
 QueueRecord queue_record(const std::vector<TestSpec>& tests, const PluginHost& host, std::vector<std::string> command);
+/// fn(i, test_config(tests[i], host)) for every test, in order: the same text, built once per group of
+/// tests that differ only in name, seed and repeat (a queue's repeats), so 10^6 tests take seconds.
+void for_each_test_config(const std::vector<TestSpec>& tests, const PluginHost& host,
+                          const std::function<void(std::size_t, const std::string&)>& fn);
 
 /// Refuses (InputError, one line) an OUT whose queue.json records another queue (other test names, or
 /// other configs), unless `resume` or `force`. Writes nothing.

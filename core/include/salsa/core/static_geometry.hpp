@@ -30,7 +30,8 @@ class StaticGeometry {
   std::size_t cells_examined() const { return cells_examined_; }
 
   /// Inside bounds by `clearance` m, outside every solid obstacle, and farther than `clearance`
-  /// from every wall segment. Never for a non-finite point or clearance.
+  /// from every wall segment. Never for a non-finite point or clearance. The obstacles must lie within
+  /// the bounds (check_map): they are found through the grid over the bounds, not one by one.
   bool is_free(Vec2 p, double clearance) const;
   /// Nearest hit on the segment from `from` to `to`.
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const;
@@ -53,6 +54,9 @@ class StaticGeometry {
     return c >= cells - 1 ? cells - 1 : c >= 0 ? static_cast<int>(c) : 0;
   }
 
+  /// Inside a solid obstacle (as inside_polygon says, within the solid's box), from the grid.
+  bool inside_solid(Vec2 p) const;
+
   Rect bounds_{};
   std::vector<Segment> segments_;
   std::vector<Polyline> solids_;
@@ -63,6 +67,10 @@ class StaticGeometry {
   std::vector<std::uint32_t> cell_start_;  ///< cell c's ids are cell_ids_[cell_start_[c] .. cell_start_[c + 1])
   std::vector<std::uint32_t> cell_ids_;
   std::size_t cells_examined_ = 0;
+  std::uint32_t solid_end_ = 4;            ///< segments [4, solid_end_) are the solids' edges
+  std::vector<std::uint32_t> small_start_, small_ids_;  ///< per cell, the small solids whose box covers it
+  std::vector<std::uint32_t> solid_of_;    ///< the solid of edge id 4 + k (large solids' edges)
+  std::vector<std::uint32_t> solid_start_, solid_ids_;  ///< the large solids' edges alone, filed like cell_ids_
 };
 
 /// Distance along the ray p + t·d (t ≥ 0, |d| = 1) to segment s, if it crosses it within `range`.

@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "salsa/core/changes.hpp"
@@ -23,6 +24,7 @@ struct InputError : std::runtime_error {
 struct PluginChoice {
   std::string name;
   ParameterValues params;  ///< every declared parameter, defaults filled in
+  bool operator==(const PluginChoice&) const = default;
 };
 
 struct TestSpec {
@@ -54,7 +56,13 @@ struct TestSpec {
 
   std::size_t steps() const;
   std::size_t log_every() const;
+  bool operator==(const TestSpec&) const = default;
 };
+
+/// The first test that is the same as an earlier one, as (earlier, later) indices: equal in all but
+/// name and source (what gives the same data), or nullopt. Hashes a few fields and compares in full
+/// only tests that share them, so 10^6 tests take a fraction of a second (no config text per test).
+std::optional<std::pair<std::size_t, std::size_t>> first_same_test(const std::vector<const TestSpec*>& tests);
 
 /// The metrics a test gets when it names none (those of them the host has loaded).
 inline constexpr const char* default_metrics[] = {"area_coverage", "time_to_found", "distance_flown", "collisions"};
