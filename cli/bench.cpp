@@ -16,8 +16,8 @@
 
 #include "commands.hpp"
 #include "options.hpp"
-#include "salsa/core/bench.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/run/bench.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 namespace po = boost::program_options;
 using namespace salsa;

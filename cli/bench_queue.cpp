@@ -23,9 +23,9 @@
 #include <thread>
 
 #include "commands.hpp"
-#include "salsa/core/bench.hpp"
-#include "salsa/core/queue.hpp"
-#include "salsa/core/runner.hpp"
+#include "salsa/core/run/bench.hpp"
+#include "salsa/core/experiments/queue.hpp"
+#include "salsa/core/run/runner.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;

@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "salsa/core/runner.hpp"
+#include "salsa/core/run/runner.hpp"
 
 namespace salsa::cli {
 

@@ -4,8 +4,8 @@
 #include <string>
 #include <utility>
 
-#include "salsa/core/plugin_host.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 namespace salsa::cli {
 

@@ -5,7 +5,7 @@
 #include <iostream>
 #include <string>
 
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 #include "commands.hpp"
 
 namespace po = boost::program_options;

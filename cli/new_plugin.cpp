@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 #include "commands.hpp"
 #include "options.hpp"
 #include "templates.hpp"

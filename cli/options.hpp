@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "salsa/core/plugin_host.hpp"
-#include "salsa/core/queue.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
+#include "salsa/core/experiments/queue.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 namespace salsa::cli {
 

@@ -11,11 +11,11 @@
 #include <map>
 #include <sstream>
 
-#include "salsa/core/queue_summary.hpp"
+#include "salsa/core/experiments/queue_summary.hpp"
 #include "commands.hpp"
 #include "options.hpp"
-#include "salsa/core/comparison.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/comparison.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/plots/chart.hpp"
 #include "salsa/plots/results.hpp"
 #include "strict_json.hpp"

@@ -6,8 +6,8 @@
 #include <memory>
 #include <type_traits>
 
-#include "salsa/core/drone_config.hpp"
-#include "salsa/core/plugin_host.hpp"
+#include "salsa/core/model/drone_config.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
 #include "commands.hpp"
 #include "options.hpp"
 

@@ -1,9 +1,9 @@
 // salsa queue expand FILE: the tests a queue expands to, in the order they run.
 #include <iostream>
 
-#include "salsa/core/plugin_host.hpp"
-#include "salsa/core/queue.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
+#include "salsa/core/experiments/queue.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 #include "commands.hpp"
 #include "options.hpp"
 

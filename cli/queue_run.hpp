@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "salsa/core/plugin_host.hpp"
-#include "salsa/core/output_folder.hpp"
-#include "salsa/core/runner.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
+#include "salsa/core/files/output_folder.hpp"
+#include "salsa/core/run/runner.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 namespace salsa::cli {
 

@@ -12,12 +12,12 @@
 #include <optional>
 #include <unordered_map>
 
-#include "salsa/core/output_folder.hpp"
-#include "salsa/core/plugin_host.hpp"
-#include "salsa/core/queue.hpp"
-#include "salsa/core/queue_summary.hpp"
-#include "salsa/core/runner.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/files/output_folder.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
+#include "salsa/core/experiments/queue.hpp"
+#include "salsa/core/experiments/queue_summary.hpp"
+#include "salsa/core/run/runner.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 #include "commands.hpp"
 #include "isolate.hpp"
 #include "mpi.hpp"

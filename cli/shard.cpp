@@ -6,7 +6,7 @@
 #include <optional>
 #include <string>
 
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 namespace salsa::cli {
 

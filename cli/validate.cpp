@@ -1,9 +1,9 @@
 // salsa validate FILE...: test, queue and map files checked as a run would, without running them.
 #include <iostream>
 
-#include "salsa/core/plugin_host.hpp"
-#include "salsa/core/queue.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
+#include "salsa/core/experiments/queue.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 #include "commands.hpp"
 #include "options.hpp"
 

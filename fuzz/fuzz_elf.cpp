@@ -3,7 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "elf_check.hpp"
+#include "plugins/elf_check.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   (void)salsa::elf_problem(data, size);

@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "salsa/core/names.hpp"
+#include "salsa/core/files/names.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view name(reinterpret_cast<const char*>(data), size);

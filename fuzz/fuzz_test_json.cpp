@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "fuzz_common.hpp"
-#include "salsa/core/names.hpp"
+#include "salsa/core/files/names.hpp"
 
 namespace {
 

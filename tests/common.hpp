@@ -16,7 +16,7 @@
 #include <string>
 
 #ifdef SALSA_TEST_WITH_CORE
-#include "salsa/core/plugin_host.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
 #endif
 
 namespace salsa_test {

@@ -8,7 +8,7 @@
 #include <fstream>
 
 #include "engine.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 using namespace salsa;
 using namespace salsa::gui;

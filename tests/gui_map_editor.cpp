@@ -7,7 +7,7 @@
 #include <QUndoStack>
 
 #include "map_editor.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 using namespace salsa;
 using namespace salsa::gui;

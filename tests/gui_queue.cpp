@@ -21,7 +21,7 @@
 #include "main_window.hpp"
 #include "map_editor.hpp"
 #include "queue_page.hpp"
-#include "salsa/core/queue.hpp"
+#include "salsa/core/experiments/queue.hpp"
 
 using namespace salsa;
 using namespace salsa::gui;

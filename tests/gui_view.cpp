@@ -11,7 +11,7 @@
 #include <cmath>
 
 #include "recorder.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 #include "view.hpp"
 
 using namespace salsa;

@@ -6,10 +6,10 @@
 #include <QTemporaryDir>
 #include <cmath>
 
-#include "salsa/core/changes.hpp"
-#include "salsa/core/runner.hpp"
-#include "salsa/core/simulation.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/changes.hpp"
+#include "salsa/core/run/runner.hpp"
+#include "salsa/core/model/simulation.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 using namespace salsa;
 using namespace salsa_test;

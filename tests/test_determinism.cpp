@@ -3,8 +3,8 @@
 #include <QtTest>
 
 #include "common.hpp"
-#include "salsa/core/runner.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/run/runner.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 using namespace salsa_test;
 

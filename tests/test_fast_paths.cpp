@@ -10,10 +10,10 @@
 #include <stdexcept>
 
 #include "common.hpp"
-#include "salsa/core/map_check.hpp"
-#include "salsa/core/simulation.hpp"
-#include "salsa/core/static_geometry.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/model/map_check.hpp"
+#include "salsa/core/model/simulation.hpp"
+#include "salsa/core/model/static_geometry.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 using namespace salsa_test;
 using salsa::Vec2;

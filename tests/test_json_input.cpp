@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 #include "strict_json.hpp"
 
 using namespace salsa;

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <limits>
 
-#include "salsa/core/simulation.hpp"
-#include "salsa/core/static_geometry.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/model/simulation.hpp"
+#include "salsa/core/model/static_geometry.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 using namespace salsa;
 using namespace salsa_test;

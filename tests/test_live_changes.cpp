@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "salsa/core/simulation.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/model/simulation.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 using namespace salsa;
 using namespace salsa_test;

@@ -17,7 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common.hpp"
-#include "salsa/core/plugin_host.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
 
 using namespace salsa_test;
 namespace fs = std::filesystem;

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "salsa/core/metrics.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/run/metrics.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 using namespace salsa;
 using namespace salsa_test;

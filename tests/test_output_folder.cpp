@@ -12,7 +12,7 @@
 #include <csignal>
 #include <cerrno>
 
-#include "salsa/core/csv_writer.hpp"
+#include "salsa/core/files/csv_writer.hpp"
 #include "common.hpp"
 
 using namespace salsa_test;

@@ -7,8 +7,8 @@
 #include <set>
 
 #include "common.hpp"
-#include "salsa/core/comparison.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/comparison.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/plots/results.hpp"
 
 using namespace salsa_test;

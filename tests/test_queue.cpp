@@ -7,11 +7,11 @@
 #include <map>
 #include <set>
 
-#include "salsa/core/names.hpp"
-#include "salsa/core/queue.hpp"
-#include "salsa/core/queue_summary.hpp"
-#include "salsa/core/output_folder.hpp"
-#include "salsa/core/runner.hpp"
+#include "salsa/core/files/names.hpp"
+#include "salsa/core/experiments/queue.hpp"
+#include "salsa/core/experiments/queue_summary.hpp"
+#include "salsa/core/files/output_folder.hpp"
+#include "salsa/core/run/runner.hpp"
 
 using namespace salsa;
 using namespace salsa_test;

@@ -8,9 +8,9 @@
 
 #include <cmath>
 
-#include "salsa/core/queue.hpp"
-#include "salsa/core/simulation.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/queue.hpp"
+#include "salsa/core/model/simulation.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 using namespace salsa;
 using namespace salsa_test;

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <time.h>
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 using namespace salsa;
 static double cpu() { timespec t; clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t); return t.tv_sec + 1e-9 * t.tv_nsec; }
 struct Replay final : MetricView {

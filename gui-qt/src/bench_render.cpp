@@ -12,8 +12,8 @@
 #include <thread>
 #include <vector>
 
-#include "salsa/core/simulation.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/model/simulation.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 #include "view.hpp"
 
 namespace salsa::gui {

@@ -3,7 +3,7 @@
 // targets with trails on, and the simulation's speed in the GUI against headless (docs/gui.md).
 #include <ostream>
 
-#include "salsa/core/plugin_host.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
 
 namespace salsa::gui {
 

@@ -8,9 +8,9 @@
 #include <deque>
 #include <limits>
 
-#include "salsa/core/format.hpp"
-#include "salsa/core/session.hpp"
-#include "salsa/core/simulation.hpp"
+#include "salsa/core/files/format.hpp"
+#include "salsa/core/run/session.hpp"
+#include "salsa/core/model/simulation.hpp"
 
 namespace salsa::gui {
 namespace {

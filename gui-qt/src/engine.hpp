@@ -15,9 +15,9 @@
 #include <thread>
 #include <vector>
 
-#include "salsa/core/changes.hpp"
-#include "salsa/core/plugin_host.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/changes.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 
 namespace salsa::gui {
 
@@ -106,7 +106,7 @@ class Engine {
   std::future<std::string> load(TestSpec test);
   /// Rebuilds the loaded test's start state (paused, time 0): live changes dropped, the test's own kept.
   std::future<std::string> reset();
-  /// A live change (keys as in salsa/core/changes.hpp), recorded at the current time.
+  /// A live change (keys as in salsa/core/experiments/changes.hpp), recorded at the current time.
   std::future<std::string> set(std::string key, double value);
   void start();
   void pause();

@@ -20,7 +20,7 @@
 #include "main_window.hpp"
 #include "map_editor.hpp"
 #include "queue_page.hpp"
-#include "salsa/core/plugin_host.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
 
 namespace {
 

@@ -26,8 +26,8 @@
 #include <functional>
 #include <filesystem>
 
-#include "salsa/core/runner.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/run/runner.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 #include "save_checked.hpp"
 
 namespace fs = std::filesystem;

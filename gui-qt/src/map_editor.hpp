@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "salsa/core/map_check.hpp"
-#include "salsa/core/plugin_host.hpp"
+#include "salsa/core/model/map_check.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
 
 class QUndoStack;
 class QListWidget;

@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "salsa/core/drone_config.hpp"
+#include "salsa/core/model/drone_config.hpp"
 
 namespace salsa::gui {
 namespace {

@@ -12,7 +12,7 @@
 #include <memory>
 #include <vector>
 
-#include "salsa/core/plugin_host.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
 
 class QTreeWidget;
 class QCheckBox;

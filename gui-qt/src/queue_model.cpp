@@ -6,7 +6,7 @@
 
 #include <set>
 
-#include "salsa/core/queue.hpp"
+#include "salsa/core/experiments/queue.hpp"
 #include "save_checked.hpp"
 
 namespace salsa::gui {

@@ -33,8 +33,8 @@
 #include <QVBoxLayout>
 #include <fstream>
 
-#include "salsa/core/queue.hpp"
-#include "salsa/core/queue_summary.hpp"
+#include "salsa/core/experiments/queue.hpp"
+#include "salsa/core/experiments/queue_summary.hpp"
 #include "save_checked.hpp"
 
 namespace salsa::gui {

@@ -24,7 +24,7 @@
 #include "param_panel.hpp"
 #include "recorder.hpp"
 #include "save_checked.hpp"
-#include "salsa/core/names.hpp"
+#include "salsa/core/files/names.hpp"
 
 namespace salsa::gui {
 namespace {

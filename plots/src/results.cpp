@@ -12,9 +12,9 @@
 #include <optional>
 
 #include "figure.hpp"
-#include "salsa/core/comparison.hpp"
-#include "salsa/core/csv_reader.hpp"
-#include "salsa/core/test_spec.hpp"
+#include "salsa/core/experiments/comparison.hpp"
+#include "salsa/core/files/csv_reader.hpp"
+#include "salsa/core/experiments/test_spec.hpp"
 #include "strict_json.hpp"
 
 namespace salsa::plots {

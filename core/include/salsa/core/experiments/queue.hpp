@@ -1,0 +1,57 @@
+#pragma once
+// A queue: the tests of one file, explicit and swept, repeated and in the order they run, each with
+// its paired seed. See docs/test-format.md ("Queues and sweeps", "Seeds: the paired rule").
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "salsa/core/experiments/test_spec.hpp"
+
+namespace salsa {
+
+struct QueueOptions {
+  std::optional<std::uint64_t> seed;  ///< --seed: the queue seed of every file, over the files' seeds and the tests'
+  bool yes = false;                   ///< --yes: allow more than max_tests tests
+  std::size_t max_tests = 10000;      ///< a larger queue is refused unless `yes`
+};
+
+/// No queue holds more tests than this, --yes or not: each test is held in memory before the first runs.
+inline constexpr std::size_t max_queue_tests = 1'000'000;
+
+struct Queue {
+  /// Interleaved: repeat 0 of every configuration (the explicit tests in file order, then the sweep's)
+  /// before repeat 1 of any. Within a repeat the sweep's behaviors vary fastest, so the tests of one
+  /// world are neighbours and a queue stopped midway leaves whole groups to compare.
+  std::vector<TestSpec> tests;
+  std::uint64_t seed = 1;  ///< the queue seed (the file's "seed", or QueueOptions::seed)
+  std::string source;      ///< the file, as messages name it
+};
+
+/// Reads a queue file: {"seed", "repeats", "tests", "sweep"}, or a plain test file (one test object, a
+/// list of tests, {"tests": [...]}). Every test is validated as a test file's; names are unique; the
+/// count is checked before the sweep is expanded. Throws InputError (one line: file, position, key,
+/// value, what is allowed).
+Queue load_queue(const std::filesystem::path& file, const PluginHost& host, const QueueOptions& options);
+
+/// The seed of a test without its own: the same for every behavior facing the same world in the same
+/// repeat, whatever else the queue holds. In [0, 2^53), so that JSON holds it exactly:
+///   splitmix64(fnv1a64(world_key) ^ splitmix64(queue_seed ^ splitmix64(repeat))) & (2^53 - 1)
+/// where fnv1a64 is 64-bit FNV-1a over the key's bytes and splitmix64(x) is the output function of
+/// Vigna's SplitMix64 generator applied to x + 0x9e3779b97f4a7c15.
+std::uint64_t paired_seed(std::uint64_t queue_seed, std::size_t repeat, const std::string& world_key);
+
+/// The keys that define a test's world, as canonical JSON (sorted keys, no spaces): the map (name,
+/// every parameter, the file's name without its folder), the spawn (mode, radius, point), the drone
+/// configuration's fields (not its name), the drone count, and the targets (count; kind and
+/// parameters when there are any). Never the behavior, its parameters, the name or the position.
+std::string world_key(const TestSpec& test);
+
+/// A plugin choice and its parameters that differ from `schema`'s defaults: "forest(clusters=20)".
+std::string describe_choice(const PluginChoice& choice, const Parameters& schema);
+/// The behavior and its parameters that differ from the declared defaults, in declaration order:
+/// "flocking", "flocking(cohesion_weight=2 alignment_weight=0.5)".
+std::string variant(const TestSpec& test, const PluginHost& host);
+
+}  // namespace salsa

@@ -1,0 +1,103 @@
+#pragma once
+// A test: everything one run needs, resolved (defaults filled in, names checked against the loaded
+// plugins, parameters validated). Read from and written to JSON; see docs/test-format.md.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "salsa/core/experiments/changes.hpp"
+#include "salsa/core/model/drone_config.hpp"
+#include "salsa/core/plugins/plugin_host.hpp"
+#include "salsa/core/model/simulation.hpp"
+
+namespace salsa {
+
+/// Bad input: the message is one line naming the file, the field, the value and what is allowed.
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct PluginChoice {
+  std::string name;
+  ParameterValues params;  ///< every declared parameter, defaults filled in
+  bool operator==(const PluginChoice&) const = default;
+};
+
+struct TestSpec {
+  std::string source;               ///< where it was read from, for messages ("queue.json: tests[2]")
+  std::string name;                 ///< also its output folder's name
+  PluginChoice behavior;
+  DroneConfig drone;
+  std::size_t drones = 10;
+  PluginChoice map;
+  std::string map_file;             ///< for file-based maps; absolute or relative to the working folder
+  std::optional<Vec2> spawn;        ///< overrides the map's spawn point
+  SpawnMode spawn_mode = SpawnMode::disc;
+  double spawn_radius = 0;          ///< m; 0: drones × drone radius
+  PluginChoice target;
+  std::size_t targets = 0;
+  /// Called in this order. Parameters not given (a TestSpec made in code) get their declared defaults.
+  std::vector<PluginChoice> contact_handlers{{"detect_targets", {}}};
+  std::vector<PluginChoice> metrics;  ///< in column order; a test without "metrics" gets default_metrics
+  double time = 60;                 ///< s simulated
+  double dt = 1.0 / 60;             ///< s
+  double log_interval = 1;          ///< s between logged rows
+  int velocity_iterations = 8;
+  int position_iterations = 3;
+  int decision_lag = 0;             ///< steps until a decision takes effect (SimulationSetup): 0 everywhere by default
+  std::uint64_t seed = 1;
+  bool seed_given = false;          ///< "seed" was in the file: it wins over the paired seed (queue.hpp)
+  std::size_t repeat = 0;           ///< which repeat of its configuration in a queue (0 first)
+  std::vector<Change> changes;      ///< timed live changes, in time order (salsa/core/experiments/changes.hpp)
+
+  std::size_t steps() const;
+  std::size_t log_every() const;
+  bool operator==(const TestSpec&) const = default;
+};
+
+/// The first test that is the same as an earlier one, as (earlier, later) indices: equal in all but
+/// name and source (what gives the same data), or nullopt. Hashes a few fields and compares in full
+/// only tests that share them, so 10^6 tests take a fraction of a second (no config text per test).
+std::optional<std::pair<std::size_t, std::size_t>> first_same_test(const std::vector<const TestSpec*>& tests);
+
+/// The metrics a test gets when it names none (those of them the host has loaded).
+inline constexpr const char* default_metrics[] = {"area_coverage", "time_to_found", "distance_flown", "collisions"};
+
+/// Reads a test or queue file with the default QueueOptions: load_queue(file, host, {}).tests (queue.hpp).
+std::vector<TestSpec> load_tests(const std::filesystem::path& file, const PluginHost& host);
+/// Parses one test from JSON text (`where` names it in errors, e.g. "file.json: tests[2]"). Without a
+/// "seed" it gets the paired seed of queue seed 1 and its "repeat" (default 0).
+TestSpec parse_test(const std::string& json_text, const std::string& where, const PluginHost& host,
+                    const std::filesystem::path& base_dir = {});
+
+/// The fully resolved test as JSON (what config.json holds): enough to rerun it exactly, plus the
+/// salsa and plugin versions.
+std::string resolved_json(const TestSpec& test, const PluginHost& host);
+
+/// A live simulation set up for `test`, its plugins created through `host`. Throws InputError for bad
+/// input, the plugins' data included (the map, the targets' radius and positions: each named with its
+/// plugin and file), and for what the physics cannot do faithfully (check_drone, check_resolution).
+SimulationSetup make_setup(const TestSpec& test, const PluginHost& host, int threads = 0);
+
+/// A one-line warning when `test` will likely take more than an hour of wall time ("flock.json: 1,000,000
+/// drones with detection range 50 m on a 2000 m × 2000 m map: ~1,963 neighbours per drone, about 1.2e+11
+/// drone-neighbour checks per simulated second; 60 s simulated: expect hours (about 21 h on one core)"),
+/// else "". Estimated from the drones, their neighbours (density × π·range² over the free area, at most
+/// all other drones) and the steps. `setup` is make_setup's result for `test` (it holds the map); the
+/// CLI prints the line as a warning before running.
+std::string workload_warning(const TestSpec& test, const SimulationSetup& setup);
+
+/// Whether a JSON file is a map file (an object with "bounds", or with obstacles, hollow outlines or
+/// lines and no "behavior" or "tests") rather than a test file.
+bool is_map_file(const std::filesystem::path& file);
+/// Reads a map file through the "json" map plugin and checks its spawn point. Throws InputError.
+MapData load_map_file(const std::filesystem::path& file, const PluginHost& host, double drone_radius = 1);
+
+/// The library's version, e.g. "0.1.0".
+const char* salsa_version();
+
+}  // namespace salsa

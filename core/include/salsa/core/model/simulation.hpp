@@ -1,0 +1,243 @@
+#pragma once
+// One simulation: drones, targets, a map, the active behavior, contact handlers and observers, stepped
+// with a fixed time step. Owns its Box2D world; no Qt.
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "salsa/behavior.hpp"
+#include "salsa/contact.hpp"
+#include "salsa/core/model/drone_config.hpp"
+#include "salsa/core/model/static_geometry.hpp"
+#include "salsa/grid.hpp"
+#include "salsa/map.hpp"
+#include "salsa/metric.hpp"  // TargetState
+#include "salsa/target.hpp"
+
+namespace salsa {
+
+class Simulation;
+struct PhysicsWorld;  // Box2D, internal to libsalsa
+
+/// Told about the simulation every log interval (and once at time 0). Runs on the stepping thread.
+class Observer {
+ public:
+  virtual ~Observer() = default;
+  virtual void observe(const Simulation& sim) = 0;
+};
+
+/// A plugin threw: which one (kind and index), and its own message in what() (on one line). `kind` is
+/// "behavior", "target kind", "contact handler" (index: its position in
+/// SimulationSetup::contact_handlers; 0 otherwise), "map" or "metric". The caller, who knows the
+/// registered names and files, turns this into the line the user reads (failed_plugin in session.hpp).
+struct PluginFailure : std::runtime_error {
+  PluginFailure(std::string kind, std::size_t index, const std::string& message);
+  std::string kind;
+  std::size_t index = 0;
+};
+
+enum class SpawnMode { disc, uniform };
+
+struct SimulationSetup {
+  MapData map;
+  std::optional<Vec2> spawn;          ///< overrides the map's spawn point
+  SpawnMode spawn_mode = SpawnMode::disc;
+  double spawn_radius = 0;            ///< m; 0: drone count × drone radius (the paper's disc)
+  DroneConfig drone;
+  std::size_t drones = 10;
+  std::shared_ptr<Behavior> behavior;
+  std::shared_ptr<TargetKind> target_kind;  ///< may be null: no targets
+  std::size_t targets = 0;
+  std::vector<std::shared_ptr<ContactHandler>> contact_handlers;
+  double dt = 1.0 / 60;               ///< s
+  int velocity_iterations = 8;
+  int position_iterations = 3;
+  std::uint64_t seed = 1;
+  int threads = 0;                    ///< worker threads for `decide`; 0: all cores
+  std::size_t log_every = 60;         ///< steps between observer calls
+  /// 0 (the default, the SALSA paper's sequential definition): a decision takes effect in the step it
+  /// was made from (all phases in sequence). 1: one step later (as in ARGoS), so Box2D steps on one
+  /// core while the drones sense and decide on the others (faster on several cores).
+  int decision_lag = 0;
+  bool profile = false;               ///< time each phase (Simulation::profile); off saves ~12 clock reads a step
+};
+
+// ---- Limits: what the core can simulate faithfully, whatever made the map or the drones (a JSON file,
+// a plugin, the GUI). Each check returns the field at fault and why (value and what is allowed).
+
+struct Problem {
+  std::string field;  ///< e.g. "drone.max_speed", "obstacles[2][0]"; empty: no problem
+  std::string what;   ///< the value and what is allowed
+  explicit operator bool() const { return !field.empty(); }
+  std::string text() const { return field + ": " + what; }
+};
+
+/// Box2D 2.4 moves a body at most this far per step (b2_maxTranslation), m.
+inline constexpr double box2d_max_step = 2.0;
+/// Finite, positive where it must be, and a step (max_speed × dt) short enough that a drone can never
+/// pass through a wall: at most its radius (contacts are discrete, continuous collision is off) and at
+/// most box2d_max_step.
+Problem check_drone(const DroneConfig& drone, double dt);
+/// Finite, ordered bounds; polygons of ≥ 3 points and lines of ≥ 2, every point finite and inside the
+/// bounds; a finite spawn point.
+Problem check_map(const MapData& map);
+/// Box2D keeps positions in single-precision floats: at the map's largest coordinate they must still
+/// resolve 2 % of a drone's step (rounding then changes a step by at most 1 %), else drones move in
+/// jumps or freeze. Field "bounds".
+Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt);
+/// A target kind's radius (finite, ≥ 0) and the positions it placed (as many as asked, finite, inside
+/// the bounds).
+Problem check_targets(std::span<const Vec2> positions, std::size_t count, double radius, const Rect& bounds);
+
+/// The kind's view_range for the drone's camera (m), checked finite and >= 0: how far the detect phase
+/// looks for targets (TargetKind::view_range). Field "view_range".
+Problem check_view_range(const TargetKind& kind, const DroneConfig& drone);
+
+/// Where a Simulation puts `count` targets of `kind` on `map` at the start: on the map alone, before
+/// any drone is spawned (the kind's WorldView has the drone properties but no drones), with the
+/// targets' own Rng stream of `seed`. Throws what the plugin throws, or std::invalid_argument with
+/// check_targets' or check_view_range's problem.
+std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, const MapData& map,
+                                  const StaticGeometry& geometry, const DroneConfig& drone, double dt,
+                                  std::uint64_t seed);
+
+/// What plugins see of a drone configuration (WorldView::drone()).
+DroneProperties drone_properties(const DroneConfig& config);
+
+/// Step phases, timed separately (DESIGN §3).
+enum class Phase { sense, decide, act, physics, detect, observe };
+inline constexpr std::array<const char*, 6> phase_names{"sense", "decide", "act", "physics", "detect", "observe"};
+
+class Simulation final : public WorldView {
+ public:
+  /// Throws std::invalid_argument with a one-line reason for an unusable set-up (see the checks above).
+  explicit Simulation(SimulationSetup setup);
+  ~Simulation() override;
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  void step();
+  void run_steps(std::size_t n) { for (std::size_t i = 0; i < n; ++i) step(); }
+
+  // ---- Live changes (take effect at the next step). Each either succeeds or throws and leaves the
+  // simulation exactly as it was (the new state is built aside, then swapped in); std::invalid_argument
+  // for a refused value, or what the plugin threw. Those that re-spawn drones or re-place targets
+  // (drone count, map, targets) reset the behavior and the contact handlers (before swapping in, with
+  // a view of the new state), as the constructor does.
+  void set_drone_count(std::size_t n);      ///< adds drones at the spawn, or removes the highest ids; fresh memory
+  void set_drone_config(const DroneConfig& config);  ///< rebuilds the drones where they are; targets stay
+  void set_behavior(std::shared_ptr<Behavior> behavior);  ///< fresh per-drone memory
+  void set_map(const MapData& map, std::optional<Vec2> spawn = std::nullopt);  ///< re-spawns drones and targets
+  void set_targets(std::shared_ptr<TargetKind> kind, std::size_t count);        ///< re-places targets
+  /// A new time step (s), from the next step on: the GUI's "larger time step" (fast, inexact). Refused
+  /// (std::invalid_argument) when a drone could pass through a wall in one step (check_drone,
+  /// check_resolution). Time goes on from where it is.
+  void set_dt(double dt);
+  void add_observer(Observer* observer) { observers_.push_back(observer); }
+
+  // ---- State ----
+  std::uint64_t step_count() const { return steps_; }
+  std::size_t drone_count() const { return drones_.positions.size(); }
+  const DroneConfig& drone_config() const { return setup_.drone; }
+  const SimulationSetup& setup() const { return setup_; }
+  Behavior& behavior() const { return *setup_.behavior; }
+  const MapData& map() const override { return setup_.map; }
+  Vec2 spawn_point() const { return spawn_; }
+  const std::vector<TargetState>& targets() const { return targets_.states; }
+  std::size_t targets_found() const { return targets_.found; }
+  std::uint64_t collisions() const { return collisions_; }  ///< contacts begun, drone–drone and drone–obstacle
+  const StaticGeometry& geometry() const { return geometry_; }
+  /// Nearest other drone's distance for each drone (m); +inf when alone. About O(N) through a grid sized
+  /// to the drones' spread, whatever the detection range.
+  std::vector<double> nearest_neighbour_distances() const;
+  /// The drone's obstacle-ray hits of the last sense phase.
+  std::span<const ObstacleHit> obstacle_hits(std::uint32_t id) const {
+    const std::size_t rays = drones_.ray_directions.size();
+    return {drones_.hits.data() + id * rays, id < drones_.hit_counts.size() ? drones_.hit_counts[id] : 0u};
+  }
+  /// Seconds spent in each phase so far (zeros unless SimulationSetup::profile).
+  const std::array<double, 6>& profile() const { return profile_; }
+
+  // ---- WorldView ----
+  Rect bounds() const override { return setup_.map.bounds; }
+  double time() const override { return time_at(steps_); }
+  double dt() const override { return setup_.dt; }
+  std::span<const Vec2> drone_positions() const override { return drones_.positions; }
+  std::span<const Vec2> drone_velocities() const override { return drones_.velocities; }
+  /// The velocities the last act phase handed to Box2D (m/s), before collisions changed them.
+  std::span<const Vec2> commanded_velocities() const { return drones_.commanded; }
+  bool is_free(Vec2 p, double clearance) const override { return geometry_.is_free(p, clearance); }
+  std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return geometry_.ray_cast(from, to); }
+  const DroneProperties& drone() const override { return drone_properties_; }
+
+ private:
+  struct Scratch;
+  struct Parallel;
+
+  // The phases of one step.
+  void sense();
+  void decide();
+  void act();
+  void physics();
+  void dispatch_sightings();  // detect, part 1
+  void dispatch_contacts();   // detect, part 2
+  void observe();
+
+  // Drones, structure of arrays indexed by id.
+  struct Drones {
+    std::vector<Vec2> positions, velocities, steering, commanded;
+    std::vector<Rng> rngs;
+    std::vector<Vec2> ray_directions;   ///< unit vectors of the obstacle rays
+    std::vector<ObstacleHit> hits;      ///< obstacle_rays slots per drone
+    std::vector<std::uint8_t> hit_counts;
+  };
+  struct Targets {
+    std::vector<TargetState> states;
+    PointGrid grid;
+    double reach = 0;  ///< m: the kind's view_range, how far sense() queries the grid
+    std::size_t found = 0;
+  };
+  struct World;  // everything a map change rebuilds
+
+  // Set-up and live changes: each builds its new state aside (may throw), then installs it (cannot).
+  static World build_world(const SimulationSetup& setup);
+  static Drones resized(const Drones& from, std::size_t n, const SimulationSetup& setup, const StaticGeometry& geometry,
+                        Vec2 spawn, Rng& spawn_rng);
+  static Targets make_targets(std::vector<Vec2> positions, const DroneConfig& drone, const TargetKind* kind);
+  /// Tells the contact handlers the drones or targets were (re)made; `world` is the state from now on.
+  void reset_handlers(const WorldView& world) const;
+  void install(World&& world) noexcept;
+  Perception perceive(std::uint32_t id, Senses senses, Scratch& scratch) const;
+  void read_back();
+  void timed(Phase phase, const auto& fn);
+  /// The time after `steps` steps: steps × dt, counted from the last set_dt.
+  double time_at(std::uint64_t steps) const { return dt_base_time_ + static_cast<double>(steps - dt_base_steps_) * setup_.dt; }
+
+  SimulationSetup setup_;
+  DroneProperties drone_properties_;  ///< setup_.drone as plugins see it
+  Vec2 spawn_;
+  StaticGeometry geometry_;
+  std::unique_ptr<PhysicsWorld> physics_;
+  std::unique_ptr<Parallel> parallel_;
+
+  Drones drones_;
+  PointGrid drone_grid_;
+  Targets targets_;
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> seen_;  ///< per drone: (target, distance) in view
+
+  std::vector<Observer*> observers_;
+  Rng spawn_rng_;
+  std::uint64_t steps_ = 0;
+  std::uint64_t dt_base_steps_ = 0;  ///< step count and time at the last set_dt (0 and 0 without one)
+  double dt_base_time_ = 0;
+  std::uint64_t collisions_ = 0;
+  std::array<double, 6> profile_{};
+};
+
+}  // namespace salsa

@@ -1,0 +1,626 @@
+#include "salsa/core/experiments/queue.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "salsa/core/files/names.hpp"
+#include "experiments/test_reader.hpp"
+
+namespace salsa {
+
+using detail::json;
+using detail::num;
+using detail::Reader;
+using detail::show;
+namespace fs = std::filesystem;
+
+// ---- Paired seeds
+
+namespace {
+
+std::uint64_t fnv1a64(std::string_view text) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (const unsigned char c : text) h = (h ^ c) * 0x100000001b3ull;
+  return h;
+}
+
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+/// Parameter values as a JSON object; nlohmann::json (not ordered_json) sorts its keys.
+nlohmann::json sorted_params(const ParameterValues& values) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [name, value] : values.items()) out[name] = value;
+  return out;
+}
+
+}  // namespace
+
+std::uint64_t paired_seed(std::uint64_t queue_seed, std::size_t repeat, const std::string& world_key) {
+  constexpr std::uint64_t json_exact = (std::uint64_t{1} << 53) - 1;
+  return splitmix64(fnv1a64(world_key) ^ splitmix64(queue_seed ^ splitmix64(repeat))) & json_exact;
+}
+
+std::string world_key(const TestSpec& t) {
+  nlohmann::json key;
+  key["map"] = {{"name", t.map.name}, {"params", sorted_params(t.map.params)}};
+  // The file's name only: the same map reached from another working folder is the same world.
+  if (!t.map_file.empty()) key["map"]["file"] = fs::path(t.map_file).filename().string();
+  key["spawn"] = {{"mode", t.spawn_mode == SpawnMode::disc ? "disc" : "uniform"}, {"radius", t.spawn_radius}};
+  if (t.spawn) key["spawn"]["point"] = {t.spawn->x, t.spawn->y};
+  key["drone"] = nlohmann::json::object();
+  for (const DroneProperty& p : drone_schema())
+    key["drone"][p.spec.name] = p.spec.is_integer() ? nlohmann::json(static_cast<int>(p.get(t.drone))) : nlohmann::json(p.get(t.drone));
+  key["drones"] = t.drones;
+  key["targets"] = {{"count", t.targets}};
+  if (t.targets > 0) {
+    key["targets"]["kind"] = t.target.name;
+    key["targets"]["params"] = sorted_params(t.target.params);
+  }
+  return key.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+std::string describe_choice(const PluginChoice& choice, const Parameters& schema) {
+  std::string changed;
+  for (const Parameter& p : schema)
+    if (choice.params.has(p.name) && choice.params.get(p.name) != p.value)
+      changed += (changed.empty() ? "" : " ") + p.name + "=" + num(choice.params.get(p.name));
+  return changed.empty() ? choice.name : choice.name + "(" + changed + ")";
+}
+
+std::string variant(const TestSpec& t, const PluginHost& host) {
+  return describe_choice(t.behavior, host.behavior(t.behavior.name).factory.parameters);
+}
+
+// ---- Reading a queue
+
+namespace {
+
+std::string grouped(double v) {  // 1234567 -> "1,234,567"
+  const std::string digits = v >= 1e18 ? num(v) : std::to_string(static_cast<unsigned long long>(v));
+  if (digits.find_first_not_of("0123456789") != std::string::npos) return digits;
+  std::string out;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
+
+/// from + i × step, on the coarsest decimal grid within its rounding error (an ulp or two): a range in steps of 0.1 gives
+/// 0.3, not 0.30000000000000004 (the float noise would show in names and config.json).
+double grid_value(double from, double i, double step) {
+  const double x = from + i * step;
+  const double tolerance = std::numeric_limits<double>::epsilon() * (std::fabs(from) + std::fabs(i * step));
+  double scale = 1;
+  for (int digits = 0; digits <= 17 && std::fabs(x) * scale < 1e17; ++digits, scale *= 10) {
+    const double y = std::round(x * scale) / scale;
+    if (std::fabs(y - x) <= tolerance) return y;
+  }
+  return x;
+}
+
+/// {"from", "to", "step"} or {"from", "to", "count"}: both ends included. With a step, an end the
+/// float steps miss by a hair (1e-9 of a step) is still reached.
+std::vector<double> range_values(const json& v, const std::string& field, const Reader& r) {
+  const std::string forms = " (allowed: {\"from\", \"to\", \"step\"} or {\"from\", \"to\", \"count\"})";
+  r.only_keys(v, field, {"from", "to", "step", "count"});
+  if (!v.contains("from") || !v.contains("to") || v.contains("step") == v.contains("count"))
+    r.fail(field, show(v) + " needs \"from\", \"to\" and either \"step\" or \"count\"" + forms);
+  for (const char* key : {"from", "to", "step"})
+    if (v.contains(key) && !v[key].is_number()) r.fail(field + "." + key, show(v[key]) + " is not a number" + forms);
+  const double from = v["from"].get<double>(), to = v["to"].get<double>();
+  if (to < from) r.fail(field + ".to", show(v["to"]) + " is below \"from\" " + num(from) + " (allowed: to ≥ from)");
+  std::vector<double> out;
+  if (v.contains("step")) {
+    const double step = v["step"].get<double>();
+    if (!(step > 0)) r.fail(field + ".step", show(v["step"]) + " is not positive (allowed: a step > 0)");
+    const double steps = (to - from) / step;
+    if (!(steps < static_cast<double>(max_queue_tests)))
+      r.fail(field, show(v) + " gives " + grouped(std::floor(steps) + 1) + " values (allowed: at most " +
+                        grouped(max_queue_tests) + " in one range)");
+    const double whole = std::round(steps);
+    const bool reaches_to = std::fabs(steps - whole) <= 1e-9 * std::max(1.0, steps);
+    const auto n = static_cast<std::size_t>(reaches_to ? whole : std::floor(steps)) + 1;
+    for (std::size_t i = 0; i < n; ++i)
+      out.push_back(reaches_to && i + 1 == n ? to : grid_value(from, static_cast<double>(i), step));
+  } else {
+    const auto count = static_cast<std::size_t>(r.integer(v["count"], field + ".count", 1, max_queue_tests));
+    if (count == 1 && from != to)
+      r.fail(field + ".count", "1 gives one value, but \"from\" " + num(from) + " and \"to\" " + num(to) +
+                                   " differ (allowed: a count ≥ 2, or from = to)");
+    const double step = count > 1 ? (to - from) / static_cast<double>(count - 1) : 0;
+    for (std::size_t i = 0; i < count; ++i)
+      out.push_back(i + 1 == count ? to : grid_value(from, static_cast<double>(i), step));
+  }
+  return out;
+}
+
+/// The values a sweep gives one parameter: a number, a list of numbers or a range, each checked
+/// against the declared range (and whole numbers).
+std::vector<double> param_values(const json& v, const std::string& field, const Parameter& p, const Reader& r) {
+  std::vector<double> out;
+  std::unordered_set<double> seen;  // a list or range may hold 10^6 values: no scan per value
+  auto add = [&](double x, const std::string& at, const std::string& shown) {
+    if (const std::string why = p.check(x); !why.empty()) r.fail(at, shown + " " + why);
+    if (!seen.insert(x == 0 ? 0.0 : x).second) r.fail(at, shown + " is already in the list (allowed: each value once)");
+    out.push_back(x);
+  };
+  if (v.is_number()) {
+    add(v.get<double>(), field, show(v));
+  } else if (v.is_array()) {
+    if (v.empty()) r.fail(field, "[] is an empty list (allowed: values in " + p.range() + "; or leave the parameter out)");
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const std::string at = field + "[" + std::to_string(i) + "]";
+      if (!v[i].is_number()) r.fail(at, show(v[i]) + " is not a number (allowed: " + p.range() + ")");
+      add(v[i].get<double>(), at, show(v[i]));
+    }
+  } else if (v.is_object()) {
+    for (const double x : range_values(v, field, r)) add(x, field, show(v) + " gives " + num(x) + ", which");
+  } else {
+    r.fail(field, show(v) + " is not a number, a list of numbers or a range {\"from\", \"to\", \"step\" or \"count\"} (allowed: " +
+                      p.range() + ")");
+  }
+  return out;
+}
+
+/// Test names hold letters, digits, '_', '-' and '.'; anything else in user text becomes '_'.
+std::string name_safe(std::string text) {
+  for (char& c : text)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
+  return text;
+}
+
+/// A number in a test name: "2", "0.5", "1e-09", "1e20" (no '+').
+std::string number_token(double v) {
+  std::string s = num(v);
+  std::erase(s, '+');
+  return s;
+}
+
+/// How a parameter shows in test names: the initials of a name with '_' (cohesion_weight: "cw"), a
+/// one-word name whole ("size"); the full name when two parameters of the plugin would look alike.
+std::string short_name(const Parameters& schema, const std::string& name) {
+  auto initials = [](const std::string& n) {
+    if (n.find('_') == std::string::npos) return n;
+    std::string out;
+    for (std::size_t i = 0; i < n.size(); ++i)
+      if (n[i] != '_' && (i == 0 || n[i - 1] == '_')) out += n[i];
+    return out;
+  };
+  const std::string mine = initials(name);
+  for (const Parameter& p : schema)
+    if (p.name != name && initials(p.name) == mine) return name;
+  return mine;
+}
+
+/// One value of a sweep axis: the keys it sets in the test, how it shows in names, where it was given.
+struct Point {
+  json set;          // {"drones": 30}, {"behavior": {...}}, ...
+  std::string token;  // "d30", "flocking_cw2"
+  std::string at;     // "drones[2]"
+};
+
+/// An entry of the behaviors or maps axis: a plugin with each parameter's values; it stands for the
+/// product of those values.
+struct SweptPlugin {
+  std::string at;     // "behaviors[1]"
+  json head;          // {"name": "forest"} or {"file": "maps/x.json"}
+  std::string token;  // "forest", or the map file's stem
+  struct Values {
+    std::string name, short_name;
+    std::vector<double> values;
+  };
+  std::vector<Values> params;  // in declaration order, so that names do not depend on the key order
+
+  double size() const {
+    double n = 1;
+    for (const auto& p : params) n *= static_cast<double>(p.values.size());
+    return n;
+  }
+  /// The product, last parameter fastest.
+  std::vector<Point> points(const char* key) const {
+    std::vector<Point> out;
+    std::vector<std::size_t> index(params.size(), 0);
+    for (;;) {
+      Point p{{{key, head}}, token, at};
+      if (!params.empty()) p.set[key]["params"] = json::object();
+      for (std::size_t k = 0; k < params.size(); ++k) {
+        const double v = params[k].values[index[k]];
+        p.set[key]["params"][params[k].name] = v;
+        p.token += "_" + params[k].short_name + number_token(v);
+      }
+      out.push_back(std::move(p));
+      std::size_t k = params.size();
+      while (k > 0 && ++index[k - 1] == params[k - 1].values.size()) index[--k] = 0;
+      if (k == 0) return out;
+    }
+  }
+};
+
+/// The sweep of a queue file, read and checked, not yet multiplied out.
+struct Sweep {
+  json base = json::object();  // sweep.test
+  std::vector<SweptPlugin> behaviors, maps;
+  std::vector<Point> drones, targets, drone;
+
+  /// Tests per repeat (a double: the product can be far too large, and is refused then).
+  double size() const {
+    auto sum = [](const std::vector<SweptPlugin>& entries) {
+      double n = 0;
+      for (const auto& e : entries) n += e.size();
+      return entries.empty() ? 1.0 : n;
+    };
+    auto count = [](const std::vector<Point>& points) { return points.empty() ? 1.0 : static_cast<double>(points.size()); };
+    return sum(behaviors) * sum(maps) * count(drones) * count(targets) * count(drone);
+  }
+};
+
+const json& list_axis(const json& v, const std::string& field, const Reader& r, const char* example) {
+  if (!v.is_array()) r.fail(field, show(v) + " must be a list, e.g. " + example);
+  if (v.empty()) r.fail(field, "[] is an empty list (allowed: at least one entry, e.g. " + std::string(example) + "; or leave the axis out)");
+  return v;
+}
+
+/// The behaviors or maps axis. `lookup(name)` gives the plugin's declared parameters or throws UnknownPlugin.
+template <class Lookup>
+std::vector<SweptPlugin> plugin_axis(const json& axis, const std::string& field, const Reader& r, bool maps, Lookup lookup) {
+  const char* example = maps ? "[\"empty\", {\"name\": \"forest\", \"params\": {\"clusters\": [10, 20]}}, \"maps/x.json\"]"
+                             : "[\"random_walk\", {\"name\": \"flocking\", \"params\": {\"cohesion_weight\": [1, 2]}}]";
+  std::vector<SweptPlugin> out;
+  for (std::size_t i = 0; const json& item : list_axis(axis, field, r, example)) {
+    const std::string at = field + "[" + std::to_string(i++) + "]";
+    SweptPlugin e;
+    e.at = at.substr(std::string("sweep.").size());
+    json given = item;
+    if (maps && item.is_string() && item.get<std::string>().ends_with(".json")) given = json{{"file", item}};
+    if (given.is_string()) given = json{{"name", given}};
+    if (!given.is_object()) r.fail(at, show(item) + " must be a name or an object {\"name\", \"params\"}");
+    if (maps) r.only_keys(given, at, {"name", "params", "file"});
+    else r.only_keys(given, at, {"name", "params"});
+    const bool file = given.contains("file");
+    if (file) {
+      r.path(given["file"], at + (item.is_string() ? "" : ".file"));  // a non-empty string
+      e.head["file"] = given["file"];
+      e.token = name_safe(fs::path(given["file"].get<std::string>()).stem().string());
+    }
+    if (given.contains("name") || !file) {
+      if (!given.contains("name")) r.fail(at + ".name", "missing (give a \"name\"" + std::string(maps ? " or a \"file\")" : ")"));
+      const std::string name = r.string(given["name"], at + ".name");
+      e.head["name"] = name;
+      if (!file) e.token = name_safe(name);
+    }
+    const std::string plugin = e.head.value("name", std::string("json"));
+    const Parameters* schema = nullptr;
+    try {
+      schema = &lookup(plugin);
+    } catch (const UnknownPlugin& error) {
+      r.fail(given.contains("name") && !item.is_string() ? at + ".name" : at, error.what());
+    }
+    if (given.contains("params")) {
+      const json& params = given["params"];
+      const std::string pfield = at + ".params";
+      if (!params.is_object()) r.fail(pfield, show(params) + " must be an object of parameter values");
+      for (const auto& item_param : params.items()) {
+        const std::string& key = item_param.key();
+        if (std::none_of(schema->begin(), schema->end(), [&](const Parameter& p) { return p.name == key; })) {
+          std::string declared;
+          for (const auto& p : *schema) declared += (declared.empty() ? "" : ", ") + p.name;
+          r.fail(Reader::join(pfield, key), "unknown parameter of " + std::string(maps ? "map '" : "behavior '") + plugin +
+                                                "' (declared: " + (declared.empty() ? "none" : declared) + ")");
+        }
+      }
+      for (const Parameter& p : *schema)
+        if (params.contains(p.name))
+          e.params.push_back({p.name, short_name(*schema, p.name), param_values(params[p.name], pfield + "." + p.name, p, r)});
+    }
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host) {
+  r.only_keys(s, "sweep", {"test", "behaviors", "maps", "drones", "targets", "drone"});
+  Sweep sweep;
+  if (s.contains("test")) {
+    sweep.base = s["test"];
+    if (!sweep.base.is_object()) r.fail("sweep.test", show(sweep.base) + " must be a test object (the fields every swept test shares)");
+  }
+  const json& base = sweep.base;
+  // A key is given once: in sweep.test, or by the axis that sweeps it.
+  auto once = [&](const char* axis, const char* key) {
+    if (s.contains(axis) && base.contains(key))
+      r.fail(std::string("sweep.test.") + key, std::string("also swept by sweep.") + axis + " (allowed: one or the other)");
+  };
+  once("behaviors", "behavior");
+  once("maps", "map");
+  once("drones", "drones");
+  once("drone", "drone");
+  if (s.contains("behaviors"))
+    sweep.behaviors = plugin_axis(s["behaviors"], "sweep.behaviors", r, false,
+                                  [&](const std::string& name) -> const Parameters& { return host.behavior(name).factory.parameters; });
+  if (s.contains("maps"))
+    sweep.maps = plugin_axis(s["maps"], "sweep.maps", r, true,
+                             [&](const std::string& name) -> const Parameters& { return host.map(name).factory.parameters; });
+
+  const std::string count_example = "[10, 20, 30] or {\"from\": 10, \"to\": 50, \"step\": 10}";
+  if (s.contains("drones")) {
+    const json& axis = s["drones"];
+    std::vector<double> counts;
+    std::unordered_set<double> seen;
+    if (axis.is_object()) {
+      for (const double x : range_values(axis, "sweep.drones", r)) {
+        if (x != std::floor(x) || x < 1 || x > 1'000'000)
+          r.fail("sweep.drones", show(axis) + " gives " + num(x) + ", which is out of range (allowed: whole number in [1, 1000000])");
+        counts.push_back(x);
+      }
+    } else {
+      for (std::size_t i = 0; const json& item : list_axis(axis, "sweep.drones", r, count_example.c_str())) {
+        const std::string at = "sweep.drones[" + std::to_string(i++) + "]";
+        counts.push_back(static_cast<double>(r.integer(item, at, 1, 1'000'000)));
+        if (!seen.insert(counts.back()).second) r.fail(at, show(item) + " is already in the list (allowed: each value once)");
+      }
+    }
+    for (std::size_t i = 0; i < counts.size(); ++i)
+      sweep.drones.push_back({{{"drones", counts[i]}}, "d" + number_token(counts[i]), "drones[" + std::to_string(i) + "]"});
+  }
+
+  if (s.contains("targets")) {
+    // Counts (with sweep.test's kind and parameters), or whole targets objects.
+    const json& axis = s["targets"];
+    if (axis.is_object()) {
+      if (base.contains("targets") && base["targets"].is_object() && base["targets"].contains("count"))
+        r.fail("sweep.test.targets.count", "also swept by sweep.targets (allowed: one or the other)");
+      for (const double x : range_values(axis, "sweep.targets", r)) {
+        if (x != std::floor(x) || x < 0 || x > 10'000'000)
+          r.fail("sweep.targets", show(axis) + " gives " + num(x) + ", which is out of range (allowed: whole number in [0, 10000000])");
+        sweep.targets.push_back({{{"targets", {{"count", x}}}}, "t" + number_token(x), "targets[" + std::to_string(sweep.targets.size()) + "]"});
+      }
+    } else {
+      for (std::size_t i = 0; const json& item : list_axis(axis, "sweep.targets", r, "[100, 500] or [{\"kind\": \"tree\", \"count\": 100, \"params\": {\"radius\": 3}}]")) {
+        const std::string at = "sweep.targets[" + std::to_string(i) + "]";
+        Point p{json::object(), "", "targets[" + std::to_string(i++) + "]"};
+        if (item.is_object()) {
+          if (base.contains("targets")) r.fail("sweep.test.targets", "also swept by " + at + " (allowed: one or the other; or sweep counts only)");
+          r.only_keys(item, at, {"kind", "count", "params"});
+          const std::uint64_t count = item.contains("count") ? r.integer(item["count"], at + ".count", 0, 10'000'000) : 0;
+          const std::string kind = item.contains("kind") ? r.string(item["kind"], at + ".kind") : "tree";
+          try {
+            const auto& schema = host.target_kind(kind).factory.parameters;
+            const ParameterValues values = r.params(item.value("params", json()), at + ".params", schema, "target kind '" + kind + "'");
+            p.token = (item.contains("kind") ? name_safe(kind) : "t") + std::to_string(count);
+            if (item.contains("params"))
+              for (const Parameter& param : schema)
+                if (item["params"].contains(param.name))
+                  p.token += "_" + short_name(schema, param.name) + number_token(values.get(param.name));
+          } catch (const UnknownPlugin& e) {
+            r.fail(at + ".kind", e.what());
+          }
+          p.set["targets"] = item;
+        } else {
+          if (base.contains("targets") && base["targets"].is_object() && base["targets"].contains("count"))
+            r.fail("sweep.test.targets.count", "also swept by sweep.targets (allowed: one or the other)");
+          const std::uint64_t count = r.integer(item, at, 0, 10'000'000);
+          p.set["targets"] = {{"count", count}};
+          p.token = "t" + std::to_string(count);
+        }
+        sweep.targets.push_back(std::move(p));
+      }
+    }
+  }
+
+  if (s.contains("drone")) {
+    // Named configurations (built in, or from sweep.test's drone_configs) or inline ones with a name.
+    std::vector<DroneConfig> named = builtin_drone_configs();
+    if (base.contains("drone_configs")) named = detail::drone_configs_file(r.path(base["drone_configs"], "sweep.test.drone_configs"));
+    for (std::size_t i = 0; const json& item : list_axis(s["drone"], "sweep.drone", r, "[\"small\", \"medium\", {\"name\": \"fast\", \"base\": \"small\", \"max_speed\": 15}]")) {
+      const std::string at = "sweep.drone[" + std::to_string(i) + "]";
+      if (item.is_object() && !item.contains("name"))
+        r.fail(at + ".name", "missing (a configuration in a sweep needs a \"name\": it goes into the test names)");
+      const DroneConfig d = detail::parse_drone(item, r, named, at);
+      sweep.drone.push_back({{{"drone", item}}, name_safe(d.name), "drone[" + std::to_string(i++) + "]"});
+    }
+  }
+  return sweep;
+}
+
+/// A name fit for a folder: past 128 characters, the start, a hash of the whole and the repeat suffix.
+std::string fitted(const std::string& name, const std::string& suffix) {
+  if (name.size() + suffix.size() <= max_name_length) return name + suffix;
+  char hash[12];
+  std::snprintf(hash, sizeof hash, "_%08x", static_cast<unsigned>(fnv1a64(name) >> 32));
+  return name.substr(0, max_name_length - suffix.size() - 9) + hash + suffix;
+}
+
+/// A test without "name" is named after its file; that name must be fit for a folder too.
+void name_after_file(TestSpec& t, const std::string& name) {
+  if (!t.name.empty()) return;
+  if (const std::string why = test_name_problem(name); !why.empty())
+    throw InputError(t.source + ": name: missing, and the file name cannot stand in for it: " + why + "; give the test a \"name\"");
+  t.name = name;
+}
+
+/// A configuration: one test before it is repeated.
+struct Config {
+  TestSpec test;
+  std::string where;  // for messages about the seed and the repeat keys
+  std::string name;   // without the repeat suffix; empty: keep test.name
+  std::string at;     // a sweep's test: the axis values it was made of ("behaviors[1], drones[0]")
+};
+
+}  // namespace
+
+Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOptions& options) {
+  const json j = detail::read_json_file(file, "a test, a list of tests, or a queue {\"tests\": [...], \"sweep\": {...}}");
+  const std::string shown_file = strict_json::printable(file.string(), 200);
+  const Reader r(shown_file, file.parent_path());
+  const std::string stem = file.stem().string();
+  Queue queue;
+  queue.source = shown_file;
+
+  // ---- The file's shape: a queue object, a list of tests, or one test.
+  const bool is_queue = j.is_object() && (j.contains("tests") || j.contains("sweep") || j.contains("repeats"));
+  const json* tests = nullptr;
+  std::string list_field;  // "tests", or "" for a top-level list
+  std::size_t repeats = 1;
+  if (is_queue) {
+    r.only_keys(j, "", {"seed", "repeats", "tests", "sweep"});
+    if (!j.contains("tests") && !j.contains("sweep"))
+      r.fail("tests", "missing (a queue holds \"tests\", a \"sweep\", or both)");
+    if (j.contains("seed")) queue.seed = r.integer(j["seed"], "seed", 0, 9007199254740992.0);
+    if (j.contains("repeats")) repeats = r.integer(j["repeats"], "repeats", 1, static_cast<double>(max_queue_tests));
+    if (j.contains("tests")) {
+      tests = &j["tests"];
+      list_field = "tests";
+      if (!tests->is_array()) r.fail("tests", show(*tests) + " must be a list of tests");
+    }
+  } else if (j.is_array()) {
+    tests = &j;
+  }
+  if (options.seed) queue.seed = *options.seed;
+  if (tests && tests->empty()) throw InputError(shown_file + ": " + (list_field.empty() ? "the list" : list_field) + " holds no tests");
+
+  // ---- The explicit tests, then the sweep's axes (checked before anything is multiplied out).
+  std::vector<Config> configs;
+  if (!is_queue && !tests) {
+    Config c{detail::parse_test(j, r, host), shown_file, "", ""};
+    c.test.source = shown_file;
+    name_after_file(c.test, stem);
+    configs.push_back(std::move(c));
+  }
+  if (tests)
+    for (std::size_t i = 0; i < tests->size(); ++i) {
+      const std::string where = shown_file + ": " + list_field + "[" + std::to_string(i) + "]";
+      Config c{detail::parse_test((*tests)[i], Reader(where, file.parent_path()), host), where, "", ""};
+      c.test.source = where;
+      name_after_file(c.test, stem + "-" + std::to_string(i + 1));
+      configs.push_back(std::move(c));
+    }
+  std::optional<Sweep> sweep;
+  if (is_queue && j.contains("sweep")) sweep = read_sweep(j["sweep"], r, host);
+
+  const double per_repeat = static_cast<double>(configs.size()) + (sweep ? sweep->size() : 0);
+  const double total = per_repeat * static_cast<double>(repeats);
+  const std::string count = "the queue expands to " + grouped(total) + " tests (" +
+                            (repeats > 1 ? grouped(per_repeat) + " × " + grouped(static_cast<double>(repeats)) + " repeats; " : "");
+  if (total > static_cast<double>(max_queue_tests))
+    throw InputError(shown_file + ": " + count + "allowed: at most " + grouped(max_queue_tests) +
+                     " in one queue, even with --yes): split it into several files");
+  if (total > static_cast<double>(options.max_tests) && !options.yes)
+    throw InputError(shown_file + ": " + count + "allowed: " + grouped(static_cast<double>(options.max_tests)) +
+                     " without --yes): check the sweep, or pass --yes to run them all");
+
+  // ---- The sweep multiplied out: worlds outer, behaviors fastest.
+  if (sweep) {
+    const std::string base_where = shown_file + ": sweep.test";
+    const Reader base_reader(base_where, file.parent_path());
+    auto points = [](const std::vector<SweptPlugin>& entries, const char* key) {
+      std::vector<Point> out;
+      for (const auto& e : entries)
+        for (auto& p : e.points(key)) out.push_back(std::move(p));
+      return out;
+    };
+    const std::vector<Point> none{Point{json::object(), "", ""}};
+    const std::vector<Point> behaviors = sweep->behaviors.empty() ? none : points(sweep->behaviors, "behavior");
+    const std::vector<Point> maps = sweep->maps.empty() ? none : points(sweep->maps, "map");
+    const std::vector<Point>& drone = sweep->drone.empty() ? none : sweep->drone;
+    const std::vector<Point>& drones = sweep->drones.empty() ? none : sweep->drones;
+    const std::vector<Point>& targets = sweep->targets.empty() ? none : sweep->targets;
+    const std::string prefix = sweep->base.contains("name") && sweep->base["name"].is_string() ? sweep->base["name"].get<std::string>() + "_" : "";
+    for (const Point& m : maps)
+      for (const Point& dc : drone)
+        for (const Point& n : drones)
+          for (const Point& tg : targets)
+            for (const Point& b : behaviors) {
+              json test = sweep->base;
+              std::string at;
+              for (const Point* p : {&b, &n, &tg, &m, &dc}) {
+                for (const auto& [key, value] : p->set.items()) {
+                  if (key == "targets" && value.size() == 1 && value.contains("count") && test.contains("targets") && test["targets"].is_object())
+                    test["targets"]["count"] = value["count"];  // a count: kind and parameters from sweep.test
+                  else
+                    test[key] = value;
+                }
+                if (!p->at.empty()) at += (at.empty() ? "" : ", ") + p->at;
+              }
+              Config c{detail::parse_test(test, base_reader, host), base_where, "", ""};
+              c.test.source = shown_file + ": sweep" + (at.empty() ? "" : " (" + at + ")");
+              c.at = at;
+              std::string name = prefix + (b.token.empty() ? c.test.behavior.name : b.token);
+              for (const Point* p : {&n, &tg, &m, &dc})
+                if (!p->token.empty()) name += "_" + p->token;
+              c.name = name;
+              configs.push_back(std::move(c));
+            }
+  }
+
+  // ---- Seeds: the paired seed unless the test gives its own (--seed overrides those too).
+  std::vector<std::string> keys;
+  keys.reserve(configs.size());
+  for (const Config& c : configs) keys.push_back(world_key(c.test));
+  auto seed_of = [&](const TestSpec& t, std::size_t i) {
+    if (options.seed) return paired_seed(*options.seed, t.repeat, keys[i]);
+    return t.seed_given ? t.seed : paired_seed(queue.seed, t.repeat, keys[i]);
+  };
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    TestSpec& t = configs[i].test;
+    t.seed = seed_of(t, i);
+    if (repeats > 1 && t.repeat != 0)
+      throw InputError(configs[i].where + ": repeat: " + std::to_string(t.repeat) + " is given, and the queue has \"repeats\": " +
+                       std::to_string(repeats) + " (allowed: one or the other)");
+    if (repeats > 1 && t.seed_given && !options.seed)
+      throw InputError(configs[i].where + ": seed: " + std::to_string(t.seed) + " would be the seed of every repeat (\"repeats\": " +
+                       std::to_string(repeats) + "), all the same test (allowed: no seed, for paired seeds; or --seed)");
+  }
+
+  // ---- The same test twice is a mistake: same world, same seed, same data.
+  {
+    std::vector<const TestSpec*> specs;
+    specs.reserve(configs.size());
+    for (const Config& c : configs) specs.push_back(&c.test);
+    if (const auto same = first_same_test(specs))
+      throw InputError(configs[same->second].test.source + ": the same test as " + configs[same->first].test.source +
+                       " (the same world, seed and behavior give the same data; give one a \"seed\", or use the queue's \"repeats\")");
+  }
+
+  // ---- Repeats, interleaved: repeat 0 of every configuration before repeat 1 of any.
+  queue.tests.reserve(configs.size() * repeats);
+  for (std::size_t k = 0; k < repeats; ++k)
+    for (std::size_t i = 0; i < configs.size(); ++i) {
+      TestSpec t = configs[i].test;
+      if (repeats > 1) {
+        t.repeat = k;
+        t.seed = seed_of(t, i);
+        const std::string& at = configs[i].at;
+        t.source = configs[i].at.empty() ? t.source + " (repeat " + std::to_string(k) + ")"
+                                         : shown_file + ": sweep (" + at + ", repeat " + std::to_string(k) + ")";
+      }
+      const std::string suffix = "_r" + std::to_string(t.repeat);
+      if (!configs[i].name.empty()) t.name = fitted(name_safe(configs[i].name), suffix);
+      else if (repeats > 1) t.name = fitted(t.name, suffix);
+      queue.tests.push_back(std::move(t));
+    }
+
+  std::unordered_map<std::string, std::size_t> names;
+  for (std::size_t i = 0; i < queue.tests.size(); ++i) {
+    const TestSpec& t = queue.tests[i];
+    if (const auto [it, fresh] = names.emplace(t.name, i); !fresh)
+      throw InputError(t.source + ": name: \"" + t.name + "\" is already used by " + queue.tests[it->second].source +
+                       " (each test writes to a folder of its name)");
+  }
+  return queue;
+}
+
+std::vector<TestSpec> load_tests(const fs::path& file, const PluginHost& host) { return load_queue(file, host, {}).tests; }
+
+}  // namespace salsa

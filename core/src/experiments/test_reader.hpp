@@ -1,0 +1,105 @@
+#pragma once
+// Reading test and queue JSON with one-line errors (test_spec.cpp, queue.cpp). Internal to libsalsa.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "salsa/core/experiments/test_spec.hpp"
+#include "strict_json.hpp"
+
+namespace salsa::detail {
+
+using json = nlohmann::ordered_json;
+
+inline std::string show(const json& v) { return strict_json::shown(v); }
+inline std::string num(double v) { return Parameter::format(v); }
+
+/// Reads JSON values with one-line errors: "<where>: <field>: <value> <what is allowed>".
+class Reader {
+ public:
+  Reader(std::string where, std::filesystem::path base) : where_(std::move(where)), base_(std::move(base)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& message) const {
+    // Names and keys quoted in `message` are user text: one line whatever they hold.
+    throw InputError(where_ + ": " + field + ": " + strict_json::printable(message, 1000));
+  }
+  void only_keys(const json& obj, const std::string& field, std::initializer_list<const char*> allowed) const {
+    if (!obj.is_object()) fail(field.empty() ? "(top level)" : field, show(obj) + " must be an object");
+    for (const auto& [key, value] : obj.items()) {
+      bool ok = false;
+      std::string list;
+      for (const char* a : allowed) {
+        ok = ok || key == a;
+        list += (list.empty() ? "" : ", ") + std::string(a);
+      }
+      if (!ok) fail(join(field, key), "unknown key (allowed: " + list + ")");
+    }
+  }
+  double number(const json& v, const std::string& field, double lo, double hi, const char* unit = "") const {
+    const std::string range = "[" + num(lo) + ", " + num(hi) + "]" + (*unit ? std::string(" ") + unit : "");
+    if (!v.is_number()) fail(field, show(v) + " is not a number (allowed: " + range + ")");
+    const double x = v.get<double>();
+    if (!(x >= lo && x <= hi)) fail(field, show(v) + " is out of range (allowed: " + range + ")");
+    return x;
+  }
+  std::uint64_t integer(const json& v, const std::string& field, double lo, double hi) const {
+    const std::string range = "whole number in [" + num(lo) + ", " + num(hi) + "]";
+    if (!v.is_number() || v.get<double>() != std::floor(v.get<double>()))
+      fail(field, show(v) + " is not a whole number (allowed: " + range + ")");
+    if (!(v.get<double>() >= lo && v.get<double>() <= hi)) fail(field, show(v) + " is out of range (allowed: " + range + ")");
+    return v.is_number_unsigned() ? v.get<std::uint64_t>() : static_cast<std::uint64_t>(v.get<double>());
+  }
+  std::string string(const json& v, const std::string& field) const {
+    if (!v.is_string() || v.get<std::string>().empty()) fail(field, show(v) + " must be a non-empty string");
+    return v.get<std::string>();
+  }
+  std::filesystem::path path(const json& v, const std::string& field) const {
+    std::filesystem::path p = string(v, field);
+    return p.is_relative() && !base_.empty() ? (base_ / p).lexically_normal() : p;
+  }
+  /// Validates given values against the declared parameters and fills in the defaults.
+  ParameterValues params(const json& given, const std::string& field, const Parameters& schema,
+                         const std::string& owner) const {
+    ParameterValues values(schema);
+    if (given.is_null()) return values;
+    if (!given.is_object()) fail(field, show(given) + " must be an object of parameter values");
+    for (const auto& item : given.items()) {
+      const std::string& key = item.key();  // not a structured binding: clang 14 (fuzz preset) cannot capture those
+      const json& v = item.value();
+      auto it = std::find_if(schema.begin(), schema.end(), [&](const Parameter& p) { return p.name == key; });
+      if (it == schema.end()) {
+        std::string declared;
+        for (const auto& p : schema) declared += (declared.empty() ? "" : ", ") + p.name;
+        fail(join(field, key), "unknown parameter of " + owner + " (declared: " + (declared.empty() ? "none" : declared) + ")");
+      }
+      if (!v.is_number()) fail(join(field, key), show(v) + " is not a number (allowed: " + it->range() + ")");
+      const std::string why = it->check(v.get<double>());
+      if (!why.empty()) fail(join(field, key), show(v) + " " + why);
+      values.set(key, v.get<double>());
+    }
+    return values;
+  }
+  static std::string join(const std::string& field, const std::string& key) {
+    return (field.empty() ? "" : field + ".") + strict_json::printable(key);
+  }
+
+ private:
+  std::string where_;
+  std::filesystem::path base_;
+};
+
+/// Every JSON file salsa reads comes through here: strict (see strict_json.hpp), one line per problem.
+json read_json_file(const std::filesystem::path& file, std::string_view expected);
+/// A drone configuration at `at` ("drone" in a test, its name in a drone configuration file).
+DroneConfig parse_drone(const json& v, const Reader& r, const std::vector<DroneConfig>& named, const std::string& at);
+/// The built-in configurations, then those of a drone configuration file.
+std::vector<DroneConfig> drone_configs_file(const std::filesystem::path& file);
+/// One test object; a test without "seed" gets the paired seed of queue seed 1 (queue.hpp).
+TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host);
+
+}  // namespace salsa::detail

@@ -1,0 +1,44 @@
+#include "salsa/core/model/drone_config.hpp"
+
+namespace salsa {
+
+const std::vector<DroneProperty>& drone_schema() {
+  // The ranges are what a test file may hold (the physics adds check_drone's step limit on top); the
+  // step is the finest a slider moves.
+  static const std::vector<DroneProperty> schema{
+      {{"camera_range", 15, 0, 1e4, "m", "targets within this range (+ the target's radius) are seen", 0.5}, &DroneConfig::camera_range},
+      {{"obstacle_range", 50.2, 0, 1e4, "m", "length of the obstacle rays", 0.5}, &DroneConfig::obstacle_range},
+      {{"detection_range", 134, 0, 1e5, "m", "other drones within this range are neighbours", 0.5}, &DroneConfig::detection_range},
+      {{"max_speed", 10, 1e-3, 1e3, "m/s", "speed limit, applied after steering", 1e-3}, &DroneConfig::max_speed},
+      {{"max_force", 0.3, 1e-6, 1e3, "m/s per step", "largest velocity change of one steering term per step", 1e-6}, &DroneConfig::max_force},
+      {{"radius", 1, 1e-2, 100, "m", "the drone's body, a circle", 0.01}, &DroneConfig::radius},
+      {{"mass", 1.5, 1e-3, 1e6, "kg", "mass of the body (collisions)", 1e-3}, &DroneConfig::mass},
+      {{"obstacle_rays", 8, 0, 64, "", "obstacle rays, evenly spread over 360°", 1}, nullptr, &DroneConfig::obstacle_rays},
+  };
+  return schema;
+}
+
+const DroneProperty* find_drone_property(std::string_view name) {
+  for (const DroneProperty& p : drone_schema())
+    if (p.spec.name == name) return &p;
+  return nullptr;
+}
+
+std::string drone_property_names() {
+  std::string out;
+  for (const DroneProperty& p : drone_schema()) out += (out.empty() ? "" : ", ") + p.spec.name;
+  return out;
+}
+
+const std::vector<DroneConfig>& builtin_drone_configs() {
+  // name, camera, obstacle, detection range (m), max speed (m/s), max force (m/s per step), radius (m),
+  // mass (kg), rays. "small" is Table I of the SALSA paper; the others scale it for larger airframes.
+  static const std::vector<DroneConfig> configs{
+      {"small", 15, 50.2, 134, 10, 0.3, 1.0, 1.5, 8},
+      {"medium", 25, 60, 200, 15, 0.4, 1.5, 4.0, 8},
+      {"large", 40, 80, 300, 20, 0.5, 2.5, 12.0, 12},
+  };
+  return configs;
+}
+
+}  // namespace salsa

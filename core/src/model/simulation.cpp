@@ -1,0 +1,747 @@
+#include "salsa/core/model/simulation.hpp"
+
+#include "model/physics_world.hpp"
+#include "salsa/core/model/map_check.hpp"
+
+#include <oneapi/tbb/enumerable_thread_specific.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_group.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include <cxxabi.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <mutex>
+#include <stdexcept>
+
+namespace salsa {
+
+namespace {
+
+// Rng streams: a few fixed ones for set-up, then one per drone.
+constexpr std::uint64_t targets_stream = 1, spawn_stream = 2, first_drone_stream = 16;
+
+/// A number in a message: whole numbers in full, others with 6 significant digits ("nan", "inf" too).
+std::string num(double v) {
+  char buf[40];
+  if (std::isfinite(v) && v == std::floor(v) && std::abs(v) < 1e15) std::snprintf(buf, sizeof buf, "%.0f", v);
+  else std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+std::string short_num(double v) {  // 3 significant digits for a derived figure ("16.7 m per step"), no exponent from 1000 up
+  char buf[40];
+  std::snprintf(buf, sizeof buf, std::abs(v) >= 1000 && std::abs(v) < 1e15 ? "%.0f" : "%.3g", v);
+  return buf;
+}
+std::string point(Vec2 p) {  // appended, not "(" + ...: GCC 12 -O3 warns (-Wrestrict) on that
+  std::string s = "(";
+  s += num(p.x);
+  s += ", ";
+  s += num(p.y);
+  return s += ')';
+}
+std::string rect(const Rect& r) { return point(r.min) + " to " + point(r.max); }
+bool finite(Vec2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+/// x rounded down to 4 significant digits: a limit quoted to the user is one they may type in.
+double quoted_limit(double x) {
+  const double scale = std::pow(10.0, std::floor(std::log10(x)) - 3);
+  return std::floor(x * (1 + 1e-9) / scale) * scale;
+}
+
+/// A world that is not (yet) the simulation's: the map alone when targets are placed at the start (no
+/// drones), or the state a live change builds aside, shown to the contact handlers before it is
+/// swapped in.
+class StateView final : public WorldView {
+ public:
+  StateView(const MapData& map, const StaticGeometry& geometry, const DroneProperties& drone, double time, double dt,
+            std::span<const Vec2> positions = {}, std::span<const Vec2> velocities = {})
+      : map_(map), geometry_(geometry), drone_(drone), time_(time), dt_(dt), positions_(positions), velocities_(velocities) {}
+  Rect bounds() const override { return map_.bounds; }
+  double time() const override { return time_; }
+  double dt() const override { return dt_; }
+  std::span<const Vec2> drone_positions() const override { return positions_; }
+  std::span<const Vec2> drone_velocities() const override { return velocities_; }
+  bool is_free(Vec2 p, double clearance) const override { return geometry_.is_free(p, clearance); }
+  std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return geometry_.ray_cast(from, to); }
+  const DroneProperties& drone() const override { return drone_; }
+  const MapData& map() const override { return map_; }
+
+ private:
+  const MapData& map_;
+  const StaticGeometry& geometry_;
+  DroneProperties drone_;
+  double time_, dt_;
+  std::span<const Vec2> positions_, velocities_;
+};
+
+/// The simulation as a contact handler sees it during an event: as it is, at the event's time (a
+/// sighting's time is the end of the step it was seen in, one dt after the snapshot it was seen on).
+class EventView final : public WorldView {
+ public:
+  EventView(const WorldView& world, double time) : world_(world), time_(time) {}
+  Rect bounds() const override { return world_.bounds(); }
+  double time() const override { return time_; }
+  double dt() const override { return world_.dt(); }
+  std::span<const Vec2> drone_positions() const override { return world_.drone_positions(); }
+  std::span<const Vec2> drone_velocities() const override { return world_.drone_velocities(); }
+  bool is_free(Vec2 p, double clearance) const override { return world_.is_free(p, clearance); }
+  std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return world_.ray_cast(from, to); }
+  const DroneProperties& drone() const override { return world_.drone(); }
+  const MapData& map() const override { return world_.map(); }
+
+ private:
+  const WorldView& world_;
+  double time_;
+};
+
+constexpr const char* behavior_kind = "behavior";
+constexpr const char* target_kind = "target kind";
+constexpr const char* handler_kind = "contact handler";
+
+/// Calls plugin code: whatever it throws comes back as a PluginFailure naming the plugin (a failure
+/// already named, from a nested call, passes through; so does a thread's cancellation).
+template <class Fn>
+decltype(auto) plugin_call(const char* kind, std::size_t index, Fn&& fn) {
+  try {
+    return fn();
+  } catch (const PluginFailure&) {
+    throw;
+  } catch (const abi::__forced_unwind&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw PluginFailure(kind, index, e.what());
+  } catch (...) {
+    throw PluginFailure(kind, index, "an exception that is not a std::exception");
+  }
+}
+
+/// Ids are 32-bit (and Box2D's user data holds id + 1).
+void check_drone_count(std::size_t n) {
+  if (n >= std::numeric_limits<std::uint32_t>::max())
+    throw std::invalid_argument("drones: " + std::to_string(n) + " is too many (allowed: fewer than 4294967295)");
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- limits
+
+PluginFailure::PluginFailure(std::string kind_, std::size_t index_, const std::string& message)
+    : std::runtime_error([&] {
+        std::string line = message;  // one line, whatever the plugin wrote
+        for (char& c : line)
+          if (c == '\n' || c == '\r') c = ' ';
+        return line;
+      }()),
+      kind(std::move(kind_)),
+      index(index_) {}
+
+static_assert(box2d_max_step == b2_maxTranslation, "the step limit quoted to users is Box2D's own");
+
+Problem check_drone(const DroneConfig& d, double dt) {
+  for (const DroneProperty& p : drone_schema())
+    if (const double v = p.get(d); !p.spec.check(v).empty())
+      return {"drone." + p.spec.name, num(v) + (p.spec.unit.empty() ? "" : " " + p.spec.unit) + " " + p.spec.check(v)};
+  if (!(std::isfinite(dt) && dt > 0)) return {"dt", num(dt) + " s is out of range (allowed: a finite time step > 0 s)"};
+
+  // Contacts are found once per step (continuous collision is off): a drone that starts a step clear of
+  // a wall (farther than radius + Box2D's 0.01 m skin) and moves at most its radius ends it on the same
+  // side, touching, and the contact then stops it. Box2D itself caps a step at b2_maxTranslation.
+  const double step = d.max_speed * dt;
+  const double limit = std::min(d.radius, box2d_max_step);
+  if (step <= limit * (1 + 1e-9)) return {};
+  const std::string why = d.radius <= box2d_max_step
+                              ? "more than the drone's radius " + num(d.radius) + " m, so it could pass through a wall between two contact checks"
+                              : "more than the " + num(box2d_max_step) + " m Box2D moves a body per step";
+  return {"drone.max_speed", num(d.max_speed) + " m/s × dt " + num(dt) + " s = " + short_num(step) + " m per step, " + why +
+                                 " (allowed: max_speed ≤ " + num(quoted_limit(limit / dt)) + " m/s at this dt, or dt ≤ " +
+                                 num(quoted_limit(limit / d.max_speed)) + " s at this max_speed)"};
+}
+
+Problem check_map(const MapData& map) {
+  const auto problems = map_problems(map, 0, MapRules::structure, 1);
+  return problems.empty() ? Problem{} : Problem{problems[0].field, problems[0].message};
+}
+
+Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt) {
+  const double largest = std::max({std::abs(bounds.min.x), std::abs(bounds.min.y), std::abs(bounds.max.x), std::abs(bounds.max.y)});
+  const auto f = static_cast<float>(largest);
+  const double spacing = static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity())) - f;
+  const double step = drone.max_speed * dt;
+  if (spacing <= 0.02 * step) return {};
+  // Floats in [2^e, 2^(e+1)) are 2^(e-23) apart: the last binade where that is ≤ 2 % of a step.
+  const double allowed = std::ldexp(1.0, 24 + std::ilogb(0.02 * step));
+  return {"bounds", rect(bounds) + ": Box2D keeps positions as 32-bit floats, " + short_num(spacing) + " m apart at " +
+                        num(largest) + " m, more than 2 % of a drone's step (max_speed " + num(drone.max_speed) +
+                        " m/s × dt " + num(dt) + " s = " + short_num(step) +
+                        " m), so drones would move in jumps or not at all (allowed: coordinates within ±" + num(allowed) +
+                        " m at this max_speed and dt)"};
+}
+
+Problem check_targets(std::span<const Vec2> positions, std::size_t count, double radius, const Rect& bounds) {
+  if (!(std::isfinite(radius) && radius >= 0)) return {"radius", num(radius) + " m (allowed: a finite radius ≥ 0 m)"};
+  if (positions.size() != count)
+    return {"positions", std::to_string(positions.size()) + " placed for " + std::to_string(count) + " targets asked for"};
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    if (!finite(positions[i]) || !bounds.contains(positions[i]))
+      return {"positions[" + std::to_string(i) + "]",
+              point(positions[i]) + (finite(positions[i]) ? " is outside" : " is not finite (allowed: a point inside") +
+                  " the bounds " + rect(bounds) + (finite(positions[i]) ? "" : ")")};
+  return {};
+}
+
+Problem check_view_range(const TargetKind& kind, const DroneConfig& drone) {
+  const double range = plugin_call(target_kind, 0, [&] { return kind.view_range(drone.camera_range); });
+  if (std::isfinite(range) && range >= 0) return {};
+  return {"view_range", num(range) + " m for a camera range of " + num(drone.camera_range) +
+                            " m (allowed: a finite distance ≥ 0 m)"};
+}
+
+DroneProperties drone_properties(const DroneConfig& d) {
+  DroneProperties p;
+  p.camera_range = d.camera_range;
+  p.obstacle_range = d.obstacle_range;
+  p.detection_range = d.detection_range;
+  p.max_speed = d.max_speed;
+  p.max_force = d.max_force;
+  p.radius = d.radius;
+  p.mass = d.mass;
+  return p;
+}
+
+std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, const MapData& map,
+                                  const StaticGeometry& geometry, const DroneConfig& drone, double dt,
+                                  std::uint64_t seed) {
+  if (count == 0) return {};
+  // The radius first: placement keeps targets `radius` clear of obstacles.
+  const double radius = plugin_call(target_kind, 0, [&] { return kind.radius(); });
+  if (auto p = check_targets({}, 0, radius, map.bounds)) throw std::invalid_argument(p.text());
+  if (auto p = check_view_range(kind, drone)) throw std::invalid_argument(p.text());
+  const StateView view(map, geometry, drone_properties(drone), 0, dt);
+  Rng rng(seed, targets_stream);
+  std::vector<Vec2> positions = plugin_call(target_kind, 0, [&] { return kind.place(count, view, rng); });
+  if (auto p = check_targets(positions, count, radius, map.bounds)) throw std::invalid_argument(p.text());
+  return positions;
+}
+
+// ---------------------------------------------------------------- set-up and live changes
+
+struct Simulation::Scratch {
+  std::vector<PointGrid::Hit> hits;
+  std::vector<Neighbour> neighbours;
+  std::vector<TargetSeen> targets;
+  std::vector<std::uint32_t> segment_ids;
+};
+
+struct Simulation::Parallel {
+  static constexpr std::size_t grain = 64;  // drones per task
+  tbb::task_arena arena;
+  tbb::enumerable_thread_specific<Scratch> scratch;
+  explicit Parallel(int threads) : arena(threads > 0 ? threads : tbb::task_arena::automatic) {}
+
+  /// Runs `side` (one long serial job) while this thread goes on with `main`; both done on return.
+  /// With few drones both are shorter than waking a thread, so they simply run one after the other.
+  template <class Side, class Main>
+  void overlap(std::size_t drones, Side&& side, Main&& main) {
+    if (drones <= grain) {
+      side();
+      main();
+      return;
+    }
+    arena.execute([&] {
+      tbb::task_group group;
+      group.run(side);  // the oldest task: the first a free worker steals
+      main();
+      group.wait();
+    });
+  }
+
+  /// What fn threw for the lowest drone id: the failure reported whatever the thread count and the
+  /// order the drones ran in. Drones above the lowest failing id so far are skipped (none of theirs
+  /// can be reported).
+  struct FirstFailure {
+    std::atomic<std::uint32_t> id{std::numeric_limits<std::uint32_t>::max()};
+    std::mutex mutex;
+    std::exception_ptr error;
+    bool skip(std::uint32_t i) const { return i > id.load(std::memory_order_relaxed); }
+    void note(std::uint32_t i) {
+      const std::lock_guard lock(mutex);
+      if (i < id.load(std::memory_order_relaxed) || !error) {
+        id.store(i, std::memory_order_relaxed);
+        error = std::current_exception();
+      }
+    }
+  };
+
+  /// fn(order[k], scratch) for every k, spread over the arena's threads. Drones go in grid-cell order,
+  /// so that neighbouring drones, which read the same cells, run one after the other. A throw is
+  /// caught where it happens (not left to TBB, which would pass on whichever came first) and the
+  /// lowest drone id's is rethrown once all are done.
+  template <class Fn>
+  void for_each(std::span<const std::uint32_t> order, Fn&& fn) {
+    FirstFailure failure;
+    auto one = [&](std::uint32_t i, Scratch& s) {
+      if (failure.skip(i)) return;
+      try {
+        fn(i, s);
+      } catch (const abi::__forced_unwind&) {
+        throw;
+      } catch (...) {
+        failure.note(i);
+      }
+    };
+    if (order.size() <= grain) {  // one chunk: not worth a task
+      Scratch& s = scratch.local();
+      for (std::uint32_t i : order) one(i, s);
+    } else {
+      arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size(), grain), [&](const tbb::blocked_range<std::size_t>& r) {
+          Scratch& s = scratch.local();
+          for (std::size_t k = r.begin(); k != r.end(); ++k) one(order[k], s);
+        });
+      });
+    }
+    if (failure.error) std::rethrow_exception(failure.error);
+  }
+};
+
+struct Simulation::World {
+  Vec2 spawn;
+  StaticGeometry geometry;
+  std::unique_ptr<PhysicsWorld> physics;
+  Rng spawn_rng;
+  Drones drones;
+  Targets targets;
+};
+
+Simulation::Simulation(SimulationSetup setup)
+    : setup_(std::move(setup)), parallel_(std::make_unique<Parallel>(setup_.threads)) {
+  if (!setup_.behavior) throw std::invalid_argument("behavior: none given");
+  if (setup_.log_every == 0) setup_.log_every = 1;
+  World world = build_world(setup_);
+  plugin_call(behavior_kind, 0, [&] { setup_.behavior->reset(setup_.drones); });
+  install(std::move(world));
+  drone_properties_ = drone_properties(setup_.drone);
+  reset_handlers(*this);
+}
+
+Simulation::~Simulation() = default;
+
+namespace {
+
+/// Where a new drone starts: in spawn mode disc a random point of the spawn disc (or, outside the walls,
+/// the nearest point inside them, as the paper does), else a random free point of the map; every try
+/// bounded, the spawn point itself (checked free) as the last resort.
+Vec2 spawn_position(const SimulationSetup& s, const StaticGeometry& geometry, Vec2 spawn, std::size_t total, Rng& rng,
+                    bool& scarce) {
+  const double r = s.drone.radius;
+  if (s.spawn_mode == SpawnMode::disc) {
+    const double disc = s.spawn_radius > 0 ? s.spawn_radius : static_cast<double>(total) * r;
+    Vec2 p;
+    for (int tries = 0; tries < 100; ++tries) {
+      p = rng.in_disc(spawn, disc);
+      if (geometry.is_free(p, r)) return p;
+    }
+    const Rect& b = s.map.bounds;
+    p = {std::clamp(p.x, b.min.x + r, b.max.x - r), std::clamp(p.y, b.min.y + r, b.max.y - r)};
+    if (geometry.is_free(p, r)) return p;
+  }
+  // Free space under 1/10,000 of the map: once a drone found none, the others try briefly.
+  for (int tries = 0, most = scarce ? 100 : 10'000; tries < most; ++tries)
+    if (Vec2 p = rng.in_rect(s.map.bounds); geometry.is_free(p, r)) return p;
+  scarce = true;
+  return spawn;
+}
+
+std::vector<Vec2> ray_directions(int rays) {
+  std::vector<Vec2> out;
+  for (int k = 0; k < rays; ++k) out.push_back(Vec2::polar(1, 2 * pi * k / rays));
+  return out;
+}
+
+}  // namespace
+
+Simulation::World Simulation::build_world(const SimulationSetup& s) {
+  if (auto p = check_drone(s.drone, s.dt)) throw std::invalid_argument(p.text());
+  if (auto p = check_map(s.map)) throw std::invalid_argument("map: " + p.text());
+  if (auto p = check_resolution(s.map.bounds, s.drone, s.dt)) throw std::invalid_argument("map: " + p.text());
+  check_drone_count(s.drones);
+  World w;
+  w.geometry = StaticGeometry(s.map, std::max(s.drone.obstacle_range, 1.0));
+  w.spawn = s.spawn.value_or(s.map.spawn);
+  if (!finite(w.spawn) || !w.geometry.is_free(w.spawn, s.drone.radius))
+    throw std::invalid_argument("spawn point " + point(w.spawn) +
+                                " is inside an obstacle or outside the map bounds (it needs a free disc of the drone radius)");
+  // Targets go on the map before any drone exists, so make_setup can check them without spawning.
+  std::vector<Vec2> targets;
+  if (s.target_kind) targets = initial_targets(*s.target_kind, s.targets, s.map, w.geometry, s.drone, s.dt, s.seed);
+  w.targets = make_targets(std::move(targets), s.drone, s.target_kind.get());
+  w.physics = std::make_unique<PhysicsWorld>(w.geometry);
+  w.spawn_rng = Rng(s.seed, spawn_stream);
+  w.drones = resized({}, s.drones, s, w.geometry, w.spawn, w.spawn_rng);
+  w.physics->bodies.reserve(s.drones);
+  for (std::size_t i = 0; i < s.drones; ++i)
+    w.physics->add_drone(static_cast<std::uint32_t>(i), w.drones.positions[i], w.drones.velocities[i], s.drone);
+  return w;
+}
+
+// The first n drones of `from` (their places and velocities), new ones spawned for the rest; every
+// drone with fresh steering and a fresh Rng stream.
+Simulation::Drones Simulation::resized(const Drones& from, std::size_t n, const SimulationSetup& s,
+                                       const StaticGeometry& geometry, Vec2 spawn, Rng& spawn_rng) {
+  const DroneConfig& cfg = s.drone;
+  Drones d;
+  const std::size_t kept = std::min(n, from.positions.size());
+  d.positions.assign(from.positions.begin(), from.positions.begin() + static_cast<std::ptrdiff_t>(kept));
+  d.velocities.assign(from.velocities.begin(), from.velocities.begin() + static_cast<std::ptrdiff_t>(kept));
+  d.commanded.assign(from.commanded.begin(), from.commanded.begin() + static_cast<std::ptrdiff_t>(std::min(kept, from.commanded.size())));
+  d.positions.reserve(n);
+  d.velocities.reserve(n);
+  bool scarce = false;
+  for (std::size_t i = kept; i < n; ++i) {
+    d.positions.push_back(spawn_position(s, geometry, spawn, n, spawn_rng, scarce));
+    const double heading = spawn_rng.angle();  // drawn first, as g++ evaluated the call: the order is fixed, not the compiler's
+    d.velocities.push_back(Vec2::polar(spawn_rng.uniform(0.1 * cfg.max_speed, cfg.max_speed), heading));
+  }
+  d.steering.assign(n, {});
+  d.commanded.resize(n);
+  d.rngs.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) d.rngs.emplace_back(s.seed, first_drone_stream + i);
+  d.ray_directions = ray_directions(cfg.obstacle_rays);
+  d.hits.assign(n * d.ray_directions.size(), {});
+  d.hit_counts.assign(n, 0);
+  return d;
+}
+
+Simulation::Targets Simulation::make_targets(std::vector<Vec2> positions, const DroneConfig& drone, const TargetKind* kind) {
+  Targets t;
+  if (kind && !positions.empty()) {
+    if (auto p = check_view_range(*kind, drone)) throw std::invalid_argument(p.text());
+    t.reach = plugin_call(target_kind, 0, [&] { return kind->view_range(drone.camera_range); });
+  }
+  t.states.reserve(positions.size());
+  for (Vec2 p : positions) t.states.push_back({p});
+  // Cells of the query radius: a query touches 3 × 3 cells whatever the kind's view range.
+  t.grid.build(positions, std::max(t.reach, 1.0));
+  return t;
+}
+
+void Simulation::reset_handlers(const WorldView& world) const {
+  for (std::size_t k = 0; k < setup_.contact_handlers.size(); ++k)
+    plugin_call(handler_kind, k, [&] { setup_.contact_handlers[k]->reset(world); });
+}
+
+void Simulation::install(World&& w) noexcept {
+  spawn_ = w.spawn;
+  geometry_ = std::move(w.geometry);
+  physics_ = std::move(w.physics);
+  spawn_rng_ = w.spawn_rng;
+  drones_ = std::move(w.drones);
+  targets_ = std::move(w.targets);
+}
+
+void Simulation::set_drone_count(std::size_t n) {
+  check_drone_count(n);
+  Rng rng = spawn_rng_;
+  Drones next = resized(drones_, n, setup_, geometry_, spawn_, rng);
+  physics_->bodies.reserve(n);
+  plugin_call(behavior_kind, 0, [&] { setup_.behavior->reset(n); });
+  reset_handlers(StateView(setup_.map, geometry_, drone_properties_, time(), setup_.dt, next.positions, next.velocities));
+  // Nothing below throws.
+  const std::size_t before = drones_.positions.size();
+  physics_->remove_drones_from(n);
+  for (std::size_t i = before; i < n; ++i)
+    physics_->add_drone(static_cast<std::uint32_t>(i), next.positions[i], next.velocities[i], setup_.drone);
+  drones_ = std::move(next);
+  spawn_rng_ = rng;
+  setup_.drones = n;
+}
+
+void Simulation::set_drone_config(const DroneConfig& config) {
+  if (auto p = check_drone(config, setup_.dt)) throw std::invalid_argument(p.text());
+  if (auto p = check_resolution(setup_.map.bounds, config, setup_.dt)) throw std::invalid_argument("map: " + p.text());
+  DroneConfig next = config;
+  std::vector<Vec2> rays = ray_directions(config.obstacle_rays);
+  std::vector<ObstacleHit> hits(drones_.positions.size() * rays.size());
+  std::vector<Vec2> points;  // the camera range sizes the target grid
+  points.reserve(targets_.states.size());
+  for (const auto& t : targets_.states) points.push_back(t.position);
+  Targets regridded = make_targets(std::move(points), config, setup_.target_kind.get());
+  const DroneProperties properties = drone_properties(config);
+  // Nothing below throws.
+  physics_->remove_drones_from(0);
+  for (std::size_t i = 0; i < drones_.positions.size(); ++i)
+    physics_->add_drone(static_cast<std::uint32_t>(i), drones_.positions[i], drones_.velocities[i].clamped(config.max_speed), config);
+  drones_.ray_directions = std::move(rays);
+  drones_.hits = std::move(hits);
+  targets_.grid = std::move(regridded.grid);
+  targets_.reach = regridded.reach;
+  setup_.drone = std::move(next);
+  drone_properties_ = properties;
+}
+
+void Simulation::set_dt(double dt) {
+  if (auto p = check_drone(setup_.drone, dt)) throw std::invalid_argument(p.text());
+  if (auto p = check_resolution(setup_.map.bounds, setup_.drone, dt)) throw std::invalid_argument("map: " + p.text());
+  dt_base_time_ = time();
+  dt_base_steps_ = steps_;
+  setup_.dt = dt;
+}
+
+void Simulation::set_behavior(std::shared_ptr<Behavior> behavior) {
+  if (!behavior) throw std::invalid_argument("behavior: none given");
+  plugin_call(behavior_kind, 0, [&] { behavior->reset(drones_.positions.size()); });
+  setup_.behavior = std::move(behavior);
+}
+
+void Simulation::set_map(const MapData& map, std::optional<Vec2> spawn) {
+  SimulationSetup next = setup_;
+  next.map = map;
+  next.spawn = spawn;
+  next.drones = drones_.positions.size();
+  World world = build_world(next);
+  plugin_call(behavior_kind, 0, [&] { setup_.behavior->reset(next.drones); });
+  reset_handlers(StateView(next.map, world.geometry, drone_properties_, time(), next.dt, world.drones.positions,
+                           world.drones.velocities));
+  // Nothing below throws.
+  install(std::move(world));
+  setup_ = std::move(next);
+}
+
+void Simulation::set_targets(std::shared_ptr<TargetKind> kind, std::size_t count) {
+  std::vector<Vec2> positions;
+  if (kind) positions = initial_targets(*kind, count, setup_.map, geometry_, setup_.drone, setup_.dt, setup_.seed);
+  Targets next = make_targets(std::move(positions), setup_.drone, kind.get());
+  reset_handlers(*this);  // what a handler sees of the world (no targets) is as it will be
+  // Nothing below throws.
+  targets_ = std::move(next);
+  setup_.target_kind = std::move(kind);
+  setup_.targets = count;
+}
+
+// ---------------------------------------------------------------- one step
+
+void Simulation::timed(Phase phase, const auto& fn) {
+  if (!setup_.profile) return fn();
+  const auto start = std::chrono::steady_clock::now();
+  fn();
+  profile_[static_cast<std::size_t>(phase)] += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void Simulation::step() {
+  // The drones' side of a step: sense, decide and report what they saw, all on the snapshot of
+  // positions the step started from.
+  auto drones = [this] {
+    timed(Phase::sense, [this] { sense(); });
+    timed(Phase::decide, [this] { decide(); });
+    timed(Phase::detect, [this] { dispatch_sightings(); });
+  };
+  if (setup_.decision_lag == 0) {
+    drones();
+    timed(Phase::act, [this] { act(); });
+    timed(Phase::physics, [this] { physics(); });
+  } else {
+    // Last step's decisions go to Box2D, and while it steps the drones do their side. Nothing one side
+    // writes is read by the other.
+    timed(Phase::act, [this] { act(); });
+    parallel_->overlap(drones_.positions.size(), [this] { timed(Phase::physics, [this] { physics(); }); }, drones);
+  }
+  ++steps_;
+  read_back();
+  timed(Phase::detect, [this] { dispatch_contacts(); });
+  timed(Phase::observe, [this] { observe(); });
+}
+
+// Sense: index the drones for neighbour queries, cast each drone's obstacle rays against static
+// geometry and find the targets in its camera view. Neighbours are gathered per drone in `decide`,
+// where they stay in cache.
+void Simulation::sense() {
+  const DroneConfig& cfg = setup_.drone;
+  drone_grid_.build(drones_.positions, cfg.detection_range / 2);  // 5×5 cells of R/2 cover less than 3×3 of R
+  const std::size_t rays = drones_.ray_directions.size();
+  seen_.resize(drones_.positions.size());
+  const TargetKind* kind = targets_.states.empty() ? nullptr : setup_.target_kind.get();
+  const double reach = targets_.reach;  // the kind's view_range
+  parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
+    const Vec2 p = drones_.positions[i];
+    std::uint8_t count = 0;
+    geometry_.candidates(p, cfg.obstacle_range, s.segment_ids);
+    if (!s.segment_ids.empty())
+      for (Vec2 direction : drones_.ray_directions)
+        if (auto hit = geometry_.ray_cast(p, direction, cfg.obstacle_range, s.segment_ids))
+          drones_.hits[i * rays + count++] = *hit;
+    drones_.hit_counts[i] = count;
+    seen_[i].clear();
+    if (kind)
+      targets_.grid.query(p, reach, [&](std::uint32_t t, Vec2, double d2) {
+        const double d = std::sqrt(d2);
+        if (plugin_call(target_kind, 0, [&] { return kind->in_view(d, cfg.camera_range); })) seen_[i].emplace_back(t, d);
+      });
+  });
+}
+
+Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) const {
+  const DroneConfig& cfg = setup_.drone;
+  const Vec2 p = drones_.positions[id];
+  s.neighbours.clear();
+  if (senses.neighbours) {
+    s.hits.clear();
+    drone_grid_.gather(p, cfg.detection_range, s.hits);
+    for (const auto& [j, d2] : s.hits)
+      if (j != id) s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j});
+  }
+  s.targets.clear();
+  if (senses.targets)
+    for (const auto& [t, d] : seen_[id]) s.targets.push_back({targets_.states[t].position, d, t, targets_.states[t].found()});
+  const std::size_t rays = drones_.ray_directions.size();
+  Perception me;
+  me.id = id;
+  me.position = p;
+  me.velocity = drones_.velocities[id];
+  me.max_speed = cfg.max_speed;
+  me.max_force = cfg.max_force;
+  me.radius = cfg.radius;
+  me.mass = cfg.mass;
+  me.camera_range = cfg.camera_range;
+  me.obstacle_range = cfg.obstacle_range;
+  me.detection_range = cfg.detection_range;
+  me.dt = setup_.dt;
+  me.time = time();
+  me.neighbours = s.neighbours;
+  me.obstacles = {drones_.hits.data() + id * rays, drones_.hit_counts[id]};
+  me.targets = s.targets;
+  me.world = this;
+  return me;
+}
+
+// Decide: the behavior's shared state first (serial), then every drone in parallel, each perceiving only
+// what the behavior senses. Each drone writes only its own steering slot and uses its own Rng stream,
+// so any thread count gives the same result.
+void Simulation::decide() {
+  Behavior& behavior = *setup_.behavior;
+  plugin_call(behavior_kind, 0, [&] { behavior.prepare(*this); });
+  const Senses senses = plugin_call(behavior_kind, 0, [&] { return behavior.senses(); });
+  parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
+    const Perception me = perceive(i, senses, s);
+    drones_.steering[i] = plugin_call(behavior_kind, 0, [&] { return behavior.decide(me, drones_.rngs[i]); });
+  });
+}
+
+// Act: add the steering to the velocity as it is, clamp the speed to max speed, hand the velocity to
+// Box2D. Max force bounds each steering term (the SDK's helpers clamp to it), not a behavior's weighted
+// sum of terms: table1's flocking applies 1.6 + 3 + 1 + 4 = 9.6 × max force at most.
+void Simulation::act() {
+  const double max_speed = setup_.drone.max_speed;
+  for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
+    const Vec2 a = drones_.steering[i];
+    if (!std::isfinite(a.x) || !std::isfinite(a.y))
+      throw PluginFailure(behavior_kind, 0, "decide returned a non-finite steering " + point(a) + " for drone " + std::to_string(i));
+    const Vec2 v = (drones_.velocities[i] + a).clamped(max_speed);
+    drones_.commanded[i] = v;
+    physics_->bodies[i]->SetLinearVelocity(to_b2(v));
+  }
+}
+
+void Simulation::physics() {
+  physics_->step(setup_.dt, setup_.velocity_iterations, setup_.position_iterations);
+}
+
+void Simulation::read_back() {
+  for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
+    drones_.positions[i] = from_b2(physics_->bodies[i]->GetPosition());
+    drones_.velocities[i] = from_b2(physics_->bodies[i]->GetLinearVelocity());
+  }
+}
+
+namespace {
+class Actions final : public ContactActions {
+ public:
+  Actions(std::vector<TargetState>& targets, std::size_t& found, std::size_t drones, const WorldView& world, double time)
+      : targets_(targets), found_(found), drones_(drones), world_(world, time), time_(time) {}
+  /// The handler about to be called: ids it gives are checked here, where the fault can be named.
+  std::size_t handler = 0;
+  void mark_found(std::uint32_t target, std::uint32_t drone) override {
+    if (target >= targets_.size()) refuse("target", target, targets_.size());
+    if (drone >= drones_) refuse("drone", drone, drones_);
+    if (targets_[target].found()) return;
+    targets_[target].found_by = drone;
+    targets_[target].found_time = time_;
+    ++found_;
+  }
+  bool is_found(std::uint32_t target) const override { return target < targets_.size() && targets_[target].found(); }
+  const WorldView& world() const override { return world_; }
+
+ private:
+  [[noreturn]] void refuse(const char* what, std::uint32_t id, std::size_t count) const {
+    const std::string field = "contact_handlers[" + std::to_string(handler) + "]";
+    throw PluginFailure("contact handler", handler,
+                        field + ": mark_found was given " + what + " " + std::to_string(id) + ", which does not exist (allowed: " +
+                            (count == 0 ? std::string("none, there are no ") + what + "s"
+                                        : std::string(what) + " ids 0 to " + std::to_string(count - 1)) + ")");
+  }
+  std::vector<TargetState>& targets_;
+  std::size_t& found_;
+  std::size_t drones_;
+  EventView world_;
+  double time_;
+};
+}  // namespace
+
+// Detect: events to the contact handlers, serially and in a fixed order: first the targets each drone
+// had in view when it sensed (by drone), then the contacts Box2D began in its step (in its order).
+// Every event of a step carries the time the step ends, the time of the first row that can count it:
+// what was in view on the snapshot at t is found at t + dt, so a row never misses a found target.
+void Simulation::dispatch_sightings() {
+  const double step_end = time_at(steps_ + 1);  // time() once this step is counted
+  Actions actions(targets_.states, targets_.found, drones_.positions.size(), *this, step_end);
+  for (std::uint32_t i = 0; i < seen_.size(); ++i) {
+    // Targets lie scattered in memory: ask for a drone's all at once rather than miss on each in turn.
+    for (const auto& [t, d] : seen_[i]) __builtin_prefetch(&targets_.states[t], 1);
+    for (const auto& [t, d] : seen_[i]) {
+      ++targets_.states[t].observations;
+      const ContactEvent e{ContactKind::target_in_view, i, t, targets_.states[t].position, step_end};
+      for (std::size_t k = 0; k < setup_.contact_handlers.size(); ++k)
+        plugin_call(handler_kind, k, [&] { actions.handler = k, setup_.contact_handlers[k]->on_contact(e, actions); });
+    }
+  }
+}
+
+void Simulation::dispatch_contacts() {
+  Actions actions(targets_.states, targets_.found, drones_.positions.size(), *this, time());
+  for (ContactEvent e : physics_->begun) {
+    e.time = time();
+    ++collisions_;
+    for (std::size_t k = 0; k < setup_.contact_handlers.size(); ++k)
+      plugin_call(handler_kind, k, [&] { actions.handler = k, setup_.contact_handlers[k]->on_contact(e, actions); });
+  }
+}
+
+void Simulation::observe() {
+  if (steps_ % setup_.log_every != 0) return;
+  for (Observer* o : observers_) o->observe(*this);
+}
+
+std::vector<double> Simulation::nearest_neighbour_distances() const {
+  const std::size_t n = drones_.positions.size();
+  std::vector<double> out(n, std::numeric_limits<double>::infinity());
+  if (n < 2) return out;
+  // Cells sized by the grid to the drones' spread (not the detection range, which may be 0 or span the
+  // map); the search widens from one cell until it finds someone, and ends once it covers the map.
+  PointGrid grid;
+  grid.build(drones_.positions, 0);
+  const Rect& b = setup_.map.bounds;
+  const double far = std::hypot(b.width(), b.height());
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (double r = grid.cell_size();; r *= 4) {  // r > 0, so r >= far within a few dozen rounds
+      grid.query(drones_.positions[i], r, [&](std::uint32_t j, Vec2, double d2) {
+        if (j != i) out[i] = std::min(out[i], std::sqrt(d2));
+      });
+      if (!std::isinf(out[i]) || r >= far) break;
+    }
+  return out;
+}
+
+}  // namespace salsa

@@ -1,0 +1,109 @@
+#include "salsa/core/run/bench.hpp"
+
+#include "model/physics_world.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <fstream>
+#include <string>
+
+namespace salsa::bench {
+
+SimulationSetup table1(const PluginHost& host, const Workload& w) {
+  SimulationSetup s;
+  s.map.bounds = {{0, 0}, {w.side, w.side}};
+  s.map.spawn = w.spawn;
+  s.spawn_mode = w.spawn_mode;
+  s.drone = builtin_drone_configs().front();  // "small"
+  s.drones = w.drones;
+  const auto& behavior = host.behavior(w.behavior);
+  ParameterValues params(behavior.factory.parameters);
+  if (w.behavior == "flocking") {
+    params.set("separation_distance", 250);
+    params.set("alignment_weight", 1.6);
+    params.set("cohesion_weight", 1.0);
+    params.set("separation_weight", 3.0);
+    params.set("obstacle_avoidance_weight", 4.0);
+  }
+  s.behavior = PluginHost::create(behavior, params);
+  const auto& tree = host.target_kind("tree");
+  ParameterValues tree_params(tree.factory.parameters);
+  tree_params.set("radius", 5);
+  s.target_kind = PluginHost::create(tree, tree_params);
+  s.targets = w.targets;
+  const auto& detect = host.contact_handler("detect_targets");
+  s.contact_handlers.push_back(PluginHost::create(detect, ParameterValues(detect.factory.parameters)));
+  s.dt = 1.0 / 60;
+  s.velocity_iterations = 8;
+  s.position_iterations = 3;
+  s.seed = w.seed;
+  s.threads = w.threads;
+  s.log_every = 50;
+  return s;
+}
+
+Workload scale(std::size_t drones, std::uint64_t seed, int threads) {
+  Workload w;
+  w.drones = drones;
+  w.targets = 10 * drones;
+  w.side = 2000 * std::sqrt(static_cast<double>(drones) / 1000.0);
+  w.spawn = {w.side / 2, w.side / 2};
+  w.spawn_mode = SpawnMode::uniform;
+  w.seed = seed;
+  w.threads = threads;
+  return w;
+}
+
+Floor::Floor(std::size_t drones, std::size_t steps) : drones_(drones) { commands_.reserve(2 * drones * steps); }
+
+void Floor::record(const Simulation& sim) {
+  for (Vec2 v : sim.commanded_velocities()) {
+    commands_.push_back(static_cast<float>(v.x));
+    commands_.push_back(static_cast<float>(v.y));
+  }
+}
+
+double Floor::replay_seconds(const SimulationSetup& setup, bool cpu) const {
+  // The same drones in the same places as salsa spawned them: take them from a Simulation without
+  // targets, then step a world of our own.
+  SimulationSetup copy = setup;
+  copy.target_kind = nullptr;
+  copy.targets = 0;
+  copy.contact_handlers.clear();
+  Simulation spawned(copy);
+  const auto positions = spawned.drone_positions();
+
+  PhysicsWorld world(spawned.geometry());
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    world.add_drone(static_cast<std::uint32_t>(i), positions[i], {}, setup.drone);
+  const std::size_t steps = drones_ ? commands_.size() / (2 * drones_) : 0;
+  const double start = seconds_now(cpu);
+  const float* v = commands_.data();
+  for (std::size_t k = 0; k < steps; ++k) {
+    for (b2Body* body : world.bodies) {
+      body->SetLinearVelocity(b2Vec2(v[0], v[1]));
+      v += 2;
+    }
+    world.step(setup.dt, setup.velocity_iterations, setup.position_iterations);
+  }
+  return seconds_now(cpu) - start;
+}
+
+double seconds_now(bool cpu) {
+  if (timespec t; cpu && clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) == 0) return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+std::size_t peak_rss_bytes() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmHWM:", 0) == 0) return static_cast<std::size_t>(std::stoull(line.substr(6))) * 1024;
+  return 0;
+}
+
+void reset_peak_rss() {
+  std::ofstream("/proc/self/clear_refs") << "5";
+}
+
+}  // namespace salsa::bench

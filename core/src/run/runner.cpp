@@ -1,0 +1,268 @@
+#include "salsa/core/run/runner.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <mutex>
+#include <optional>
+#include <sstream>
+
+#include "salsa/core/files/format.hpp"
+#include "salsa/core/run/metrics.hpp"
+#include "salsa/core/run/session.hpp"
+#include "salsa/core/files/names.hpp"
+#include "salsa/core/files/output_folder.hpp"
+#include "run/running_notes.hpp"
+
+namespace salsa {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+
+namespace {
+
+// ---- Data files
+
+std::string header(std::string columns, const std::vector<std::string>& more) {
+  for (const auto& c : more) columns += "," + c;
+  return columns;
+}
+
+// summary.csv: one row per logged step, salsa's columns then the metrics'.
+class SummaryObserver final : public Observer {
+ public:
+  SummaryObserver(const fs::path& file, MetricSet& metrics)
+      : csv_(file, header(summary_columns, metrics.step_columns())), metrics_(metrics) {}
+  void observe(const Simulation& sim) override {
+    const SummaryRow row = summary_row(sim);
+    csv_.field(row.time, 4).field(static_cast<std::uint64_t>(row.targets_found)).field(row.fraction_found, 6);
+    csv_.field(row.mean_speed, 4).field(row.max_speed, 4);
+    if (std::isfinite(row.mean_nn_distance)) csv_.field(row.mean_nn_distance, 4);
+    else csv_.empty_field();
+    csv_.field(row.collisions);
+    metrics_.row(sim, csv_);
+    csv_.end_row();
+  }
+  void close() { csv_.close(); }
+
+ private:
+  CsvWriter csv_;
+  MetricSet& metrics_;
+};
+
+// drones.csv: one row per logged step and drone.
+class DroneObserver final : public Observer {
+ public:
+  explicit DroneObserver(const fs::path& file) : csv_(file, "time,id,x,y,vx,vy") {}
+  void observe(const Simulation& sim) override {
+    const auto p = sim.drone_positions();
+    const auto v = sim.drone_velocities();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      csv_.field(sim.time(), 4).field(static_cast<std::uint64_t>(i));
+      csv_.field(p[i].x, 4).field(p[i].y, 4).field(v[i].x, 4).field(v[i].y, 4);
+      csv_.end_row();
+    }
+  }
+  void close() { csv_.close(); }
+
+ private:
+  CsvWriter csv_;
+};
+
+void write_targets(const fs::path& file, const Simulation& sim) {
+  CsvWriter csv(file, "id,x,y,found_time,found_by,observations");
+  const auto& targets = sim.targets();
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    const TargetState& t = targets[i];
+    csv.field(static_cast<std::uint64_t>(i)).field(t.position.x, 4).field(t.position.y, 4);
+    if (t.found()) csv.field(t.found_time, 4).field(static_cast<std::uint64_t>(t.found_by));
+    else csv.empty_field().empty_field();
+    csv.field(t.observations);
+    csv.end_row();
+  }
+  csv.close();
+}
+
+// map.json: the map the test ran on, in the map file format (docs/maps.md). One shape per line.
+void append_number(std::string& out, double v) {
+  if (v == 0) v = 0;  // no "-0": it would read back as the integer 0 anyway
+  char text[32];
+  out.append(text, std::to_chars(text, text + sizeof text, v).ptr);  // shortest text that reads back exactly
+}
+
+void append_point(std::string& out, Vec2 p) {
+  out += '[';
+  append_number(out, p.x);
+  out += ", ";
+  append_number(out, p.y);
+  out += ']';
+}
+
+void append_shapes(std::string& out, const char* key, const std::vector<Polyline>& shapes, bool last) {
+  out += "  \"";
+  out += key;
+  out += "\": [";
+  for (std::size_t i = 0; i < shapes.size(); ++i) {
+    out += i ? ",\n    [" : "\n    [";
+    for (std::size_t j = 0; j < shapes[i].size(); ++j) {
+      if (j) out += ", ";
+      append_point(out, shapes[i][j]);
+    }
+    out += ']';
+  }
+  out += shapes.empty() ? "]" : "\n  ]";
+  out += last ? "\n" : ",\n";
+}
+
+/// What config.json holds (output_folder.hpp); the short name keeps run_test's body as it was.
+std::string config_of(const TestSpec& test, const PluginHost& host) { return test_config(test, host); }
+
+}  // namespace
+
+// ---- Public
+
+
+std::string map_json(const MapData& map, Vec2 spawn) {
+  std::string out = "{\n  \"bounds\": {\"min\": ";
+  append_point(out, map.bounds.min);
+  out += ", \"max\": ";
+  append_point(out, map.bounds.max);
+  out += "},\n  \"spawn\": ";
+  append_point(out, spawn);
+  out += ",\n";
+  append_shapes(out, "obstacles", map.obstacles, false);
+  append_shapes(out, "hollow", map.hollow, false);
+  append_shapes(out, "lines", map.lines, true);
+  return out += "}\n";
+}
+
+RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOptions& options) {
+  RunResult result;
+  // The runner's own check of the name, whatever the reader did: it becomes a path.
+  if (const std::string why = name_problem(test.name); !why.empty()) throw InputError(test.source + ": name: " + why);
+  result.folder = options.out / test.name;
+  if (already_done(test, host, options)) {
+    result.skipped = true;
+    return result;
+  }
+  const std::string config = config_of(test, host);
+  if (const std::string why = refusal(test, config, options); !why.empty()) throw InputError(why);
+
+  // The .partial folder: a leftover one (an interrupted run) is cleaned up; the marker goes in first.
+  const fs::path work = partial_folder(options.out, test.name);
+  clean_partial(work);
+  std::error_code ec;
+  fs::create_directories(work, ec);
+  if (ec) throw WriteError(work.string() + ": cannot create folder (" + ec.message() + ")");
+  write_file(work / folder_marker, marker_text);
+
+  NoteGuard guard{prepare_note(test, host, work)};
+  // A failed test keeps its .partial folder, with error.txt saying why (one line).
+  auto failed = [&](const std::string& line) {
+    record_failure(options.out, test.name, line);
+    return TestFailure(line);
+  };
+  const std::string rows_so_far = " (rows so far in " + work.string() + ")";
+  const std::string where = "test '" + test.name + "' (" + test.source + ")";
+  auto write_failed = [&](const WriteError& e) {
+    record_failure(options.out, test.name, where + ": " + e.what());
+    return WriteError(where + ": " + e.what());
+  };
+  const auto start = std::chrono::steady_clock::now();
+  {
+    std::optional<Session> session;
+    try {
+      session.emplace(test, host, SessionOptions{options.threads, nullptr});
+    } catch (const TestFailure& e) {
+      throw failed(e.what());
+    }
+    Simulation& sim = session->simulation();
+    // The map the test runs on, for the plots and for rerunning it on the same geometry.
+    try {
+      write_file(work / "map.json", map_json(sim.map(), sim.spawn_point()));
+    } catch (const WriteError& e) {
+      throw write_failed(e);
+    }
+    SummaryObserver summary(work / "summary.csv", session->metrics());
+    std::optional<DroneObserver> drones;
+    if (options.drones_csv) drones.emplace(work / "drones.csv");
+    session->add_observer(&summary);
+    if (drones) session->add_observer(&*drones);
+    try {
+      summary.observe(sim);  // time 0
+    } catch (const MetricFailure& e) {
+      throw failed(where + ": " + e.what() + rows_so_far);
+    }
+    if (drones) drones->observe(sim);
+    const auto stepping = std::chrono::steady_clock::now();
+    try {
+      while (!session->finished()) {
+        if (const int sig = stop_requested.load(std::memory_order_relaxed)) {
+          summary.close();
+          if (drones) drones->close();
+          throw Interrupted(signal_name(sig) + ": stopped " + where + " at t = " + format::seconds(sim.time()) +
+                                " s; its rows so far are in " + work.string() + " (run again with --resume to redo it)",
+                            sig);
+        }
+        session->step();
+        const std::uint64_t done = sim.step_count();
+        if (guard.note) guard.note->step.store(done, std::memory_order_relaxed);
+        if (options.progress) options.progress->store(done, std::memory_order_relaxed);
+        if (options.on_step) options.on_step(sim);
+      }
+      result.stepping_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - stepping).count();
+    } catch (const TestFailure& e) {
+      throw failed(e.what() + rows_so_far);
+    } catch (const WriteError& e) {
+      throw write_failed(e);
+    }
+    std::vector<std::pair<std::string, std::string>> finals;
+    try {
+      finals = session->finish();
+    } catch (const TestFailure& e) {
+      throw failed(e.what() + rows_so_far);
+    }
+    try {
+      summary.close();
+      if (drones) drones->close();
+      write_targets(work / "targets.csv", sim);
+      write_file(work / "outcome.csv", outcome_csv(sim, finals));
+    } catch (const WriteError& e) {
+      throw write_failed(e);
+    }
+    result.steps = test.steps();
+    result.targets = sim.targets().size();
+    result.found = sim.targets_found();
+  }
+  result.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  try {
+    std::ostringstream timing;
+    timing.precision(6);
+    timing << "{\"wall_seconds\": " << std::fixed << result.wall_seconds << ", \"steps\": " << result.steps << "}\n";
+    write_file(work / "timing.json", timing.str());
+    write_manifest(work, config);  // what --resume checks the folder against
+    // config.json last: its presence marks a complete test (what --resume looks for).
+    write_file(work / "config.json", config);
+    sync_folder(work);
+    if (exists_at_all(result.folder)) remove_ours(result.folder);  // --force, checked again just before
+    fs::rename(work, result.folder, ec);
+    if (ec) throw WriteError(result.folder.string() + ": cannot move " + work.string() + " there (" + ec.message() + ")");
+    sync_folder(options.out);
+  } catch (const WriteError& e) {
+    throw write_failed(e);
+  }
+  return result;
+}
+
+}  // namespace salsa
