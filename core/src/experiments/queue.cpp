@@ -1,5 +1,7 @@
 #include "salsa/core/experiments/queue.hpp"
 
+#include "salsa/core/files/format.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -86,16 +88,7 @@ std::string variant(const TestSpec& t, const PluginHost& host) {
 
 namespace {
 
-std::string grouped(double v) {  // 1234567 -> "1,234,567"
-  const std::string digits = v >= 1e18 ? num(v) : std::to_string(static_cast<unsigned long long>(v));
-  if (digits.find_first_not_of("0123456789") != std::string::npos) return digits;
-  std::string out;
-  for (std::size_t i = 0; i < digits.size(); ++i) {
-    if (i && (digits.size() - i) % 3 == 0) out += ',';
-    out += digits[i];
-  }
-  return out;
-}
+using format::grouped;
 
 /// from + i × step, on the coarsest decimal grid within its rounding error (an ulp or two): a range in steps of 0.1 gives
 /// 0.3, not 0.30000000000000004 (the float noise would show in names and config.json).

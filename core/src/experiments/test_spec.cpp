@@ -1,5 +1,7 @@
 #include "salsa/core/experiments/test_spec.hpp"
 
+#include "salsa/core/files/format.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <tuple>
@@ -449,19 +451,8 @@ std::optional<std::pair<std::size_t, std::size_t>> first_same_test(const std::ve
 }
 
 namespace {
-std::string grouped(double v) {  // 1234567 -> "1,234,567"
-  std::string digits = std::to_string(std::llround(v)), out;
-  for (std::size_t i = 0; i < digits.size(); ++i) {
-    if (i && (digits.size() - i) % 3 == 0) out += ',';
-    out += digits[i];
-  }
-  return out;
-}
-std::string sig(double v, int digits) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-  return buf;
-}
+using format::grouped;
+constexpr auto sig = format::significant;
 }  // namespace
 
 std::string workload_warning(const TestSpec& t, const SimulationSetup& s) {

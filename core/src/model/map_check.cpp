@@ -9,7 +9,7 @@
 namespace salsa {
 namespace {
 
-std::string num(double v) { return Parameter::format(v); }  // the shortest text that reads back
+std::string num(double v) { return Parameter::format(v); }  // format::number, without the model depending on files/
 double cross(Vec2 o, Vec2 a, Vec2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
 int sign(double v) { return (v > 0) - (v < 0); }
 bool finite(Vec2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
