@@ -85,6 +85,28 @@ class GuiWindow : public QObject {
     QCOMPARE(window_->sandbox()->engine().current_test()->behavior.params.get("alignment_weight"), timeline[1].value);
   }
 
+  // A test's own timed changes play in the sandbox as in salsa run, and the controls follow them.
+  void a_tests_timed_changes_play_and_the_controls_follow() {
+    QTemporaryDir dir;
+    QVERIFY(write_file(dir.path() + "/timed.json", R"({"name": "timed", "behavior": "flocking", "drones": 8, "seed": 2,
+      "map": {"name": "forest", "params": {"size": 300}}, "time": 5,
+      "changes": [{"time": 0.5, "set": {"drones": 14}}, {"time": 0.5, "set": {"drone.max_speed": 6}}]})"));
+    SandboxPage& sandbox = *window_->sandbox();
+    QVERIFY(sandbox.open_test(dir.path() + "/timed.json").empty());
+    QVERIFY2(sandbox.last_message().contains("2 timed changes apply as it runs"), qPrintable(sandbox.last_message()));
+    QCOMPARE(sandbox.drones_box()->value(), 8);
+    for (int i = 0; i < 31; ++i) QCOMPARE(sandbox.engine().step_once().get(), std::string());  // past t = 0.5 s
+    sandbox.poll();
+    QCOMPARE(sandbox.engine().snapshot()->positions.size(), std::size_t(14));
+    QCOMPARE(sandbox.drones_box()->value(), 14);
+    QCOMPARE(sandbox.drone_panel()->value("max_speed"), 6.0);
+    // Save as test keeps them: the saved file holds both changes.
+    std::string why;
+    const auto saved = sandbox.engine().as_test(&why);
+    QVERIFY2(saved, why.c_str());
+    QCOMPARE(saved->changes.size(), std::size_t(2));
+  }
+
   void drone_count_respawns() {
     window_->sandbox()->drones_box()->setValue(45);
     settle();

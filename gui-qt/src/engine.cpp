@@ -237,6 +237,7 @@ struct Engine::Worker {
     snap->test_name = start.name;
     if (!sim) return snap;
     snap->step = sim->step_count();
+    snap->changes_applied = session->changes_applied();
     snap->time = sim->time();
     snap->dt = sim->dt();
     snap->inexact = sim->dt() != start.dt;

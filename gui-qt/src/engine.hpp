@@ -82,6 +82,7 @@ struct Snapshot {
   std::string error;        ///< why the run stopped (state failed): one line naming the plugin
   double speed = 0;         ///< simulated seconds per wall second, recent
   std::string test_name;    ///< the loaded test's name
+  std::size_t changes_applied = 0;  ///< timeline changes applied so far (the controls refresh when it moves)
 };
 
 /// How the worker paces the simulation.

@@ -88,13 +88,12 @@ void SandboxPage::set_active(bool active) {
 std::string SandboxPage::open_test_spec(const TestSpec& test) {
   const TestSpec previous = file_base_;
   file_base_ = test;
-  file_base_.changes.clear();
   if (const std::string why = load(file_base_); !why.empty()) {
     file_base_ = previous;
     return why;
   }
   if (!test.changes.empty())
-    show_message(QString("'%1': its %2 timed changes are not replayed in the sandbox (salsa run replays them)").arg(q(test.name)).arg(test.changes.size()), false);
+    show_message(QString("'%1': its %2 timed changes apply as it runs, as in salsa run").arg(q(test.name)).arg(test.changes.size()), false);
   return {};
 }
 
@@ -455,7 +454,7 @@ std::string SandboxPage::open_test(const QString& file) {
   }
   if (tests.size() > 1) show_message(QString("%1 holds %2 tests: the first, '%3', is loaded").arg(file).arg(tests.size()).arg(q(tests.front().name)), false);
   if (!tests.front().changes.empty())
-    show_message(QString("%1: its %2 timed changes are not replayed in the sandbox (salsa run replays them)").arg(file).arg(tests.front().changes.size()), false);
+    show_message(QString("%1: its %2 timed changes apply as it runs, as in salsa run").arg(file).arg(tests.front().changes.size()), false);
   return {};
 }
 
@@ -699,6 +698,11 @@ void SandboxPage::poll() {
     done.then(done.answer.get());
   }
   if (reload_due_) reload_from_controls();
+  // A change of the timeline applied (the test's own, at its time): the controls show what runs now.
+  if (const auto snap = engine_.snapshot(); loaded_ && snap->changes_applied != changes_shown_) {
+    changes_shown_ = snap->changes_applied;
+    if (auto t = engine_.current_test()) show_test(*t);
+  }
 }
 
 void SandboxPage::refresh() {

@@ -87,8 +87,8 @@ class SandboxPage : public QWidget {
   QLabel* time_label() const { return status_time_; }
   const QString& last_message() const { return last_message_; }
   QString inspector_text() const;
-  /// Applies every answer the engine has given so far and a start-state edit still waiting (the timer
-  /// does this 60 times a second).
+  /// Applies every answer the engine has given so far and a start-state edit still waiting, and shows
+  /// the values a timed change set (the timer does this 60 times a second).
   void poll();
 
  Q_SIGNALS:
@@ -163,6 +163,7 @@ class SandboxPage : public QWidget {
   std::vector<Pending> pending_;
   QTimer timer_;
   std::shared_ptr<const Snapshot> shown_;
+  std::size_t changes_shown_ = 0;  // the snapshot's changes_applied the controls show
   int frames_ = 0;
   double fps_ = 0;
   std::chrono::steady_clock::time_point fps_since_, slow_refresh_;

@@ -87,6 +87,8 @@ class Session {
   const TestSpec& current() const { return current_; }
   /// Every change, applied or due, in time order: the test's own and the live ones.
   const std::vector<Change>& timeline() const { return timeline_; }
+  /// How many of the timeline's changes have been applied (the first ones).
+  std::size_t changes_applied() const { return next_change_; }
   /// "test 'x' (file.json)": how messages name this run.
   std::string where() const;
 
