@@ -3,6 +3,7 @@
 #include <QtTest>
 
 #include "common.hpp"
+#include "salsa/core/files/map_file.hpp"
 #include "salsa/core/run/runner.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 

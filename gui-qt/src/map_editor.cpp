@@ -26,7 +26,7 @@
 #include <functional>
 #include <filesystem>
 
-#include "salsa/core/run/runner.hpp"
+#include "salsa/core/files/map_file.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 #include "save_checked.hpp"
 

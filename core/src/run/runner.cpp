@@ -8,7 +8,6 @@
 
 #include <atomic>
 #include <cerrno>
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -19,6 +18,7 @@
 #include <sstream>
 
 #include "salsa/core/files/format.hpp"
+#include "salsa/core/files/map_file.hpp"
 #include "salsa/core/run/metrics.hpp"
 #include "salsa/core/run/session.hpp"
 #include "salsa/core/files/names.hpp"
@@ -94,58 +94,11 @@ void write_targets(const fs::path& file, const Simulation& sim) {
   csv.close();
 }
 
-// map.json: the map the test ran on, in the map file format (docs/maps.md). One shape per line.
-void append_number(std::string& out, double v) {
-  if (v == 0) v = 0;  // no "-0": it would read back as the integer 0 anyway
-  char text[32];
-  out.append(text, std::to_chars(text, text + sizeof text, v).ptr);  // shortest text that reads back exactly
-}
-
-void append_point(std::string& out, Vec2 p) {
-  out += '[';
-  append_number(out, p.x);
-  out += ", ";
-  append_number(out, p.y);
-  out += ']';
-}
-
-void append_shapes(std::string& out, const char* key, const std::vector<Polyline>& shapes, bool last) {
-  out += "  \"";
-  out += key;
-  out += "\": [";
-  for (std::size_t i = 0; i < shapes.size(); ++i) {
-    out += i ? ",\n    [" : "\n    [";
-    for (std::size_t j = 0; j < shapes[i].size(); ++j) {
-      if (j) out += ", ";
-      append_point(out, shapes[i][j]);
-    }
-    out += ']';
-  }
-  out += shapes.empty() ? "]" : "\n  ]";
-  out += last ? "\n" : ",\n";
-}
-
-/// What config.json holds (output_folder.hpp); the short name keeps run_test's body as it was.
-std::string config_of(const TestSpec& test, const PluginHost& host) { return test_config(test, host); }
 
 }  // namespace
 
 // ---- Public
 
-
-std::string map_json(const MapData& map, Vec2 spawn) {
-  std::string out = "{\n  \"bounds\": {\"min\": ";
-  append_point(out, map.bounds.min);
-  out += ", \"max\": ";
-  append_point(out, map.bounds.max);
-  out += "},\n  \"spawn\": ";
-  append_point(out, spawn);
-  out += ",\n";
-  append_shapes(out, "obstacles", map.obstacles, false);
-  append_shapes(out, "hollow", map.hollow, false);
-  append_shapes(out, "lines", map.lines, true);
-  return out += "}\n";
-}
 
 RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOptions& options) {
   RunResult result;
@@ -156,7 +109,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     result.skipped = true;
     return result;
   }
-  const std::string config = config_of(test, host);
+  const std::string config = test_config(test, host);
   if (const std::string why = refusal(test, config, options); !why.empty()) throw InputError(why);
 
   // The .partial folder: a leftover one (an interrupted run) is cleaned up; the marker goes in first.

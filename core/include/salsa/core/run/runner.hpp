@@ -46,12 +46,6 @@ struct Interrupted : std::runtime_error {
   int signal;
 };
 
-/// What a test's map.json holds: `map` (its spawn replaced by `spawn`, the point the drones started
-/// around) in the map file format the json map plugin reads (docs/maps.md). Numbers are the shortest
-/// text that reads back to the same double, so the json map plugin gives back the same MapData and
-/// the same map gives the same bytes on every run.
-std::string map_json(const MapData& map, Vec2 spawn);
-
 /// Runs one test into `options.out / test.name`, written in a hidden ".partial" folder first and moved
 /// into place only when complete, with timing.json (wall seconds and steps). Throws InputError,
 /// TestFailure, WriteError or Interrupted; after TestFailure and WriteError the .partial folder holds

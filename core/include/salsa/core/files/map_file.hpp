@@ -1,0 +1,15 @@
+#pragma once
+// Writing a map in the map file format the json map plugin reads (docs/maps.md): a test's map.json
+// and the map creator's saves. One shape per line.
+#include <string>
+
+#include "salsa/map.hpp"
+
+namespace salsa {
+
+/// `map` with its spawn replaced by `spawn` (the point the drones started around) as map file text.
+/// Numbers are the shortest text that reads back to the same double, so the json map plugin gives
+/// back the same MapData and the same map gives the same bytes on every run.
+std::string map_json(const MapData& map, Vec2 spawn);
+
+}  // namespace salsa
