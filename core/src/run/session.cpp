@@ -1,11 +1,12 @@
 #include "salsa/core/run/session.hpp"
 
-#include "salsa/core/files/format.hpp"
-
 #include <algorithm>
 #include <cmath>
 
+#include "salsa/core/files/format.hpp"
+
 namespace salsa {
+
 std::string failed_plugin(const PluginFailure& failure, const TestSpec& test, const PluginHost& host) {
   std::string name;
   std::filesystem::path file;
