@@ -67,7 +67,11 @@ class StateView final : public WorldView {
   std::span<const Vec2> drone_velocities() const override { return velocities_; }
   bool is_free(Vec2 p, double clearance) const override { return geometry_.is_free(p, clearance); }
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return geometry_.ray_cast(from, to); }
-  const DroneProperties& drone() const override { return drone_; }
+  const DroneProperties& drone(std::uint32_t) const override { return drone_; }
+  std::span<const std::uint32_t> drone_groups() const override { return groups_; }
+  std::span<const DroneStatus> drone_status() const override { return status_; }
+  std::size_t group_count() const override { return 1; }
+  Vec2 base(std::uint32_t) const override { return map_.spawn; }
   const MapData& map() const override { return map_; }
 
  private:
@@ -76,6 +80,8 @@ class StateView final : public WorldView {
   DroneProperties drone_;
   double time_, dt_;
   std::span<const Vec2> positions_, velocities_;
+  std::vector<std::uint32_t> groups_ = std::vector<std::uint32_t>(positions_.size(), 0);
+  std::vector<DroneStatus> status_ = std::vector<DroneStatus>(positions_.size(), DroneStatus::flying);
 };
 
 /// The simulation as a contact handler sees it during an event: as it is, at the event's time (a
@@ -90,7 +96,11 @@ class EventView final : public WorldView {
   std::span<const Vec2> drone_velocities() const override { return world_.drone_velocities(); }
   bool is_free(Vec2 p, double clearance) const override { return world_.is_free(p, clearance); }
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return world_.ray_cast(from, to); }
-  const DroneProperties& drone() const override { return world_.drone(); }
+  const DroneProperties& drone(std::uint32_t group) const override { return world_.drone(group); }
+  std::span<const std::uint32_t> drone_groups() const override { return world_.drone_groups(); }
+  std::span<const DroneStatus> drone_status() const override { return world_.drone_status(); }
+  std::size_t group_count() const override { return world_.group_count(); }
+  Vec2 base(std::uint32_t group) const override { return world_.base(group); }
   const MapData& map() const override { return world_.map(); }
 
  private:
@@ -413,6 +423,8 @@ Simulation::Drones Simulation::resized(const Drones& from, std::size_t n, const 
   d.ray_directions = ray_directions(cfg.obstacle_rays);
   d.hits.assign(n * d.ray_directions.size(), {});
   d.hit_counts.assign(n, 0);
+  d.groups.assign(n, 0);
+  d.status.assign(n, DroneStatus::flying);
   return d;
 }
 

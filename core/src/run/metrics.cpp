@@ -78,7 +78,11 @@ class MetricSet::View final : public MetricView {
   std::span<const TargetState> targets() const override { return sim->targets(); }
   std::size_t targets_found() const override { return sim->targets_found(); }
   std::uint64_t collisions() const override { return sim->collisions(); }
-  const DroneProperties& drone() const override { return sim->drone(); }
+  const DroneProperties& drone(std::uint32_t group) const override { return sim->drone(group); }
+  std::span<const std::uint32_t> drone_groups() const override { return sim->drone_groups(); }
+  std::span<const DroneStatus> drone_status() const override { return sim->drone_status(); }
+  std::size_t group_count() const override { return sim->group_count(); }
+  Vec2 base(std::uint32_t group) const override { return sim->base(group); }
   const MapData& map() const override { return sim->map(); }
 };
 

@@ -29,14 +29,33 @@ class Behavior : public Configurable {
   /// velocity as it is and clamps the speed to max speed. Max force bounds each steering term (the
   /// helpers below clamp to it); a weighted sum of terms may exceed it, as the paper's flocking does.
   virtual Vec2 decide(const Perception& me, Rng& rng) = 0;
-  /// Drones were (re)spawned: `drones` drones with ids 0..drones-1 and fresh memory.
+  /// Drones were (re)spawned: `drones` drones with ids 0..drones-1 and fresh memory. With groups, ids
+  /// run over all groups; this behavior decides for the drones of its group() only.
   virtual void reset(std::size_t drones) { (void)drones; }
+  /// The drone count changed while the others fly on: drones were added (ids from the old count up,
+  /// fresh memory) or the highest ids removed; every other drone keeps its memory. The default calls
+  /// reset (all memory fresh), for a behavior that cannot keep it.
+  virtual void resize(std::size_t drones) { reset(drones); }
   /// What `decide` reads (default: everything). Asked once per step, after `prepare`.
   virtual Senses senses() const { return {}; }
   /// A few lines about drone `id`'s memory for the GUI's inspector ("" = nothing to show). Called
   /// between steps, on the stepping thread.
   virtual std::string inspect(std::uint32_t id) const { (void)id; return {}; }
+
+  /// The group this behavior decides for (index into WorldView::drone_groups()); 0 without groups.
+  /// Shared state built in `prepare` should count only its group's flying drones.
+  std::uint32_t group() const { return group_; }
+
+ private:
+  friend class Simulation;
+  std::uint32_t group_ = 0;
 };
+
+/// True for drone `id` when it flies and belongs to `behavior`'s group: the drones whose shared state
+/// a behavior's `prepare` keeps.
+inline bool is_member(const WorldView& world, const Behavior& behavior, std::uint32_t id) {
+  return world.drone_status()[id] == DroneStatus::flying && world.drone_groups()[id] == behavior.group();
+}
 
 /// A behavior with per-drone memory `Memory`, one slot per drone, owned and sized by the core through
 /// `reset`; `decide` gets the slot of the drone it decides for.
@@ -46,6 +65,7 @@ class BehaviorWithMemory : public Behavior {
   virtual Vec2 decide(const Perception& me, Memory& memory, Rng& rng) = 0;
   Vec2 decide(const Perception& me, Rng& rng) final { return decide(me, memory_[me.id], rng); }
   void reset(std::size_t drones) override { memory_.assign(drones, Memory{}); }
+  void resize(std::size_t drones) override { memory_.resize(drones); }
 
  protected:
   const std::vector<Memory>& memory() const { return memory_; }

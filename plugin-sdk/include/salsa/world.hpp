@@ -1,5 +1,6 @@
 #pragma once
 // What a plugin may see of the world: read-only views, no Box2D, Qt or JSON types.
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -9,12 +10,21 @@
 
 namespace salsa {
 
+/// What a drone is doing. A landed drone (its battery ran out) or a failed one stays where it stopped,
+/// in every span indexed by id, but senses, decides and is seen by no one; it stays in the outputs.
+enum class DroneStatus : std::uint8_t {
+  flying = 0,
+  landed = 1,  ///< battery empty
+  failed = 2,  ///< the whole drone failed (a failure model or a timed change)
+};
+
 /// A drone's view of another drone within its drone-detection range.
 struct Neighbour {
   Vec2 position;     ///< m
   Vec2 velocity;     ///< m/s
   double distance;   ///< m, centre to centre
   std::uint32_t id;
+  std::uint32_t group = 0;  ///< index of its group in the test's "groups" (0 without groups)
 };
 
 /// Where a ray from the drone hit static geometry (walls, obstacles) within obstacle range.
@@ -31,7 +41,7 @@ struct TargetSeen {
   bool found;        ///< already found by any drone
 };
 
-/// The properties every drone of the test shares (its drone configuration).
+/// The properties every drone of a group shares (its drone configuration).
 struct DroneProperties {
   double camera_range = 0;     ///< m
   double obstacle_range = 0;   ///< m
@@ -60,7 +70,13 @@ class WorldView {
   /// The drones' shared properties, so that state sized by them (a grid of camera-range cells, a
   /// partition by detection range) can be built in `prepare()` before any drone decides. They change
   /// when the GUI changes the drone configuration live: compare, do not cache for good.
-  virtual const DroneProperties& drone() const = 0;
+  virtual const DroneProperties& drone(std::uint32_t group = 0) const = 0;
+  /// Each drone's group (index into the test's "groups"; all 0 without groups) and status, by id.
+  virtual std::span<const std::uint32_t> drone_groups() const = 0;
+  virtual std::span<const DroneStatus> drone_status() const = 0;
+  /// How many groups the test has (1 without "groups"), and each one's base: its spawn point (m).
+  virtual std::size_t group_count() const = 0;
+  virtual Vec2 base(std::uint32_t group) const = 0;
   /// The map as generated (bounds, solid obstacles, hollow outlines, open lines, spawn point; m), for
   /// plugins that lay out their own structures over it (a pheromone field that skips obstacles, a
   /// route around rooms). A live map change in the GUI re-spawns the drones, which calls `reset`.
@@ -81,6 +97,10 @@ struct Perception {
   double detection_range = 0;  ///< m
   double dt = 0;           ///< s per step
   double time = 0;         ///< s since start
+  std::uint32_t group = 0;     ///< index of the drone's group (0 without groups)
+  Vec2 base;                   ///< m: its group's base (spawn point), where a battery may be recharged
+  double battery = 1;          ///< fraction of the battery left, 0 to 1 (1 without a battery model)
+  double battery_capacity = 0; ///< Wh; 0: no battery model, the drone never runs flat
   std::span<const Neighbour> neighbours;   ///< drones within detection_range, nearest not first
   std::span<const ObstacleHit> obstacles;  ///< ray hits within obstacle_range
   std::span<const TargetSeen> targets;     ///< targets in camera view

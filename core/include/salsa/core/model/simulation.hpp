@@ -174,7 +174,11 @@ class Simulation final : public WorldView {
   std::span<const Vec2> commanded_velocities() const { return drones_.commanded; }
   bool is_free(Vec2 p, double clearance) const override { return geometry_.is_free(p, clearance); }
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return geometry_.ray_cast(from, to); }
-  const DroneProperties& drone() const override { return drone_properties_; }
+  const DroneProperties& drone(std::uint32_t = 0) const override { return drone_properties_; }
+  std::span<const std::uint32_t> drone_groups() const override { return drones_.groups; }
+  std::span<const DroneStatus> drone_status() const override { return drones_.status; }
+  std::size_t group_count() const override { return 1; }
+  Vec2 base(std::uint32_t) const override { return spawn_; }
 
  private:
   struct Scratch;
@@ -193,6 +197,8 @@ class Simulation final : public WorldView {
   struct Drones {
     std::vector<Vec2> positions, velocities, steering, commanded;
     std::vector<Rng> rngs;
+    std::vector<std::uint32_t> groups;
+    std::vector<DroneStatus> status;
     std::vector<Vec2> ray_directions;   ///< unit vectors of the obstacle rays
     std::vector<ObstacleHit> hits;      ///< obstacle_rays slots per drone
     std::vector<std::uint8_t> hit_counts;
