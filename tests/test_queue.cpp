@@ -114,7 +114,7 @@ class TestQueue : public QObject {
     QFETCH(QList<double>, values);
     const Queue q = load(R"({"sweep": {"behaviors": [{"name": "flocking", "params": {"cohesion_weight": )" + range + "}}]}}");
     QList<double> got;
-    for (const auto& t : q.tests) got << t.behavior.params.get("cohesion_weight");
+    for (const auto& t : q.tests) got << t.groups[0].behavior.params.get("cohesion_weight");
     QCOMPARE(got, values);  // exactly: the ends as given, the steps without float noise where it matters
   }
 
