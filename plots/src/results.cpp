@@ -677,7 +677,7 @@ void box_plot(const std::vector<QueueRow>& rows, const fs::path& file) {
 struct Measure {
   const char* column;
   double scale;
-  std::optional<double> top;  // the largest value there can be
+  std::optional<double> top;  // the largest value there can be, else the largest a repeat had
   bool optional;
   const char* title;  // "<title>, N drones (…)"
   QString y_label;
@@ -702,6 +702,8 @@ void over_time(const fs::path& out, const std::vector<QueueRow>& rows, const std
       while (in.next()) at[in.number(c_time)].push_back(in.number(c_value) * m.scale);
     }
     if (at.empty()) continue;
+    double highest = 0;
+    for (const auto& [time, values] : at) highest = std::max(highest, *std::max_element(values.begin(), values.end()));
     Mean l;
     for (const auto& [time, values] : at) {
       const double n = static_cast<double>(values.size());
@@ -709,7 +711,7 @@ void over_time(const fs::path& out, const std::vector<QueueRow>& rows, const std
       double ss = 0;
       for (double x : values) ss += (x - mean) * (x - mean);
       const double half = values.size() > 1 ? t_half_width(values.size(), std::sqrt(ss / (n - 1))) : 0;
-      l.time.push_back(time), l.mean.push_back(mean), l.lo.push_back(std::max(0.0, mean - half)), l.hi.push_back(std::min(m.top.value_or(1e300), mean + half));
+      l.time.push_back(time), l.mean.push_back(mean), l.lo.push_back(std::max(0.0, mean - half)), l.hi.push_back(std::min(m.top.value_or(highest), mean + half));
       t0 = std::min(t0, time), t1 = std::max(t1, time), top = std::max(top, l.hi.back());
     }
     lines.emplace_back(v, std::move(l));
@@ -717,7 +719,7 @@ void over_time(const fs::path& out, const std::vector<QueueRow>& rows, const std
   if (lines.empty()) return;
   Figure f(QString(m.title) + ", " + QString::fromStdString(size) + " drones (mean, 95 % CI over repeats)", plot_width, plot_height);
   f.x_axis("simulated time (s)", t0, t1);
-  f.y_axis(m.y_label, 0, m.top.value_or(top));
+  f.y_axis(m.y_label, 0, m.top.value_or(top * 1.04));  // room above a flat line at the top
   std::vector<LegendEntry> legend;
   for (const auto& [v, l] : lines) legend.push_back({LegendEntry::line, palette(v), QString::fromStdString(variants[v])});
   legend.push_back({LegendEntry::band, QColor(0, 0, 0, 40), "95 % confidence interval"});
