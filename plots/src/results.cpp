@@ -307,11 +307,13 @@ std::pair<double, double> range_of(const std::vector<double>& v) {
   return lo > hi ? std::pair{0.0, 1.0} : std::pair{lo, hi};
 }
 
-// Values over time, a line each; the last is drawn on top. A single line has no legend.
+// Values over time, a line each, the first at the bottom and at the top of the legend; a single line
+// has no legend.
 struct Line {
   QString name;
   const std::vector<double>* y;
   QColor colour;
+  double width = 2.5;
 };
 
 void time_chart(const TestData& t, const std::vector<Line>& lines, const QString& title, const QString& y_label,
@@ -319,26 +321,26 @@ void time_chart(const TestData& t, const std::vector<Line>& lines, const QString
   Figure f(QString::fromStdString(t.name) + ": " + title, plot_width, plot_height);
   const auto [t0, t1] = range_of(t.time);
   f.x_axis("simulated time (s)", t0, t1);
-  const auto [lo, hi] = y_range ? *y_range : range_of(*lines.back().y);
+  const auto [lo, hi] = y_range ? *y_range : range_of(*lines.front().y);
   f.y_axis(y_label, std::min(0.0, lo), hi);
-  if (lines.size() > 1) {  // the total (drawn last) first
-    std::vector<LegendEntry> legend{{LegendEntry::line, lines.back().colour, lines.back().name}};
-    for (std::size_t i = 0; i + 1 < lines.size(); ++i) legend.push_back({LegendEntry::line, lines[i].colour, lines[i].name});
+  if (lines.size() > 1) {
+    std::vector<LegendEntry> legend;
+    for (const Line& l : lines) legend.push_back({LegendEntry::line, l.colour, l.name});
     f.legend(legend);
   }
   f.begin();
-  for (const Line& l : lines) draw_line(f, t.time, *l.y, l.colour);
+  for (const Line& l : lines) draw_line(f, t.time, *l.y, l.colour, l.width);
   f.save(file);
 }
 
-// One summary.csv column over time, the total last; with the groups' columns, a line per group before
-// it and the total in black.
+// One summary.csv column over time; with the groups' columns, the total is a wide grey line under a
+// line per group (a group that did it all covers the total's middle, not all of it).
 std::vector<Line> per_group(const TestData& t, const std::vector<double>& total, std::vector<double> Group::*column) {
-  std::vector<Line> lines;
+  std::vector<Line> lines{{"all drones", &total, palette(0)}};
   for (std::size_t g = 0; g < t.groups.size(); ++g)
     if ((t.groups[g].*column).size() == t.time.size())
       lines.push_back({QString::fromStdString(t.groups[g].name), &(t.groups[g].*column), group_colour(g)});
-  lines.push_back({"all drones", &total, lines.empty() ? palette(0) : QColor(Qt::black)});
+  if (lines.size() > 1) lines[0].colour = QColor(150, 150, 150), lines[0].width = 6;
   return lines;
 }
 
