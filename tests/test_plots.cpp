@@ -405,8 +405,11 @@ class TestPlots : public QObject {
           const QByteArray name = "t" + QByteArray::number(k);
           summary += name + ",ok,,c" + QByteArray::number(drones) + ",\"" + variant + "\",x," + QByteArray::number(repeat) + "," +
                      QByteArray::number(repeat + 1) + "," + QByteArray::number(drones) + ",50,tree,forest,10," + QByteArray::number(end) + "\n";
-          QByteArray rows = "time,targets_found,fraction_found\n";
-          for (int s = 0; s <= 10; ++s) rows += QByteArray::number(s) + ",0," + QByteArray::number(end * s / 10) + "\n";
+          // The 5-drone tests have the fleet model's `alive` (a drone lost from 5 s in odd repeats).
+          QByteArray rows = drones == 5 ? "time,targets_found,fraction_found,alive\n" : "time,targets_found,fraction_found\n";
+          for (int s = 0; s <= 10; ++s)
+            rows += QByteArray::number(s) + ",0," + QByteArray::number(end * s / 10) +
+                    (drones == 5 ? "," + QByteArray::number(s >= 5 && repeat % 2 ? 4 : 5) : QByteArray()) + "\n";
           write_file(out + "/" + name + "/summary.csv", rows);
         }
     summary += "t99,failed,boom,c5,flocking,x,6,7,5,50,tree,forest,10,\n";
@@ -416,8 +419,11 @@ class TestPlots : public QObject {
     const CliResult r = run_salsa({"plot", out});
     QVERIFY2(r.exit_code == 0, describe(r));
     QCOMPARE(non_empty_lines(QString::fromUtf8(read_file(out + "/comparison.csv"))).size(), 3);
-    for (const char* png : {"found_boxplot.png", "found_over_time_5_drones.png", "found_over_time_20_drones.png"})
+    for (const char* png : {"found_boxplot.png", "found_over_time_5_drones.png", "found_over_time_20_drones.png", "alive_over_time_5_drones.png"})
       check_png(out + "/plots/" + png, salsa::plots::plot_width, salsa::plots::plot_height);
+    // Drones alive over time only for the swarm size whose tests have the column.
+    QCOMPARE(pngs(out + "/plots"), (QStringList{"alive_over_time_5_drones.png", "comparison.png", "found_boxplot.png",
+                                                "found_over_time_20_drones.png", "found_over_time_5_drones.png"}));
     check_png(out + "/plots/comparison.png", salsa::plots::plot_width, salsa::plots::comparison_plot_height(2));
   }
 
