@@ -419,32 +419,33 @@ void trajectories(const TestData& t, const fs::path& file) {
 
   // Paths on top, dark: points within 1.5 pixels of the last one drawn are skipped (millions of
   // rows; a line is 1.5 pixels wide, so nothing visible is lost).
-  // A drone's colour: its group's, else one of its own.
+  // Drones in id order, so with groups the last group does not cover the others; a drone's colour is
+  // its group's, else one of its own.
+  std::vector<const std::pair<const TestData::DroneKey, Points>*> drones;
+  for (const auto& drone : t.paths) drones.push_back(&drone);
+  std::stable_sort(drones.begin(), drones.end(), [](auto a, auto b) { return a->first.second < b->first.second; });
+  auto colour = [&](std::size_t k) { return t.by_group() ? group_colour(drones[k]->first.first) : palette(k).darker(165); };
   const double min_step = 1.5 / f.pixels_per_x();
-  std::vector<QColor> colours;
-  for (const auto& [key, path] : t.paths) colours.push_back(t.by_group() ? group_colour(key.first) : palette(colours.size()).darker(165));
-  std::size_t k = 0;
-  for (const auto& [key, path] : t.paths) {
+  for (std::size_t k = 0; k < drones.size(); ++k) {
     QPolygonF line;
     double lx = 1e300, ly = 1e300;
-    for (auto [x, y] : path)
+    for (auto [x, y] : drones[k]->second)
       if (std::abs(x - lx) + std::abs(y - ly) >= min_step) line << f.at(x, y), lx = x, ly = y;
-    QColor c = colours[k++];
+    QColor c = colour(k);
     c.setAlpha(230);
     p.setPen(QPen(c, 1.5, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
     // In short pieces: Qt fills a translucent polyline as one path, which is slow when it crosses itself.
     for (qsizetype i = 0; i + 1 < line.size(); i += 16) p.drawPolyline(line.constData() + i, static_cast<int>(std::min<qsizetype>(17, line.size() - i)));
   }
   // Where each drone ended, over every path: a dot with a white rim, or a cross where it stopped.
-  k = 0;
-  for (const auto& [key, path] : t.paths) {
-    const QColor& c = colours[k++];
+  for (std::size_t k = 0; k < drones.size(); ++k) {
+    const auto& [key, path] = *drones[k];
     if (const auto stop = t.stops.find(key); stop != t.stops.end()) {
-      draw_cross(p, f.at(stop->second.x, stop->second.y), c);
+      draw_cross(p, f.at(stop->second.x, stop->second.y), colour(k));
       continue;
     }
     p.setPen(QPen(Qt::white, 1));
-    p.setBrush(c);
+    p.setBrush(colour(k));
     if (!path.empty()) p.drawEllipse(f.at(path.back().first, path.back().second), 3.5, 3.5);
   }
   f.save(file);
