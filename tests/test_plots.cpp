@@ -297,6 +297,13 @@ class TestPlots : public QObject {
     QVERIFY2(std::abs(hue_at(61, 11) - beta.hue()) < 8, qPrintable(QString::number(hue_at(61, 11))));
     const QImage before_heat(none + "/plots/heatmap.png");
     QCOMPARE(count_near(before_heat, before_heat.rect(), beta), 0);
+
+    // Speeds leave stopped drones out: from 3 s the drones still flying all fly at 10 m/s, so the
+    // min–max band is gone at 3.5 s, 5 m/s (the plot spans 0 … 4 s, 0 … 10 m/s from x = 95 to the
+    // legend at ~1010 px, y = 715 … 70); without the status, the stopped drones' 0 m/s keep it.
+    auto band_at_5 = [](const QString& folder) { return !near(QImage(folder + "/plots/speeds.png").pixelColor(880, 392), Qt::white); };
+    QVERIFY(band_at_5(none));
+    QVERIFY(!band_at_5(groups));
   }
 
   void binning() {
