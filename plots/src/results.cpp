@@ -120,7 +120,7 @@ MapShape read_map(const fs::path& folder, const json& config) {
 }
 
 // ---- One test's files, each read once.
-// A drone group's columns of summary.csv (the fleet model: groups given); empty when absent.
+// A drone group (the fleet model): its name and its summary.csv columns, empty when absent.
 struct Group {
   std::string name;
   std::vector<double> found, alive, energy;  // found: % of the targets
@@ -417,10 +417,9 @@ void trajectories(const TestData& t, const fs::path& file) {
     for (auto [x, y] : *points) p.drawEllipse(f.at(x, y), radius, radius);
   }
 
-  // Paths on top, dark: points within 1.5 pixels of the last one drawn are skipped (millions of
-  // rows; a line is 1.5 pixels wide, so nothing visible is lost).
-  // Drones in id order, so with groups the last group does not cover the others; a drone's colour is
-  // its group's, else one of its own.
+  // Paths on top: points within 1.5 pixels of the last one drawn are skipped (millions of rows; a
+  // line is 1.5 pixels wide, so nothing visible is lost). Drones in id order, so the last group does
+  // not cover the others; a drone's colour is its group's, else a dark one of its own.
   std::vector<const std::pair<const TestData::DroneKey, Points>*> drones;
   for (const auto& drone : t.paths) drones.push_back(&drone);
   std::stable_sort(drones.begin(), drones.end(), [](auto a, auto b) { return a->first.second < b->first.second; });
