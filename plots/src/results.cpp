@@ -600,7 +600,7 @@ void draw_test_plots(const fs::path& folder) {
   // Counts and sums from 0, with room above the total's largest value (a flat line off the frame).
   auto from_zero = [](const std::vector<double>& total) { return std::pair{0.0, range_of(total).second * 1.04}; };
   if (any_value(t.alive)) time_chart(t, per_group(t, t.alive, &Group::alive), "drones alive", "drones flying", from_zero(t.alive), dir / "alive.png");
-  if (any_value(t.energy))
+  if (std::any_of(t.energy.begin(), t.energy.end(), [](double x) { return x > 0; }))  // none used: no power model
     time_chart(t, per_group(t, t.energy, &Group::energy), "energy used", "energy used so far (Wh)", from_zero(t.energy), dir / "energy.png");
   if (!t.paths.empty()) {
     trajectories(t, dir / "trajectories.png");
