@@ -35,8 +35,8 @@ int main() {
   salsa::testing::Simulation on(R"({"behavior": {"name": "flocking_plus", "params": {"separation_distance": 60,
                                     "migration_weight": 1, "goal_x": 700, "goal_y": 700}}, )" + kWorld, {SALSA_PLUGIN_FILE});
   const double start = centre_to_goal(on);
-  on.run(60), builtin.run(30);
-  std::printf("the flock's centre to the goal: %.0f m at the start; after 60 s %.0f m with migration, %.0f m without\n",
+  on.run(90), builtin.run(60);
+  std::printf("the flock's centre to the goal: %.0f m at the start; after 90 s %.0f m with migration, %.0f m without\n",
               start, centre_to_goal(on), centre_to_goal(builtin));
   if (centre_to_goal(on) > 0.2 * start) return std::fprintf(stderr, "weight 1: the flock did not reach its goal\n"), 1;
   if (centre_to_goal(builtin) < 0.8 * start) return std::fprintf(stderr, "the built-in flew to the goal too\n"), 1;
