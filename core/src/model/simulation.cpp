@@ -839,6 +839,9 @@ void Simulation::read_back() {
 void Simulation::fleet() {
   const double dt = setup_.dt;
   const FailureSetup& f = setup_.failures;
+  bool batteries = false;
+  for (const GroupSetup& g : setup_.groups) batteries = batteries || g.drone.battery_capacity > 0;
+  if (!batteries && f.drone_mtbf <= 0 && f.camera_mtbf <= 0) return;
   for (std::uint32_t i = 0; i < drones_.positions.size(); ++i) {
     if (drones_.status[i] != DroneStatus::flying) continue;
     const GroupSetup& g = setup_.groups[drones_.groups[i]];
