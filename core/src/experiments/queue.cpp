@@ -593,8 +593,20 @@ struct Swept {
   std::string at;    // the axis values it was made of: "behaviors[1], set.drones[0]"
 };
 
-/// The behavior's name in a test object, or "" (the test reader refuses it then).
-std::string behavior_name(const json& test) { return test.contains("behavior") ? entry_name(test["behavior"]) : ""; }
+/// Appends `part` to a name or a list, after `separator` unless either is empty.
+void join(std::string& to, const std::string& part, const char* separator) {
+  if (!part.empty()) to += (to.empty() ? "" : separator) + part;
+}
+
+/// How a test object's behavior shows in its name: "flocking"; with groups, theirs joined by '-'.
+std::string behavior_name(const json& test) {
+  if (test.contains("behavior")) return entry_name(test["behavior"]);
+  std::string out;
+  if (test.contains("groups") && test["groups"].is_array())
+    for (const json& group : test["groups"])
+      if (group.is_object() && group.contains("behavior")) out += (out.empty() ? "" : "-") + entry_name(group["behavior"]);
+  return out;
+}
 
 /// Visits the sweep's tests in the order they run within a repeat, one at a time (a million test objects
 /// at once would take gigabytes): maps outer, then drone configurations, drone counts, targets,
@@ -621,36 +633,32 @@ void multiply(const Sweep& sweep, const Reader& r, Visit visit) {
       for (const Point& p : axis) {
         Point both = outer;
         both.set.update(p.set);
-        both.token += (both.token.empty() ? "" : "_") + p.token;
-        both.at += (both.at.empty() ? "" : ", ") + p.at;
+        join(both.token, p.token, "_");
+        join(both.at, p.at, ", ");
         product.push_back(std::move(both));
       }
     sets = std::move(product);
   }
-  const std::string prefix = sweep.base.contains("name") && sweep.base["name"].is_string() ? sweep.base["name"].get<std::string>() + "_" : "";
+  const std::string prefix = sweep.base.contains("name") && sweep.base["name"].is_string() ? sweep.base["name"].get<std::string>() : "";
   for (const Point& m : maps)
     for (const Point& dc : drone)
       for (const Point& n : drones)
         for (const Point& tg : targets)
           for (const Point& st : sets)
             for (const Point& b : behaviors) {
-              Swept t{sweep.base, "", ""};
-              for (const Point* p : {&b, &n, &tg, &m, &dc, &st}) {
-                if (p == &st) {
-                  for (const auto& [key, value] : p->set.items()) place(t.test, key, r) = value;
-                } else {
-                  for (const auto& [key, value] : p->set.items()) {
-                    if (key == "targets" && value.size() == 1 && value.contains("count") && t.test.contains("targets") && t.test["targets"].is_object())
-                      t.test["targets"]["count"] = value["count"];  // a count: kind and parameters from sweep.test
-                    else
-                      t.test[key] = value;
-                  }
+              Swept t{sweep.base, prefix, ""};
+              for (const Point* p : {&b, &n, &tg, &m, &dc}) {
+                for (const auto& [key, value] : p->set.items()) {
+                  if (key == "targets" && value.size() == 1 && value.contains("count") && t.test.contains("targets") && t.test["targets"].is_object())
+                    t.test["targets"]["count"] = value["count"];  // a count: kind and parameters from sweep.test
+                  else
+                    t.test[key] = value;
                 }
-                if (!p->at.empty()) t.at += (t.at.empty() ? "" : ", ") + p->at;
               }
-              t.name = prefix + (b.token.empty() ? behavior_name(t.test) : b.token);
-              for (const Point* p : {&n, &tg, &m, &dc, &st})
-                if (!p->token.empty()) t.name += "_" + p->token;
+              for (const auto& [key, value] : st.set.items()) place(t.test, key, r) = value;
+              join(t.name, b.token.empty() ? behavior_name(t.test) : b.token, "_");
+              for (const Point* p : {&n, &tg, &m, &dc, &st}) join(t.name, p->token, "_");
+              for (const Point* p : {&b, &n, &tg, &m, &dc, &st}) join(t.at, p->at, ", ");
               visit(std::move(t));
             }
 }
