@@ -220,20 +220,19 @@ class TestQueue : public QObject {
     std::set<std::string> names;
     for (std::size_t i = 0; i < q.tests.size(); ++i) {
       const TestSpec& t = q.tests[i];
+      const nlohmann::json config = nlohmann::json::parse(resolved_json(t, *host_));  // the test as read, as config.json holds it
       const double speed = i / 4 % 2 ? 12 : 6, clusters = i / 2 % 2 ? 4 : 2;
       QCOMPARE(t.repeat, i / 8);
-      QCOMPARE(t.behavior.name, std::string(i % 2 ? "flocking" : "random_walk"));
-      QCOMPARE(t.drone.max_speed, speed);
-      DroneConfig expected = medium;  // the rest of the named configuration
-      expected.name = t.drone.name;
-      expected.max_speed = speed;
-      QVERIFY(t.drone == expected);
-      QCOMPARE(t.map.name, std::string("forest"));
-      QCOMPARE(t.map.params.get("clusters"), clusters);
-      QCOMPARE(t.metrics.size(), std::size_t(2));
-      QCOMPARE(t.metrics[0].name, std::string("collisions"));
-      QCOMPARE(t.metrics[1].params.get("cell_size"), 2.5);
-      QCOMPARE(t.time, 5.0);
+      QCOMPARE(config.at("behavior").at("name"), nlohmann::json(i % 2 ? "flocking" : "random_walk"));
+      QCOMPARE(config.at("drone").at("max_speed").get<double>(), speed);
+      QCOMPARE(config.at("drone").at("radius").get<double>(), medium.radius);  // the rest of the named configuration
+      QCOMPARE(config.at("drone").at("detection_range").get<double>(), medium.detection_range);
+      QCOMPARE(config.at("map").at("name"), nlohmann::json("forest"));
+      QCOMPARE(config.at("map").at("params").at("clusters").get<double>(), clusters);
+      QCOMPARE(config.at("metrics").size(), std::size_t(2));
+      QCOMPARE(config.at("metrics")[0].at("name"), nlohmann::json("collisions"));
+      QCOMPARE(config.at("metrics")[1].at("params").at("cell_size").get<double>(), 2.5);
+      QCOMPARE(config.at("time").get<double>(), 5.0);
       QCOMPARE(t.name, std::string(i % 2 ? "flocking" : "random_walk") + "_max_speed" + number(speed) + "_clusters" +
                            number(clusters) + "_cell_size2.5_r" + std::to_string(t.repeat));
       QVERIFY(names.insert(t.name).second);
@@ -274,8 +273,9 @@ class TestQueue : public QObject {
                              "set": {"behavior.params.directions": [4, 8, 16], "drones": [4, 6]}}})");
     QCOMPARE(q.tests.size(), std::size_t(6));
     for (std::size_t i = 0; i < q.tests.size(); ++i) {
-      QCOMPARE(q.tests[i].behavior.params.get("directions"), double(4 << (i / 2)));
-      QCOMPARE(q.tests[i].drones, std::size_t(i % 2 ? 6 : 4));
+      const nlohmann::json config = nlohmann::json::parse(resolved_json(q.tests[i], *host_));
+      QCOMPARE(config.at("behavior").at("params").at("directions").get<double>(), double(4 << (i / 2)));
+      QCOMPARE(config.at("drones").get<int>(), i % 2 ? 6 : 4);
       QCOMPARE(q.tests[i].seed, q.tests[i % 2].seed);  // the parameter is not the world: paired
     }
     QVERIFY(q.tests[0].seed != q.tests[1].seed);

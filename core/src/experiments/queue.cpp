@@ -364,7 +364,7 @@ std::vector<std::vector<Point>> set_axes(const json& set, const json& s, const j
       if (s.contains(axis) && within(key, owns)) r.fail(field, std::string("also swept by sweep.") + axis + " (allowed: one or the other)");
     for (std::size_t o = 0; o < k; ++o)  // sorted: an enclosing key comes first
       if (within(key, keys[o])) r.fail(field, "inside sweep.set." + keys[o] + ", also swept (allowed: one or the other)");
-    static const char* const single_form[] = {"behavior", "drone", "drones", "spawn", "spawn_mode", "spawn_radius"};
+    static const char* const single_form[] = {"behavior", "drone", "drones", "spawn"};
     if (base.contains("groups") && base["groups"].is_array() && std::ranges::count(single_form, key_parts(key)[0]))
       r.fail(field, "sweep.test has \"groups\", each with its own (allowed: groups.<name>." + key + ", <name> one of: " + entry_names(base["groups"]) + ")");
     json& leaf = place(trial, key, r);
