@@ -85,12 +85,12 @@ int bench_queue(const po::variables_map& vm, const PluginHost& host, const std::
       options.threads = 1;  // one simulation per worker, as `salsa run --jobs` does
       std::optional<bench::Floor> recording;
       if (floor) {
-        recording.emplace(test.drones, test.steps());
+        recording.emplace(test.drone_total(), test.steps());
         options.on_step = [&](const Simulation& sim) { recording->record(sim); };
       }
       const RunResult r = run_test(test, host, options);
       Timing& t = timings[i];
-      t.drones = test.drones;
+      t.drones = test.drone_total();
       t.simulated = test.time;
       t.stepping = r.stepping_seconds;
       t.setup = r.wall_seconds - r.stepping_seconds;

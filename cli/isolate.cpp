@@ -69,8 +69,8 @@ std::pair<int, std::string> run_isolated(const TestSpec& test, const PluginHost&
   // interrupted, not crashed: the line that says where the run stopped is ours to print.
   if (WIFSIGNALED(status) && said.find_first_not_of(" \n") == std::string::npos && WTERMSIG(status) != passed_on)
     said = "salsa: test '" + test.name + "' (" + test.source + ") died of " + signal_name(WTERMSIG(status)) +
-           " in its own process (--isolate); behavior '" + test.behavior.name + "' (" +
-           host.behavior(test.behavior.name).plugin().file.string() + ")\n";
+           " in its own process (--isolate); behavior '" + test.groups[0].behavior.name + "' (" +
+           host.behavior(test.groups[0].behavior.name).plugin().file.string() + ")\n";
   else if (WIFSIGNALED(status) && WTERMSIG(status) == passed_on && said.find_first_not_of(" \n") == std::string::npos)
     said = "salsa: " + signal_name(passed_on) + ": stopped test '" + test.name + "' (" + test.source +
            ") before it began (run again with --resume to redo it)\n";

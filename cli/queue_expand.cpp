@@ -32,9 +32,9 @@ int cmd_queue(int argc, char** argv) {
       const std::string kind = describe_choice(t.target, host.target_kind(t.target.name).factory.parameters);
       if (kind != "tree") targets += " " + kind;
     }
-    rows.push_back({t.name, variant(t, host), "drones=" + std::to_string(t.drones), targets,
+    rows.push_back({t.name, variant(t, host), "drones=" + std::to_string(t.drone_total()), targets,
                     "map=" + (t.map_file.empty() ? describe_choice(t.map, host.map(t.map.name).factory.parameters) : t.map_file),
-                    "drone=" + t.drone.name, "repeat=" + std::to_string(t.repeat), "seed=" + std::to_string(t.seed)});
+                    "drone=" + t.groups[0].drone.name, "repeat=" + std::to_string(t.repeat), "seed=" + std::to_string(t.seed)});
   }
   std::vector<std::size_t> width(rows.empty() ? 0 : rows[0].size(), 0);
   for (const auto& row : rows)

@@ -58,12 +58,12 @@ class GuiEngine : public QObject {
     QCOMPARE(timeline[0].key, std::string("behavior.params.cohesion_weight"));
     QCOMPARE(timeline[0].value, 2.5);
     QCOMPARE(change_step(timeline[0].time, 1.0 / 60), std::uint64_t(30));
-    QCOMPARE(engine.current_test()->behavior.params.get("cohesion_weight"), 2.5);
+    QCOMPARE(engine.current_test()->groups[0].behavior.params.get("cohesion_weight"), 2.5);
     // Refused: out of the declared range; nothing recorded, nothing changed.
     const std::string why = engine.set("behavior.params.cohesion_weight", 99).get();
     QVERIFY2(why.starts_with("behavior.params.cohesion_weight: 99 is out of range (allowed: [0, 10])"), why.c_str());
     QCOMPARE(engine.timeline().size(), std::size_t(1));
-    QCOMPARE(engine.current_test()->behavior.params.get("cohesion_weight"), 2.5);
+    QCOMPARE(engine.current_test()->groups[0].behavior.params.get("cohesion_weight"), 2.5);
   }
 
   // The whole point of the timeline: a tuning session saved as a test replays byte for byte headless.
@@ -121,10 +121,10 @@ class GuiEngine : public QObject {
     QCOMPARE(engine.timeline().size(), std::size_t(3));
     steps(engine, 90);  // t = 1.5 s: two changes applied
     QCOMPARE(engine.snapshot()->positions.size(), std::size_t(18));
-    QCOMPARE(engine.current_test()->behavior.params.get("cohesion_weight"), 3.0);
-    QCOMPARE(engine.current_test()->drone.max_speed, 10.0);  // not yet
+    QCOMPARE(engine.current_test()->groups[0].behavior.params.get("cohesion_weight"), 3.0);
+    QCOMPARE(engine.current_test()->groups[0].drone.max_speed, 10.0);  // not yet
     steps(engine, 90);  // t = 3 s
-    QCOMPARE(engine.current_test()->drone.max_speed, 5.0);
+    QCOMPARE(engine.current_test()->groups[0].drone.max_speed, 5.0);
     const auto snap = engine.snapshot();
     QTemporaryDir dir;
     QVERIFY(write_file(dir.path() + "/timed.json", QByteArray::fromStdString(timed)));

@@ -102,7 +102,7 @@ class GuiQueue : public QObject {
 
     // Paired seeds: every behavior of a repeat and swarm size meets the same world.
     std::map<std::pair<std::size_t, std::size_t>, std::set<std::uint64_t>> seeds;
-    for (int i = 2; i < 14; ++i) seeds[{p->model()->test(i).drones, p->model()->test(i).repeat}].insert(p->model()->test(i).seed);
+    for (int i = 2; i < 14; ++i) seeds[{p->model()->test(i).groups[0].drones, p->model()->test(i).repeat}].insert(p->model()->test(i).seed);
     QCOMPARE(seeds.size(), std::size_t{4});
     for (const auto& [key, s] : seeds) QCOMPARE(s.size(), std::size_t{1});
 
@@ -137,11 +137,11 @@ class GuiQueue : public QObject {
     QueueModel& m = *p->model();
     QVERIFY(!m.setData(m.index(0, QueueModel::col_drones), 0));
     QVERIFY2(QString::fromStdString(m.last_error()).contains("drones"), m.last_error().c_str());
-    QCOMPARE(m.test(0).drones, std::size_t{4});
+    QCOMPARE(m.test(0).groups[0].drones, std::size_t{4});
     QVERIFY(!m.setData(m.index(1, QueueModel::col_name), "sandbox"));  // taken by row 1
     QVERIFY(QString::fromStdString(m.last_error()).contains("taken"));
     QVERIFY(m.setData(m.index(0, QueueModel::col_drones), 12));
-    QCOMPARE(m.test(0).drones, std::size_t{12});
+    QCOMPARE(m.test(0).groups[0].drones, std::size_t{12});
     QVERIFY(m.setData(m.index(0, QueueModel::col_time), 2.5));
     QCOMPARE(m.test(0).time, 2.5);
     // A whole test as JSON.
@@ -149,10 +149,10 @@ class GuiQueue : public QObject {
     j["behavior"]["name"] = "flocking";
     j["behavior"].erase("params");
     QVERIFY(m.replace(1, j.dump()).empty());
-    QCOMPARE(m.test(1).behavior.name, std::string("flocking"));
+    QCOMPARE(m.test(1).groups[0].behavior.name, std::string("flocking"));
     j["behavior"]["name"] = "no_such_behavior";
     QVERIFY(!m.replace(1, j.dump()).empty());
-    QCOMPARE(m.test(1).behavior.name, std::string("flocking"));
+    QCOMPARE(m.test(1).groups[0].behavior.name, std::string("flocking"));
   }
 
   void a_bad_queue_file_keeps_the_queue() {

@@ -207,7 +207,7 @@ class GuiTyping : public QObject {
     QCOMPARE(sandbox().map_panel()->value("size"), t->map.params.get("size"));
     QCOMPARE(QString::number(t->seed), sandbox().seed_box()->text());
     QCOMPARE(sandbox().targets_box()->value(), static_cast<int>(t->targets));
-    QCOMPARE(sandbox().drones_box()->value(), static_cast<int>(t->drones));
+    QCOMPARE(sandbox().drones_box()->value(), static_cast<int>(t->groups[0].drones));
   }
 
   void refused_values_say_why() {
@@ -217,7 +217,7 @@ class GuiTyping : public QObject {
     settle();
     close_message_boxes();
     QVERIFY2(sandbox().last_message().startsWith("drone.max_speed: 100 m/s"), qPrintable(sandbox().last_message()));
-    QCOMPARE(sandbox().drone_panel()->value("max_speed"), sandbox().engine().current_test()->drone.max_speed);
+    QCOMPARE(sandbox().drone_panel()->value("max_speed"), sandbox().engine().current_test()->groups[0].drone.max_speed);
     // A seed that is not one: the line's message, the seed that runs shown again.
     for (const char* bad : {"abc", "9007199254740993", "-1", "1e5"}) {
       type_and_commit(sandbox().seed_box(), bad, Commit::tab, sandbox().view());
@@ -403,7 +403,7 @@ class GuiTyping : public QObject {
     const QString said = window_->status_text();
     QVERIFY2(said.contains("the last session's test (behavior 'my_own_behavior') was not restored") && said.contains("--plugin-dir"),
              qPrintable(said));
-    QCOMPARE(window_->sandbox()->engine().current_test()->behavior.name, std::string("pheromone_avoidance"));
+    QCOMPARE(window_->sandbox()->engine().current_test()->groups[0].behavior.name, std::string("pheromone_avoidance"));
   }
 };
 

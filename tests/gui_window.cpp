@@ -73,7 +73,7 @@ class GuiWindow : public QObject {
     QVERIFY(spin);
     spin->setValue(2.5);  // as a user typing it
     settle();
-    QCOMPARE(window_->sandbox()->engine().current_test()->behavior.params.get("cohesion_weight"), 2.5);
+    QCOMPARE(window_->sandbox()->engine().current_test()->groups[0].behavior.params.get("cohesion_weight"), 2.5);
     QSlider* slider = window_->sandbox()->behavior_panel()->slider("alignment_weight");
     slider->setValue(slider->maximum() / 2);  // as a user dragging it
     settle();
@@ -82,7 +82,7 @@ class GuiWindow : public QObject {
     QCOMPARE(timeline[0].key, std::string("behavior.params.cohesion_weight"));
     QCOMPARE(change_step(timeline[0].time, 1.0 / 60), std::uint64_t(20));
     QCOMPARE(timeline[1].key, std::string("behavior.params.alignment_weight"));
-    QCOMPARE(window_->sandbox()->engine().current_test()->behavior.params.get("alignment_weight"), timeline[1].value);
+    QCOMPARE(window_->sandbox()->engine().current_test()->groups[0].behavior.params.get("alignment_weight"), timeline[1].value);
   }
 
   // A test's own timed changes play in the sandbox as in salsa run, and the controls follow them.
@@ -121,7 +121,7 @@ class GuiWindow : public QObject {
     settle();
     QVERIFY2(window_->sandbox()->last_message().startsWith("drone.max_speed: 100 m/s"), qPrintable(window_->sandbox()->last_message()));
     QCOMPARE(speed->value(), 10.0);
-    QCOMPARE(window_->sandbox()->engine().current_test()->drone.max_speed, 10.0);
+    QCOMPARE(window_->sandbox()->engine().current_test()->groups[0].drone.max_speed, 10.0);
   }
 
   void clicking_a_drone_shows_its_state() {

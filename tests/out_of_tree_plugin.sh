@@ -72,7 +72,7 @@ echo "ok: the smoke test fails bad_map"
 examples=$prefix/share/doc/salsa/examples/plugin
 configure_build_test "$examples" "$work/example"
 out=$(ctest --test-dir "$work/example" --output-on-failure 2>&1) || { echo "$out"; echo "FAIL: ctest of examples/plugin"; exit 1; }
-for t in wander_test dwell_test rings_test wander_loads dwell_loads rings_loads in_zone_loads; do
+for t in wander_test dwell_test rings_test flocking_plus_test wander_loads dwell_loads rings_loads in_zone_loads flocking_plus_loads; do
   grep -q "$t .*Passed" <<<"$out" || { echo "$out"; echo "FAIL: $t did not pass"; exit 1; }
 done
 # A queue that uses all four, from a fresh folder holding only the built files.
@@ -113,7 +113,11 @@ grep -E "^  map +my_map " <<<"$listing"
 grep -E "^  contact handler +my_contact_handler " <<<"$listing"
 grep -E "^  metric +my_metric " <<<"$listing"
 grep -E "behavior +wander +1\.0\.0" <<<"$listing"
+grep -E "behavior +flocking_plus +1\.0\.0" <<<"$listing"
 "$salsa" describe wander --plugin-dir "$work/example" | grep turn_interval
+# The derived behavior declares the built-in's parameters and its own.
+"$salsa" describe flocking_plus --plugin-dir "$work/example" | grep separation_distance
+"$salsa" describe flocking_plus --plugin-dir "$work/example" | grep migration_weight
 # The installed salsa finds its own built-in plugins in <prefix>/lib/salsa/plugins.
 grep -E "behavior +flocking" <<<"$listing"
 # cmake --install put them in the user folder; salsa finds them there (HOME set by the test).

@@ -119,7 +119,7 @@ class TestBehaviors : public QObject {
     const salsa::TestSpec test = salsa::parse_test(json.arg(dir.filePath("map.json")).toStdString(), "t.json", *host_);
     salsa::SimulationSetup setup = salsa::make_setup(test, *host_, 1);
     auto recorder = std::make_shared<PrepareRecorder>();
-    setup.behavior = recorder;
+    setup.groups[0].behavior = recorder;
     salsa::Simulation sim(setup);
     sim.step();
     QCOMPARE(recorder->drones.size(), std::size_t(1));
@@ -127,17 +127,17 @@ class TestBehaviors : public QObject {
     QCOMPARE(d.max_speed, 7.0);
     QCOMPARE(d.camera_range, 33.0);
     QCOMPARE(d.radius, 0.8);
-    QCOMPARE(d.max_force, test.drone.max_force);  // the rest from "medium"
-    QCOMPARE(d.mass, test.drone.mass);
-    QCOMPARE(d.obstacle_range, test.drone.obstacle_range);
-    QCOMPARE(d.detection_range, test.drone.detection_range);
+    QCOMPARE(d.max_force, test.groups[0].drone.max_force);  // the rest from "medium"
+    QCOMPARE(d.mass, test.groups[0].drone.mass);
+    QCOMPARE(d.obstacle_range, test.groups[0].drone.obstacle_range);
+    QCOMPARE(d.detection_range, test.groups[0].drone.detection_range);
     QCOMPARE(recorder->map.bounds, (salsa::Rect{{0, 0}, {200, 100}}));
     QCOMPARE(recorder->map.spawn, Vec2(20, 50));
     QCOMPARE(recorder->map.obstacles.size(), std::size_t(2));
     QCOMPARE(recorder->map.obstacles[0], (salsa::Polyline{{40, 40}, {60, 40}, {60, 60}, {40, 60}}));
     QCOMPARE(recorder->map.obstacles[1], (salsa::Polyline{{100, 10}, {130, 10}, {115, 30}}));
 
-    salsa::DroneConfig slower = test.drone;
+    salsa::DroneConfig slower = test.groups[0].drone;
     slower.max_speed = 5;
     sim.set_drone_config(slower);
     sim.step();

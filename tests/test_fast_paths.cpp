@@ -192,11 +192,11 @@ class TestFastPaths : public QObject {
     recorder->steering = {0.05, -0.03};
     salsa::SimulationSetup setup;
     setup.map = random_map(static_cast<std::uint64_t>(drones + shapes), size, shapes);
-    setup.spawn_mode = salsa::SpawnMode::uniform;
-    setup.drone.detection_range = detection;
-    setup.drone.obstacle_rays = 16;
-    setup.drones = static_cast<std::size_t>(drones);
-    setup.behavior = recorder;
+    setup.groups[0].spawn_mode = salsa::SpawnMode::uniform;
+    setup.groups[0].drone.detection_range = detection;
+    setup.groups[0].drone.obstacle_rays = 16;
+    setup.groups[0].drones = static_cast<std::size_t>(drones);
+    setup.groups[0].behavior = recorder;
     setup.target_kind = trees();
     setup.targets = 500;
     setup.contact_handlers = {detect_targets()};
@@ -313,10 +313,10 @@ class TestFastPaths : public QObject {
     recorder->steering = {0.05, -0.03};
     salsa::SimulationSetup setup;
     setup.map = random_map(7, 500, 20);
-    setup.spawn_mode = salsa::SpawnMode::uniform;
-    setup.drone.camera_range = 20;
-    setup.drones = 150;
-    setup.behavior = recorder;
+    setup.groups[0].spawn_mode = salsa::SpawnMode::uniform;
+    setup.groups[0].drone.camera_range = 20;
+    setup.groups[0].drones = 150;
+    setup.groups[0].behavior = recorder;
     setup.target_kind = std::make_shared<FarSight>(widened);
     setup.targets = 600;
     setup.contact_handlers = {detect_targets()};
@@ -360,7 +360,7 @@ class TestFastPaths : public QObject {
     QFETCH(double, factor);
     salsa::SimulationSetup setup;
     setup.map = random_map(3, 200, 0);
-    setup.behavior = std::make_shared<Recorder>();
+    setup.groups[0].behavior = std::make_shared<Recorder>();
     setup.target_kind = std::make_shared<FarSight>(true, factor);
     setup.targets = 10;
     try {
@@ -389,8 +389,8 @@ class TestFastPaths : public QObject {
       recorder->senses_declared = senses;
       salsa::SimulationSetup setup;
       setup.map = random_map(5, 300, 6);
-      setup.drones = 30;
-      setup.behavior = recorder;
+      setup.groups[0].drones = 30;
+      setup.groups[0].behavior = recorder;
       setup.target_kind = trees();
       setup.targets = 2000;
       setup.contact_handlers = {detect_targets()};
@@ -431,10 +431,10 @@ class TestFastPaths : public QObject {
     QFETCH(double, detection);
     salsa::SimulationSetup setup;
     setup.map = random_map(3, 3000, 10);
-    setup.spawn_mode = salsa::SpawnMode::uniform;
-    setup.drone.detection_range = detection;
-    setup.drones = static_cast<std::size_t>(drones);
-    setup.behavior = std::make_shared<Recorder>();
+    setup.groups[0].spawn_mode = salsa::SpawnMode::uniform;
+    setup.groups[0].drone.detection_range = detection;
+    setup.groups[0].drones = static_cast<std::size_t>(drones);
+    setup.groups[0].behavior = std::make_shared<Recorder>();
     salsa::Simulation sim(setup);
     sim.run_steps(3);
     const auto got = sim.nearest_neighbour_distances();
@@ -765,9 +765,9 @@ class TestFastPaths : public QObject {
       salsa::SimulationSetup setup;
       if (behavior.isEmpty()) {
         setup.map = random_map(11, 600, 60);
-        setup.behavior = std::make_shared<Jitter>();
-        setup.drones = 300;
-        setup.spawn_mode = salsa::SpawnMode::uniform;
+        setup.groups[0].behavior = std::make_shared<Jitter>();
+        setup.groups[0].drones = 300;
+        setup.groups[0].spawn_mode = salsa::SpawnMode::uniform;
         setup.seed = 5;
       } else {
         const salsa::TestSpec t = salsa::parse_test(

@@ -98,9 +98,9 @@ class TestLimits : public QObject {
     SimulationSetup setup;
     setup.map.bounds = {{0, 0}, {300, 300}};
     setup.map.spawn = {150, 150};
-    setup.drone.detection_range = 0;
-    setup.drones = 40;
-    setup.behavior = std::make_shared<Straight>();
+    setup.groups[0].drone.detection_range = 0;
+    setup.groups[0].drones = 40;
+    setup.groups[0].behavior = std::make_shared<Straight>();
     Simulation sim(setup);
     sim.run_steps(5);
     const auto got = sim.nearest_neighbour_distances();
@@ -197,14 +197,14 @@ class TestLimits : public QObject {
     // Everything is solid but a 4 m × 4 m pocket; a drone of radius 1.99 m fits in a 2 cm square of it.
     setup.map.obstacles = {{{0, 0}, {48, 0}, {48, 100}, {0, 100}}, {{52, 0}, {100, 0}, {100, 100}, {52, 100}},
                            {{48, 0}, {52, 0}, {52, 48}, {48, 48}}, {{48, 52}, {52, 52}, {52, 100}, {48, 100}}};
-    setup.drone.radius = 1.99;
-    setup.spawn_mode = static_cast<SpawnMode>(mode);
-    setup.drones = 1000;
-    setup.behavior = std::make_shared<Straight>();
+    setup.groups[0].drone.radius = 1.99;
+    setup.groups[0].spawn_mode = static_cast<SpawnMode>(mode);
+    setup.groups[0].drones = 1000;
+    setup.groups[0].behavior = std::make_shared<Straight>();
     const auto start = std::chrono::steady_clock::now();
     Simulation sim(setup);
     QVERIFY2(seconds_since(start) < 30, qPrintable(QString("%1 s").arg(seconds_since(start))));
-    for (Vec2 p : sim.drone_positions()) QVERIFY(sim.is_free(p, setup.drone.radius));
+    for (Vec2 p : sim.drone_positions()) QVERIFY(sim.is_free(p, setup.groups[0].drone.radius));
   }
 
   // (30 s: a bound against the minutes these took, loose enough for a busy sanitizer build.)
@@ -278,13 +278,13 @@ class TestLimits : public QObject {
     if (wall == 0) setup.map.lines = {{{x_wall, 0}, {x_wall, 100}}};
     const double thickness = wall == 1 ? 20 : 0.001;
     if (wall > 0) setup.map.obstacles = {{{x_wall, 0}, {x_wall + thickness, 0}, {x_wall + thickness, 100}, {x_wall, 100}}};
-    setup.drone = racer(radius, speed);
-    QVERIFY(!check_drone(setup.drone, dt));
+    setup.groups[0].drone = racer(radius, speed);
+    QVERIFY(!check_drone(setup.groups[0].drone, dt));
     setup.dt = dt;
     setup.decision_lag = lag;
-    setup.drones = 1;
-    setup.spawn_radius = 1e-9;
-    setup.behavior = std::make_shared<Straight>();
+    setup.groups[0].drones = 1;
+    setup.groups[0].spawn_radius = 1e-9;
+    setup.groups[0].behavior = std::make_shared<Straight>();
     const double step = speed * dt;
     for (int k = 0; k <= 40; ++k) {  // gaps from all but touching to one step and a little more
       const double gap = 0.001 + (step + 0.05) * k / 40;
@@ -319,11 +319,11 @@ class TestLimits : public QObject {
     SimulationSetup setup;
     setup.map.bounds = {{32000, 0}, {32767, 100}};
     setup.map.spawn = {32100, 50};
-    setup.drone = racer(1, 10);
-    setup.drone.max_force = 1000;
-    setup.drones = 1;
-    setup.spawn_radius = 1e-9;
-    setup.behavior = std::make_shared<Straight>();
+    setup.groups[0].drone = racer(1, 10);
+    setup.groups[0].drone.max_force = 1000;
+    setup.groups[0].drones = 1;
+    setup.groups[0].spawn_radius = 1e-9;
+    setup.groups[0].behavior = std::make_shared<Straight>();
     Simulation sim(setup);
     sim.run_steps(5);
     const double x0 = sim.drone_positions()[0].x;
@@ -385,7 +385,7 @@ class TestLimits : public QObject {
     SimulationSetup setup;
     setup.map.bounds = {{0, 0}, {100, 100}};
     setup.map.spawn = {50, 50};
-    setup.behavior = std::make_shared<Straight>();
+    setup.groups[0].behavior = std::make_shared<Straight>();
     auto refused = [](SimulationSetup s) {
       try {
         Simulation sim(std::move(s));
@@ -403,7 +403,7 @@ class TestLimits : public QObject {
     QCOMPARE(refused(s), "map: bounds: min [-1e+308, -1e+308], max [1e+308, 1e+308] span inf × inf m, beyond a double "
                          "(allowed: max − min below 1.7e308 on both axes)");
     s = setup;
-    s.drone.detection_range = -1;
+    s.groups[0].drone.detection_range = -1;
     QCOMPARE(refused(s), "drone.detection_range: -1 m is out of range (allowed: [0, 100000] m)");
     s = setup;
     s.dt = not_a_number;
@@ -425,9 +425,9 @@ class TestLimits : public QObject {
       SimulationSetup setup;
       setup.map.bounds = {{0, 0}, {100, 100}};
       setup.map.spawn = {50, 50};
-      setup.drones = 3;
-      setup.drone.max_speed = 5;
-      setup.behavior = std::make_shared<Fixed>(steering);
+      setup.groups[0].drones = 3;
+      setup.groups[0].drone.max_speed = 5;
+      setup.groups[0].behavior = std::make_shared<Fixed>(steering);
       Simulation sim(setup);
       sim.run_steps(2);
       for (const Vec2 v : sim.drone_velocities()) {
@@ -459,9 +459,9 @@ class TestLimits : public QObject {
       SimulationSetup setup;
       setup.map.bounds = {{0, 0}, {100, 100}};
       setup.map.spawn = {50, 50};
-      setup.drones = 5;
-      setup.drone.camera_range = 200;  // every target in view at once
-      setup.behavior = std::make_shared<Straight>();
+      setup.groups[0].drones = 5;
+      setup.groups[0].drone.camera_range = 200;  // every target in view at once
+      setup.groups[0].behavior = std::make_shared<Straight>();
       setup.target_kind = std::make_shared<Tree>();
       setup.targets = 3;
       setup.contact_handlers = {std::make_shared<Crediting>(drone)};

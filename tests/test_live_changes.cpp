@@ -16,13 +16,17 @@ using namespace salsa_test;
 
 namespace {
 
-/// Steers at random; its reset throws for more than `most` drones (a plugin failing a live change).
+/// Steers at random; its reset and resize throw for more than `most` drones (a plugin failing a live change).
 class Picky final : public BehaviorWithMemory<double> {
  public:
   explicit Picky(std::size_t most) : most_(most) {}
   void reset(std::size_t drones) override {
     if (drones > most_) throw std::runtime_error("too many drones");
     BehaviorWithMemory::reset(drones);
+  }
+  void resize(std::size_t drones) override {
+    if (drones > most_) throw std::runtime_error("too many drones");
+    BehaviorWithMemory::resize(drones);
   }
   Vec2 decide(const Perception& me, double& turns, Rng& rng) override {
     turns += 1;
@@ -110,10 +114,16 @@ class TestLiveChanges : public QObject {
     QCOMPARE(sim->drone_positions()[3], kept);  // existing drones stay where they are
     sim->run_steps(30);
     check_sound(*sim);
+    // Fewer: the highest ids are removed, never reused; the others fly on where they were.
+    const Vec2 before = sim->drone_positions()[3];
     sim->set_drone_count(4);
-    QCOMPARE(sim->drone_count(), std::size_t(4));
-    QCOMPARE(sim->drone_velocities().size(), std::size_t(4));
+    QCOMPARE(sim->flying_count(), std::size_t(4));
+    QCOMPARE(sim->drone_count(), std::size_t(25));
+    QCOMPARE(sim->drone_positions()[3], before);
+    for (std::uint32_t i = 0; i < 25; ++i) QCOMPARE(sim->drone_status()[i] == DroneStatus::removed, i >= 4);
+    const Vec2 gone = sim->drone_positions()[10];
     sim->run_steps(30);
+    QCOMPARE(sim->drone_positions()[10], gone);  // a removed drone moves no more
     check_sound(*sim);
   }
 
@@ -229,7 +239,7 @@ class TestLiveChanges : public QObject {
                                  "targets": {"kind": "tree", "count": 300}, "seed": 5})";
     auto setup = [&] {
       SimulationSetup s = make_setup(parse_test(json, "twin", *host_), *host_, 1);
-      s.behavior = std::make_shared<Picky>(20);
+      s.groups[0].behavior = std::make_shared<Picky>(20);
       return s;
     };
     return {std::make_unique<Simulation>(setup()), std::make_unique<Simulation>(setup())};

@@ -36,6 +36,85 @@ void check_png(const QString& file, int width, int height) {
   QVERIFY2(ink > image.width() * image.height() / 4 / 100, qPrintable(file + ": almost blank"));
 }
 
+/// The PNG files in a folder, by name.
+QStringList pngs(const QString& dir) { return QDir(dir).entryList({"*.png"}, QDir::Files, QDir::Name); }
+
+/// Colours within a small distance: antialiased edges and translucent paths are not exact.
+bool near(QColor a, QColor b) { return std::abs(a.red() - b.red()) + std::abs(a.green() - b.green()) + std::abs(a.blue() - b.blue()) < 90; }
+
+/// Pixels near `colour` in a rectangle of the image.
+int count_near(const QImage& image, QRect r, QColor colour) {
+  int n = 0;
+  r &= image.rect();
+  for (int y = r.top(); y <= r.bottom(); ++y)
+    for (int x = r.left(); x <= r.right(); ++x) n += near(image.pixelColor(x, y), colour);
+  return n;
+}
+
+// A test folder written by hand in the fleet model's format (docs/output-format.md): `none`, the files
+// of a run without groups, batteries or failures; `single`, the one group "swarm" (a battery or failures
+// on); `groups`, groups `a` and `b`. A 100 m square, 5 s: drone 0 flies along y = 81 to x = 51, drone 1
+// along y = 31 and lands at (31, 31) at 2 s, drone 2 along x = 61, drone 3 along y = 71 and fails at
+// (71, 71) at 3 s; with groups, 0 and 1 are `a`, 2 and 3 `b`. (Positions off the heat map's cell edges.)
+enum class Fleet { none, single, groups };
+void write_fleet_folder(const QString& folder, Fleet fleet, const QString& a = "alpha", const QString& b = "beta") {
+  write_file(folder + "/config.json", R"({"name": "f"})");
+  write_file(folder + "/map.json", R"({"bounds": {"min": [0, 0], "max": [100, 100]}})");
+  write_file(folder + "/targets.csv", "id,x,y,found_time,found_by,observations\n0,50,50,1,0,3\n1,90,10,,,0\n");
+  QString summary = "time,targets_found,fraction_found,mean_speed,max_speed,mean_nn_distance,collisions";
+  if (fleet != Fleet::none) summary += ",alive,energy_used_Wh";
+  if (fleet == Fleet::groups) summary += QString(",%1.found,%1.alive,%1.energy_used_Wh,%2.found,%2.alive,%2.energy_used_Wh").arg(a, b);
+  QString drones = QString("time,id,x,y,vx,vy") + (fleet != Fleet::none ? ",group,status,energy_used_Wh" : "") + "\n";
+  for (int t = 0; t <= 4; ++t) {
+    const int found = t >= 1 ? 1 : 0, alive_a = t >= 2 ? 1 : 2, alive_b = t >= 3 ? 1 : 2;
+    summary += QString("\n%1,%2,%3,10,10,20,0").arg(t).arg(found).arg(found * 0.5);
+    if (fleet != Fleet::none) summary += QString(",%1,%2").arg(alive_a + alive_b).arg(5 * t);
+    if (fleet == Fleet::groups) summary += QString(",%1,%2,%3,0,%4,%5").arg(found).arg(alive_a).arg(2 * t).arg(alive_b).arg(3 * t);
+    struct Row { int id; double x, y; QString group, status; };
+    const QString single = "swarm";
+    const Row rows[] = {{0, 11.0 + 10 * t, 81, fleet == Fleet::groups ? a : single, "flying"},
+                        {1, 11.0 + 10 * std::min(t, 2), 31, fleet == Fleet::groups ? a : single, t >= 2 ? "landed" : "flying"},
+                        {2, 61, 11.0 + 10 * t, fleet == Fleet::groups ? b : single, t >= 1 ? "camera_failed" : "flying"},
+                        {3, 41.0 + 10 * std::min(t, 3), 71, fleet == Fleet::groups ? b : single, t >= 3 ? "failed" : "flying"}};
+    for (const Row& r : rows) {
+      const bool stopped = r.status == "landed" || r.status == "failed";
+      drones += QString("%1,%2,%3,%4,%5,0").arg(t).arg(r.id).arg(r.x).arg(r.y).arg(stopped ? 0 : 10);
+      if (fleet != Fleet::none) drones += "," + r.group + "," + r.status + "," + QString::number(t);
+      drones += "\n";
+    }
+  }
+  write_file(folder + "/summary.csv", (summary + "\n").toUtf8());
+  write_file(folder + "/drones.csv", drones.toUtf8());
+}
+
+/// Where map point (x, y) is in a map plot: the map's walls (3 px, black) are found along the middle
+/// row and column; the map here is 0 … 100 m both ways. (-1, -1) when they are not there.
+QPointF map_pixel(const QImage& image, double x, double y) {
+  auto walls = [&](bool across) {
+    std::vector<double> centres;
+    const int n = across ? image.width() : image.height();
+    for (int i = across ? 100 : 60, run = 0; i < n; ++i) {  // past the tick labels, below the title
+      const QColor c = across ? image.pixelColor(i, image.height() / 2) : image.pixelColor(image.width() / 2, i);
+      if (std::max({c.red(), c.green(), c.blue()}) < 50) ++run;
+      else {
+        if (run >= 2) centres.push_back(i - (run + 1) / 2.0);
+        run = 0;
+      }
+    }
+    return centres;
+  };
+  const auto columns = walls(true), rows = walls(false);
+  if (columns.size() < 2 || rows.size() < 2) return {-1, -1};
+  return {columns[0] + x / 100 * (columns[1] - columns[0]), rows[1] - y / 100 * (rows[1] - rows[0])};
+}
+
+/// A cross (✕, ±5 px) in `colour` centred on `at`: the colour on its four diagonal arms, 4 px out.
+bool cross_at(const QImage& image, QPointF at, QColor colour) {
+  for (QPointF arm : {QPointF(4, 4), QPointF(-4, 4), QPointF(4, -4), QPointF(-4, -4)})
+    if (count_near(image, QRect((at + arm).toPoint() - QPoint(1, 1), QSize(3, 3)), colour) == 0) return false;
+  return true;
+}
+
 /// A CSV file's rows as fields (salsa's test files hold no quoted fields).
 QList<QStringList> csv_rows(const QString& file) {
   QList<QStringList> rows;
@@ -161,6 +240,72 @@ class TestPlots : public QObject {
     QVERIFY(!QFileInfo::exists(path("out/c/plots/nn_distance.png")));  // one drone: no distances
   }
 
+  // The fleet model's columns add alive.png and energy.png, a line per group, trajectories and the heat
+  // map coloured by group (Okabe–Ito: orange, then blue) and a cross where a drone landed or failed;
+  // without them a folder gives the same files as before.
+  void fleet_columns() {
+    const QString none = path("out/none"), single = path("out/single"), groups = path("out/groups"), renamed = path("out/renamed");
+    write_fleet_folder(none, Fleet::none);
+    write_fleet_folder(single, Fleet::single);
+    write_fleet_folder(groups, Fleet::groups);
+    write_fleet_folder(renamed, Fleet::groups, "alpha_renamed_longer");
+    for (const QString& folder : {none, single, groups, renamed}) {
+      const CliResult r = run_salsa({"plot", folder});
+      QVERIFY2(r.exit_code == 0, describe(r));
+    }
+    const QStringList before{"found.png", "heatmap.png", "nn_distance.png", "speeds.png", "trajectories.png"};
+    const QStringList fleet{"alive.png", "energy.png", "found.png", "heatmap.png", "nn_distance.png", "speeds.png", "trajectories.png"};
+    QCOMPARE(pngs(none + "/plots"), before);
+    QCOMPARE(pngs(single + "/plots"), fleet);
+    QCOMPARE(pngs(groups + "/plots"), fleet);
+    for (const QString& png : fleet) check_png(groups + "/plots/" + png, salsa::plots::plot_width, salsa::plots::plot_height);
+    const QColor alpha(0xE6, 0x9F, 0x00), beta(0x00, 0x72, 0xB2);
+
+    // Lines over time: the legend's rows (28 px apart from y = 74, on the right) are the total, then
+    // each group in its colour with its name; one group has no legend.
+    auto legend_row = [](int i) { return QRect(1040, 74 + 28 * i, 160, 24); };
+    for (const char* png : {"found.png", "alive.png", "energy.png"}) {
+      const QImage image(groups + "/plots/" + png), one(single + "/plots/" + png);
+      QVERIFY2(count_near(image, legend_row(1), alpha) > 20 && count_near(image, legend_row(1), beta) == 0, png);
+      QVERIFY2(count_near(image, legend_row(2), beta) > 20 && count_near(image, legend_row(2), alpha) == 0, png);
+      QVERIFY2(count_near(one, QRect(1040, 70, 160, 100), Qt::black) == 0, png);  // no legend text
+    }
+    // The name is the legend's text: a longer name, more text in its row.
+    auto text = [&](const QString& folder) { return count_near(QImage(folder + "/plots/found.png"), QRect(600, 74 + 28, 600, 24), Qt::black); };
+    QVERIFY2(text(renamed) > text(groups) + 50, qPrintable(QString("%1 vs %2 dark pixels").arg(text(renamed)).arg(text(groups))));
+
+    // Trajectories: each drone in its group's colour, a cross in it where drone 1 landed and drone 3
+    // failed, none where drone 0 kept flying nor without the status column.
+    const QImage trajectories(groups + "/plots/trajectories.png"), before_trajectories(none + "/plots/trajectories.png");
+    QVERIFY(map_pixel(trajectories, 0, 0).x() > 0);
+    QVERIFY(cross_at(trajectories, map_pixel(trajectories, 31, 31), alpha));
+    QVERIFY(cross_at(trajectories, map_pixel(trajectories, 71, 71), beta));
+    QVERIFY(!cross_at(trajectories, map_pixel(trajectories, 51, 81), alpha));
+    // One group: a colour per drone as before, and the cross in the drone's colour; no status: a dot.
+    const QImage one_group(single + "/plots/trajectories.png");
+    for (const QImage& image : {before_trajectories, one_group})
+      QVERIFY(count_near(image, image.rect(), alpha) == 0 && count_near(image, image.rect(), beta) == 0);
+    const QPointF landed = map_pixel(one_group, 31, 31), dot = map_pixel(before_trajectories, 31, 31);
+    QVERIFY(landed.x() > 0 && dot.x() > 0);
+    QVERIFY(!near(one_group.pixelColor(landed.toPoint()), Qt::white) && cross_at(one_group, landed, one_group.pixelColor(landed.toPoint())));
+    QVERIFY(!near(before_trajectories.pixelColor(dot.toPoint()), Qt::white) && !cross_at(before_trajectories, dot, before_trajectories.pixelColor(dot.toPoint())));
+
+    // The heat map: a cell takes its group's hue (only group a was at (11, 81), only b at (61, 11)).
+    const QImage heat(groups + "/plots/heatmap.png");
+    auto hue_at = [&](double x, double y) { return heat.pixelColor(map_pixel(heat, x, y).toPoint()).hue(); };
+    QVERIFY2(std::abs(hue_at(11, 81) - alpha.hue()) < 8, qPrintable(QString::number(hue_at(11, 81))));
+    QVERIFY2(std::abs(hue_at(61, 11) - beta.hue()) < 8, qPrintable(QString::number(hue_at(61, 11))));
+    const QImage before_heat(none + "/plots/heatmap.png");
+    QCOMPARE(count_near(before_heat, before_heat.rect(), beta), 0);
+
+    // Speeds leave stopped drones out: from 3 s the drones still flying all fly at 10 m/s, so the
+    // min–max band is gone at 3.5 s, 5 m/s (the plot spans 0 … 4 s, 0 … 10 m/s from x = 95 to the
+    // legend at ~1010 px, y = 715 … 70); without the status, the stopped drones' 0 m/s keep it.
+    auto band_at_5 = [](const QString& folder) { return !near(QImage(folder + "/plots/speeds.png").pixelColor(880, 392), Qt::white); };
+    QVERIFY(band_at_5(none));
+    QVERIFY(!band_at_5(groups));
+  }
+
   void binning() {
     // 10 m × 5 m in cells of 5 m: two cells side by side; a position outside is left out.
     const auto g = salsa::plots::bin_positions({{1, 1}, {2, 2}, {7, 1}, {11, 1}}, {0, 0, 10, 5}, 2);
@@ -267,8 +412,11 @@ class TestPlots : public QObject {
           const QByteArray name = "t" + QByteArray::number(k);
           summary += name + ",ok,,c" + QByteArray::number(drones) + ",\"" + variant + "\",x," + QByteArray::number(repeat) + "," +
                      QByteArray::number(repeat + 1) + "," + QByteArray::number(drones) + ",50,tree,forest,10," + QByteArray::number(end) + "\n";
-          QByteArray rows = "time,targets_found,fraction_found\n";
-          for (int s = 0; s <= 10; ++s) rows += QByteArray::number(s) + ",0," + QByteArray::number(end * s / 10) + "\n";
+          // The 5-drone tests have the fleet model's `alive` (a drone lost from 5 s in odd repeats).
+          QByteArray rows = drones == 5 ? "time,targets_found,fraction_found,alive\n" : "time,targets_found,fraction_found\n";
+          for (int s = 0; s <= 10; ++s)
+            rows += QByteArray::number(s) + ",0," + QByteArray::number(end * s / 10) +
+                    (drones == 5 ? "," + QByteArray::number(s >= 5 && repeat % 2 ? 4 : 5) : QByteArray()) + "\n";
           write_file(out + "/" + name + "/summary.csv", rows);
         }
     summary += "t99,failed,boom,c5,flocking,x,6,7,5,50,tree,forest,10,\n";
@@ -278,8 +426,11 @@ class TestPlots : public QObject {
     const CliResult r = run_salsa({"plot", out});
     QVERIFY2(r.exit_code == 0, describe(r));
     QCOMPARE(non_empty_lines(QString::fromUtf8(read_file(out + "/comparison.csv"))).size(), 3);
-    for (const char* png : {"found_boxplot.png", "found_over_time_5_drones.png", "found_over_time_20_drones.png"})
+    for (const char* png : {"found_boxplot.png", "found_over_time_5_drones.png", "found_over_time_20_drones.png", "alive_over_time_5_drones.png"})
       check_png(out + "/plots/" + png, salsa::plots::plot_width, salsa::plots::plot_height);
+    // Drones alive over time only for the swarm size whose tests have the column.
+    QCOMPARE(pngs(out + "/plots"), (QStringList{"alive_over_time_5_drones.png", "comparison.png", "found_boxplot.png",
+                                                "found_over_time_20_drones.png", "found_over_time_5_drones.png"}));
     check_png(out + "/plots/comparison.png", salsa::plots::plot_width, salsa::plots::comparison_plot_height(2));
   }
 

@@ -127,7 +127,7 @@ class TestQueue : public QObject {
     QFETCH(QList<double>, values);
     const Queue q = load(R"({"sweep": {"behaviors": [{"name": "flocking", "params": {"cohesion_weight": )" + range + "}}]}}");
     QList<double> got;
-    for (const auto& t : q.tests) got << t.behavior.params.get("cohesion_weight");
+    for (const auto& t : q.tests) got << t.groups[0].behavior.params.get("cohesion_weight");
     QCOMPARE(got, values);  // exactly: the ends as given, the steps without float noise where it matters
   }
 
@@ -193,15 +193,15 @@ class TestQueue : public QObject {
                                                  {"behavior", {{"name", "flocking"}, {"params", {{"cohesion_weight", 1}, {"alignment_weight", aw}}}}}}));
         QCOMPARE(t.size(), std::size_t(3));  // name, groups, failures: no top-level drone, drones or behavior appears
       }
-    QCOMPARE(tests[1].second.name, std::string("mix_random_walk-flocking_drone_mtbf600_alignment_weight0.5_drones3_max_speed4"));
+    QCOMPARE(tests[1].second.name, std::string("mix_random_walk_flocking_drone_mtbf600_alignment_weight0.5_drones3_max_speed4"));
   }
 
   void set_keys_that_end_alike_are_told_apart_in_names() {
     const auto tests = swept(R"({"sweep": {"test": {"groups": [{"name": "a", "behavior": "flocking"}, {"name": "b", "behavior": "random_walk"}]},
                                  "set": {"groups.b.drones": [3], "groups.a.drones": [1, 2]}}})");
     QCOMPARE(tests.size(), std::size_t(2));
-    QCOMPARE(tests[0].second.name, std::string("flocking-random_walk_a.drones1_b.drones3"));
-    QCOMPARE(tests[1].second.name, std::string("flocking-random_walk_a.drones2_b.drones3"));
+    QCOMPARE(tests[0].second.name, std::string("flocking_random_walk_a.drones1_b.drones3"));
+    QCOMPARE(tests[1].second.name, std::string("flocking_random_walk_a.drones2_b.drones3"));
     QCOMPARE(tests[1].first["groups"][0]["drones"], nlohmann::json(2));
     QCOMPARE(tests[1].first["groups"][1]["drones"], nlohmann::json(3));
   }

@@ -44,15 +44,22 @@ class TestTestFormat : public QObject {
     for (const DroneProperty& p : drone_schema()) {
       const Parameter& spec = p.spec;
       const QString name = QString::fromStdString(spec.name);
-      QCOMPARE(p.get(base.drone), spec.value);  // the default drone is the schema's defaults
+      QCOMPARE(p.get(base.groups[0].drone), spec.value);  // the default drone is the schema's defaults
       // A value in range, not the default; small enough that check_drone's step limit holds.
-      const double v = spec.is_integer() ? spec.value + 1 : (spec.name == "max_speed" ? spec.value / 2 : spec.value * 1.5);
+      const double v = spec.is_integer() ? spec.value + 1
+                       : spec.value == 0       ? 1
+                       : (spec.name == "max_speed" ? spec.value / 2 : spec.value * 1.5);
       const std::string value = Parameter::format(v);
-      auto with = [&](const std::string& text) { return "{\"behavior\": \"flocking\", \"drone\": {\"" + spec.name + "\": " + text + "}}"; };
+      // The energy model's properties are written once there is a battery.
+      const std::string battery = p.shapes_world || spec.name == "battery_capacity" ? "" : ", \"battery_capacity\": 10";
+      auto with = [&](const std::string& text) {
+        return "{\"behavior\": \"flocking\", \"drone\": {\"" + spec.name + "\": " + text + battery + "}}";
+      };
       const TestSpec t = parse_test(with(value), "t.json", *host_);
-      QCOMPARE(p.get(t.drone), v);
+      QCOMPARE(p.get(t.groups[0].drone), v);
       QVERIFY2(resolved_json(t, *host_).find("\"" + spec.name + "\": " + value) != std::string::npos, qPrintable(name));
-      QVERIFY2(world_key(t) != world_key(base), qPrintable(name));
+      // The world key pairs seeds over what shapes the world, not over batteries.
+      QVERIFY2((world_key(t) != world_key(base)) == p.shapes_world, qPrintable(name));
       // Out of range: refused with the schema's range, in one line.
       try {
         parse_test(with(Parameter::format(spec.max * 2 + 1)), "t.json", *host_);
@@ -66,7 +73,7 @@ class TestTestFormat : public QObject {
       QCOMPARE(check_change(base, change, *host_), std::string());
       TestSpec changed = base;
       apply_to_test(changed, change);
-      QCOMPARE(p.get(changed.drone), v);
+      QCOMPARE(p.get(changed.groups[0].drone), v);
       QVERIFY(!check_change(base, {1, "drone." + spec.name, spec.max * 2 + 1}, *host_).empty());
     }
     QVERIFY(check_change(base, {1, "drone.wingspan", 1}, *host_).find(drone_property_names()) != std::string::npos);
@@ -74,14 +81,14 @@ class TestTestFormat : public QObject {
 
   void defaults_are_filled_in() {
     const TestSpec t = parse_test(R"({"behavior": "flocking"})", "t.json", *host_);
-    QCOMPARE(t.drones, std::size_t(10));
-    QCOMPARE(t.drone.name, std::string("small"));
+    QCOMPARE(t.groups[0].drones, std::size_t(10));
+    QCOMPARE(t.groups[0].drone.name, std::string("small"));
     QCOMPARE(t.map.name, std::string("empty"));
     QCOMPARE(t.contact_handlers.size(), std::size_t(1));
     QCOMPARE(t.contact_handlers[0].name, std::string("detect_targets"));
     QCOMPARE(t.dt, 1.0 / 60);
     QCOMPARE(t.decision_lag, 0);  // the paper's sequential definition, the default everywhere
-    QCOMPARE(t.behavior.params.get("alignment_weight"), 1.6);  // declared default
+    QCOMPARE(t.groups[0].behavior.params.get("alignment_weight"), 1.6);  // declared default
     QCOMPARE(t.steps(), std::size_t(3600));
     QCOMPARE(t.log_every(), std::size_t(60));
   }
@@ -95,7 +102,7 @@ class TestTestFormat : public QObject {
     QVERIFY(write_file(dir.filePath("t.json"), test));
     const auto tests = load_tests(dir.filePath("t.json").toStdString(), *host_);
     QCOMPARE(tests.size(), std::size_t(1));
-    const DroneConfig& d = tests[0].drone;
+    const DroneConfig& d = tests[0].groups[0].drone;
     QCOMPARE(d.name, std::string("heavy"));
     QCOMPARE(d.max_speed, 6.0);
     QCOMPARE(d.mass, 30.0);
@@ -104,8 +111,8 @@ class TestTestFormat : public QObject {
 
     // A configuration edited inline on top of a named one.
     const TestSpec t = parse_test(R"({"behavior": "random_walk", "drone": {"base": "small", "radius": 0.5}})", "t", *host_);
-    QCOMPARE(t.drone.radius, 0.5);
-    QCOMPARE(t.drone.detection_range, 134.0);
+    QCOMPARE(t.groups[0].drone.radius, 0.5);
+    QCOMPARE(t.groups[0].drone.detection_range, 134.0);
   }
 
   void map_shorthands() {
@@ -213,7 +220,7 @@ class TestTestFormat : public QObject {
     const std::string config = resolved_json(t, *host_);
     const TestSpec again = parse_test(config, "config.json", *host_);
     QCOMPARE(resolved_json(again, *host_), config);
-    QCOMPARE(again.spawn_mode, SpawnMode::uniform);
+    QCOMPARE(again.groups[0].spawn_mode, SpawnMode::uniform);
     QCOMPARE(again.target.params.get("radius"), 3.0);
     QVERIFY(config.find("\"versions\"") != std::string::npos);
     QVERIFY(config.find(salsa_version()) != std::string::npos);

@@ -390,18 +390,18 @@ struct Engine::Worker {
     if (reload && sim) {
       try {
         const TestSpec& current = session->current();
-        const auto& entry = next->behavior(current.behavior.name);
+        const auto& entry = next->behavior(current.groups[0].behavior.name);
         ParameterValues values(entry.factory.parameters);
         for (const auto& p : entry.factory.parameters)
-          if (current.behavior.params.has(p.name)) {
-            const double v = current.behavior.params.get(p.name);
+          if (current.groups[0].behavior.params.has(p.name)) {
+            const double v = current.groups[0].behavior.params.get(p.name);
             if (v >= p.min && v <= p.max) values.set(p.name, v);
           }
         session->use_plugins(*next, PluginHost::create(entry, values), values);
         ParameterValues start_values(entry.factory.parameters);
         for (const auto& [name, v] : start_values.items())
-          if (start.behavior.params.has(name)) start_values.set(name, start.behavior.params.get(name));
-        start.behavior.params = start_values;
+          if (start.groups[0].behavior.params.has(name)) start_values.set(name, start.groups[0].behavior.params.get(name));
+        start.groups[0].behavior.params = start_values;
         reloaded_at = sim->time();
         if (state == RunState::failed) state = RunState::paused, error.clear();
       } catch (const PluginFailure& e) {  // the new code's reset threw
@@ -525,7 +525,7 @@ std::future<std::string> Engine::use_plugins(std::shared_ptr<const PluginHost> h
 }
 
 std::string Engine::behavior_name() const {
-  return worker_->ask<std::string>([w = worker_.get()] { return w->sim ? w->session->current().behavior.name : std::string(); }).get();
+  return worker_->ask<std::string>([w = worker_.get()] { return w->sim ? w->session->current().groups[0].behavior.name : std::string(); }).get();
 }
 
 std::vector<Change> Engine::timeline() const {

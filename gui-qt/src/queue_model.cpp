@@ -75,16 +75,16 @@ QVariant QueueModel::data(const QModelIndex& index, int role) const {
   if (role != Qt::DisplayRole && role != Qt::EditRole) return {};
   switch (index.column()) {
     case col_name: return q(t.name);
-    case col_behavior: return q(t.behavior.name);
+    case col_behavior: return q(t.groups[0].behavior.name);
     case col_parameters: {
       try {
-        const std::string changed = non_default(t.behavior, host_->behavior(t.behavior.name).factory.parameters);
+        const std::string changed = non_default(t.groups[0].behavior, host_->behavior(t.groups[0].behavior.name).factory.parameters);
         return changed.empty() ? QString("defaults") : q(changed);
       } catch (const std::exception&) {
         return {};  // the plugin is gone since (a rescan): the row still runs where it is installed
       }
     }
-    case col_drones: return static_cast<qulonglong>(t.drones);
+    case col_drones: return static_cast<qulonglong>(t.drone_total());
     case col_map: {
       if (!t.map_file.empty()) return q(fs::path(t.map_file).filename().string());
       try {

@@ -132,7 +132,7 @@ SweepDialog::SweepDialog(std::shared_ptr<const PluginHost> host, const TestSpec&
   behaviors_ = new QListWidget;
   for (const auto& e : host_->behaviors()) {
     auto* item = new QListWidgetItem(q(e.factory.name), behaviors_);
-    item->setCheckState(e.factory.name == base_.behavior.name ? Qt::Checked : Qt::Unchecked);
+    item->setCheckState(e.factory.name == base_.groups[0].behavior.name ? Qt::Checked : Qt::Unchecked);
   }
   behaviors_->setMaximumHeight(110);
   form->addRow("behaviors", behaviors_);
@@ -153,7 +153,7 @@ SweepDialog::SweepDialog(std::shared_ptr<const PluginHost> host, const TestSpec&
     connect(values, &QLineEdit::textChanged, this, &SweepDialog::update_count);
     axes_.emplace_back(which, values);
   }
-  drones_ = new QLineEdit(QString::number(base_.drones));
+  drones_ = new QLineEdit(QString::number(base_.groups[0].drones));
   drones_->setPlaceholderText("10, 20, 30  or  10:50:10");
   form->addRow("swarm sizes", drones_);
   repeats_ = new QSpinBox;

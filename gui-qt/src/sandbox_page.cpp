@@ -325,7 +325,7 @@ std::optional<TestSpec> SandboxPage::spec_from_controls(std::string* why) {
   j.erase("versions");
   j.erase("changes");
   j["behavior"] = {{"name", behavior_->currentText().toStdString()}, {"params", params_json(behavior_panel_)}};
-  DroneConfig d = loaded_ ? loaded_->drone : file_base_.drone;
+  DroneConfig d = loaded_ ? loaded_->groups[0].drone : file_base_.groups[0].drone;
   d.name = drone_config_->currentText().toStdString();
   for (const Parameter& p : drone_panel_->schema()) find_drone_property(p.name)->set(d, drone_panel_->value(p.name));
   j["drone"] = drone_json(d);
@@ -400,8 +400,8 @@ void SandboxPage::seed_edited() {
 void SandboxPage::show_test(const TestSpec& t) {
   const bool was = updating_;
   updating_ = true;
-  behavior_->setCurrentText(q(t.behavior.name));
-  behavior_panel_->set_schema(host_->behavior(t.behavior.name).factory.parameters, t.behavior.params);
+  behavior_->setCurrentText(q(t.groups[0].behavior.name));
+  behavior_panel_->set_schema(host_->behavior(t.groups[0].behavior.name).factory.parameters, t.groups[0].behavior.params);
   for (int i = map_->count() - 1; i >= 0; --i)
     if (map_->itemText(i).startsWith(map_file_prefix)) map_->removeItem(i);
   if (t.map.name == "json") {
@@ -425,12 +425,12 @@ void SandboxPage::show_test(const TestSpec& t) {
   targets_->setValue(static_cast<int>(t.targets));
   seed_value_ = t.seed;
   seed_->setText(QString::number(t.seed));
-  drones_->setValue(static_cast<int>(t.drones));
+  drones_->setValue(static_cast<int>(t.groups[0].drones));
   drone_config_->clear();
   for (const DroneConfig& c : drone_configs()) drone_config_->addItem(q(c.name));
-  if (drone_config_->findText(q(t.drone.name)) < 0) drone_config_->addItem(q(t.drone.name));
-  drone_config_->setCurrentText(q(t.drone.name));
-  for (const Parameter& p : drone_panel_->schema()) drone_panel_->set_value(p.name, drone_value(t.drone, p.name));
+  if (drone_config_->findText(q(t.groups[0].drone.name)) < 0) drone_config_->addItem(q(t.groups[0].drone.name));
+  drone_config_->setCurrentText(q(t.groups[0].drone.name));
+  for (const Parameter& p : drone_panel_->schema()) drone_panel_->set_value(p.name, drone_value(t.groups[0].drone, p.name));
   updating_ = was;
 }
 
@@ -460,7 +460,7 @@ std::string SandboxPage::open_test(const QString& file) {
 
 std::string SandboxPage::open_map(const QString& file) {
   try {
-    load_map_file(file.toStdString(), *host_, loaded_ ? loaded_->drone.radius : 1);  // the CLI's checks, before anything changes
+    load_map_file(file.toStdString(), *host_, loaded_ ? loaded_->groups[0].drone.radius : 1);  // the CLI's checks, before anything changes
   } catch (const std::exception& e) {
     show_message(q(e.what()));
     return e.what();

@@ -18,12 +18,18 @@ void ensure_application();
 
 /// Colours of series, by index (Tableau 10: distinguishable, and in grey scale too).
 QColor palette(std::size_t i);
+/// Colours of drone groups, in group order: Okabe & Ito's colour-blind-safe set (black left for
+/// totals, yellow last: faint on white).
+QColor group_colour(std::size_t i);
 QFont font(int pixels, bool bold = false);
 /// A tick value as text with as many decimals as the step needs.
 QString tick_text(double value, double step);
 
+/// A ✕ in `colour` with a white rim, centred on `at` (where a drone stopped).
+void draw_cross(QPainter& p, QPointF at, const QColor& colour);
+
 struct LegendEntry {
-  enum Kind { line, band, dot, ring, box, square, note } kind;  // note: text only
+  enum Kind { line, band, dot, ring, box, square, cross, note } kind;  // note: text only
   QColor colour;
   QString text;
 };

@@ -120,6 +120,12 @@ MapShape read_map(const fs::path& folder, const json& config) {
 }
 
 // ---- One test's files, each read once.
+// A drone group (the fleet model): its name and its summary.csv columns, empty when absent.
+struct Group {
+  std::string name;
+  std::vector<double> found, alive, energy;  // found: % of the targets
+};
+
 struct TestData {
   std::string name;
   MapShape map;
@@ -127,32 +133,66 @@ struct TestData {
   Rect view;               // what the map plots show: the area and a small margin
   double target_radius = 0;  // m, from config.json's target params (0: not given)
   std::vector<double> time, found, nn, coverage;  // summary.csv; nn: NaN when empty
+  std::vector<double> alive, energy;              // summary.csv with the fleet model, else empty
   bool has_coverage = false;
-  std::map<long, Points> paths;                    // drones.csv, by drone id
+  std::vector<Group> groups;  // in group order: summary.csv's, then any other drones.csv names
+  bool drone_groups = false;  // drones.csv has the group column
+  // drones.csv, by group (its index in `groups`, 0 without the column) and drone id.
+  using DroneKey = std::pair<std::size_t, long>;
+  std::map<DroneKey, Points> paths;
+  struct Stop { double x, y; bool failed; };  // the first row a drone is landed or failed
+  std::map<DroneKey, Stop> stops;
   struct Speeds { double time, mean, sd, min, max; };
   std::vector<Speeds> speeds;
   Points targets_found, targets_missed;            // targets.csv
+  bool by_group() const { return drone_groups && groups.size() > 1; }
 };
 
 void read_summary(TestData& t, const fs::path& file) {
   CsvReader in(file);
   const std::size_t c_time = in.column("time"), c_found = in.column("fraction_found");
-  const auto c_nn = in.find("mean_nn_distance"), c_coverage = in.find("coverage");
+  const auto c_nn = in.find("mean_nn_distance"), c_coverage = in.find("coverage"), c_alive = in.find("alive"),
+             c_energy = in.find("energy_used_Wh"), c_count = in.find("targets_found");
   t.has_coverage = c_coverage.has_value();
+  struct Columns { std::optional<std::size_t> found, alive, energy; };
+  std::vector<Columns> group_columns;
+  for (const std::string& h : in.header())
+    if (h.size() > 6 && h.ends_with(".found")) {
+      const std::string name = h.substr(0, h.size() - 6);
+      t.groups.push_back({name, {}, {}, {}});
+      group_columns.push_back({in.find(h), in.find(name + ".alive"), in.find(name + ".energy_used_Wh")});
+    }
   const double nan = std::nan("");
+  double targets = 0;  // a group's found is a count: the test's targets = targets_found / fraction_found
   while (in.next()) {
     t.time.push_back(in.number(c_time));
-    t.found.push_back(in.number(c_found) * 100);
+    const double fraction = in.number(c_found);
+    t.found.push_back(fraction * 100);
+    if (c_count && fraction > 0) targets = in.number(*c_count) / fraction;
     t.nn.push_back(c_nn ? in.optional_number(*c_nn).value_or(nan) : nan);
     if (c_coverage) t.coverage.push_back(in.optional_number(*c_coverage).value_or(nan) * 100);
+    if (c_alive) t.alive.push_back(in.optional_number(*c_alive).value_or(nan));
+    if (c_energy) t.energy.push_back(in.optional_number(*c_energy).value_or(nan));
+    for (std::size_t g = 0; g < group_columns.size(); ++g) {
+      const Columns& c = group_columns[g];
+      for (auto [column, into] : {std::pair{c.found, &t.groups[g].found}, std::pair{c.alive, &t.groups[g].alive}, std::pair{c.energy, &t.groups[g].energy}})
+        if (column) into->push_back(in.optional_number(*column).value_or(nan));
+    }
   }
+  for (Group& g : t.groups)
+    for (double& v : g.found) v = targets > 0 ? v / targets * 100 : 0;  // nothing found yet: every count is 0
 }
 
-// drones.csv is written time by time: speeds are summed per time as the rows stream past.
+// drones.csv is written time by time: speeds are summed per time as the rows stream past (of the
+// drones flying: a landed or failed drone stands still).
 void read_drones(TestData& t, const fs::path& file) {
   CsvReader in(file);
   const std::size_t c_time = in.column("time"), c_id = in.column("id"), c_x = in.column("x"), c_y = in.column("y"),
                     c_vx = in.column("vx"), c_vy = in.column("vy");
+  const auto c_group = in.find("group"), c_status = in.find("status");
+  t.drone_groups = c_group.has_value();
+  std::size_t group = 0;  // the last row's, looked up again only when the name changes
+  std::string group_name;
   double now = std::nan(""), n = 0, sum = 0, sum2 = 0, lo = 0, hi = 0;
   auto flush = [&] {
     if (n == 0) return;
@@ -165,9 +205,24 @@ void read_drones(TestData& t, const fs::path& file) {
       flush();
       now = time, n = sum = sum2 = 0, lo = 1e300, hi = -1e300;
     }
+    if (c_group && in[*c_group] != group_name) {
+      group_name = in[*c_group];
+      const auto known = std::find_if(t.groups.begin(), t.groups.end(), [&](const Group& g) { return g.name == group_name; });
+      group = static_cast<std::size_t>(known - t.groups.begin());
+      if (known == t.groups.end()) t.groups.push_back({group_name, {}, {}, {}});
+    }
+    const TestData::DroneKey key{group, static_cast<long>(in.number(c_id))};
+    const double x = in.number(c_x), y = in.number(c_y);
+    // A stopped drone's path ends where it stopped: its rows after that would only pile up in one
+    // cell of the heat map.
+    const std::string_view status = c_status ? in[*c_status] : std::string_view();
+    if (status == "landed" || status == "failed") {
+      if (t.stops.try_emplace(key, TestData::Stop{x, y, status == "failed"}).second) t.paths[key].emplace_back(x, y);
+      continue;
+    }
+    t.paths[key].emplace_back(x, y);
     const double speed = std::hypot(in.number(c_vx), in.number(c_vy));
     ++n, sum += speed, sum2 += speed * speed, lo = std::min(lo, speed), hi = std::max(hi, speed);
-    t.paths[static_cast<long>(in.number(c_id))].emplace_back(in.number(c_x), in.number(c_y));
   }
   flush();
 }
@@ -252,17 +307,41 @@ std::pair<double, double> range_of(const std::vector<double>& v) {
   return lo > hi ? std::pair{0.0, 1.0} : std::pair{lo, hi};
 }
 
-// A value over time as one line.
-void time_chart(const TestData& t, const std::vector<double>& y, const QString& title, const QString& y_label,
+// Values over time, a line each, the first at the bottom and at the top of the legend; a single line
+// has no legend.
+struct Line {
+  QString name;
+  const std::vector<double>* y;
+  QColor colour;
+  double width = 2.5;
+};
+
+void time_chart(const TestData& t, const std::vector<Line>& lines, const QString& title, const QString& y_label,
                 std::optional<std::pair<double, double>> y_range, const fs::path& file) {
   Figure f(QString::fromStdString(t.name) + ": " + title, plot_width, plot_height);
   const auto [t0, t1] = range_of(t.time);
   f.x_axis("simulated time (s)", t0, t1);
-  const auto [lo, hi] = y_range ? *y_range : range_of(y);
+  const auto [lo, hi] = y_range ? *y_range : range_of(*lines.front().y);
   f.y_axis(y_label, std::min(0.0, lo), hi);
+  if (lines.size() > 1) {
+    std::vector<LegendEntry> legend;
+    for (const Line& l : lines) legend.push_back({LegendEntry::line, l.colour, l.name});
+    f.legend(legend);
+  }
   f.begin();
-  draw_line(f, t.time, y, palette(0));
+  for (const Line& l : lines) draw_line(f, t.time, *l.y, l.colour, l.width);
   f.save(file);
+}
+
+// One summary.csv column over time; with the groups' columns, the total is a wide grey line under a
+// line per group (a group that did it all covers the total's middle, not all of it).
+std::vector<Line> per_group(const TestData& t, const std::vector<double>& total, std::vector<double> Group::*column) {
+  std::vector<Line> lines{{"all drones", &total, palette(0)}};
+  for (std::size_t g = 0; g < t.groups.size(); ++g)
+    if ((t.groups[g].*column).size() == t.time.size())
+      lines.push_back({QString::fromStdString(t.groups[g].name), &(t.groups[g].*column), group_colour(g)});
+  if (lines.size() > 1) lines[0].colour = QColor(150, 150, 150), lines[0].width = 6;
+  return lines;
 }
 
 // Obstacles opaque (drawn before targets and paths, so nothing hides under them unseen).
@@ -307,7 +386,20 @@ void trajectories(const TestData& t, const fs::path& file) {
   f.y_axis("y (m)", t.view.y0, t.view.y1, true);
   f.equal_aspect();
   auto legend = map_legend(t.map);
-  legend.push_back({LegendEntry::line, palette(0).darker(165), "drone paths (" + QString::number(t.paths.size()) + ", one colour each)"});
+  if (t.by_group())
+    for (std::size_t g = 0; g < t.groups.size(); ++g) {
+      const auto n = std::count_if(t.paths.begin(), t.paths.end(), [&](const auto& path) { return path.first.first == g; });
+      legend.push_back({LegendEntry::line, group_colour(g), QString::fromStdString(t.groups[g].name) + " (" + QString::number(n) + " drones)"});
+    }
+  else
+    legend.push_back({LegendEntry::line, palette(0).darker(165), "drone paths (" + QString::number(t.paths.size()) + ", one colour each)"});
+  if (!t.stops.empty()) {
+    const auto failed = std::count_if(t.stops.begin(), t.stops.end(), [](const auto& s) { return s.second.failed; });
+    const auto landed = static_cast<long>(t.stops.size()) - failed;
+    legend.push_back({LegendEntry::cross, QColor(60, 60, 60), "where a drone stopped (" +
+                      (landed ? QString::number(landed) + " landed" + (failed ? ", " : "") : QString()) +
+                      (failed ? QString::number(failed) + " failed" : QString()) + ")"});
+  }
   legend.push_back({LegendEntry::dot, found_colour, "target found (" + QString::number(t.targets_found.size()) + ")"});
   legend.push_back({LegendEntry::dot, missed_colour, "target not found (" + QString::number(t.targets_missed.size()) + ")"});
   if (t.target_radius > 0 && !(t.targets_found.empty() && t.targets_missed.empty()))
@@ -325,41 +417,63 @@ void trajectories(const TestData& t, const fs::path& file) {
     for (auto [x, y] : *points) p.drawEllipse(f.at(x, y), radius, radius);
   }
 
-  // Paths on top, dark: points within 1.5 pixels of the last one drawn are skipped (millions of
-  // rows; a line is 1.5 pixels wide, so nothing visible is lost).
+  // Paths on top: points within 1.5 pixels of the last one drawn are skipped (millions of rows; a
+  // line is 1.5 pixels wide, so nothing visible is lost). Drones in id order, so the last group does
+  // not cover the others; a drone's colour is its group's, else a dark one of its own.
+  std::vector<const std::pair<const TestData::DroneKey, Points>*> drones;
+  for (const auto& drone : t.paths) drones.push_back(&drone);
+  std::stable_sort(drones.begin(), drones.end(), [](auto a, auto b) { return a->first.second < b->first.second; });
+  auto colour = [&](std::size_t k) { return t.by_group() ? group_colour(drones[k]->first.first) : palette(k).darker(165); };
   const double min_step = 1.5 / f.pixels_per_x();
-  std::size_t k = 0;
-  for (const auto& [id, path] : t.paths) {
+  for (std::size_t k = 0; k < drones.size(); ++k) {
     QPolygonF line;
     double lx = 1e300, ly = 1e300;
-    for (auto [x, y] : path)
+    for (auto [x, y] : drones[k]->second)
       if (std::abs(x - lx) + std::abs(y - ly) >= min_step) line << f.at(x, y), lx = x, ly = y;
-    QColor c = palette(k++).darker(165);
+    QColor c = colour(k);
     c.setAlpha(230);
     p.setPen(QPen(c, 1.5, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
     // In short pieces: Qt fills a translucent polyline as one path, which is slow when it crosses itself.
     for (qsizetype i = 0; i + 1 < line.size(); i += 16) p.drawPolyline(line.constData() + i, static_cast<int>(std::min<qsizetype>(17, line.size() - i)));
   }
-  // Where each drone ended: a dot with a white rim, over every path.
-  k = 0;
-  p.setPen(QPen(Qt::white, 1));
-  for (const auto& [id, path] : t.paths) {
-    p.setBrush(palette(k++).darker(165));
+  // Where each drone ended, over every path: a dot with a white rim, or a cross where it stopped.
+  for (std::size_t k = 0; k < drones.size(); ++k) {
+    const auto& [key, path] = *drones[k];
+    if (const auto stop = t.stops.find(key); stop != t.stops.end()) {
+      draw_cross(p, f.at(stop->second.x, stop->second.y), colour(k));
+      continue;
+    }
+    p.setPen(QPen(Qt::white, 1));
+    p.setBrush(colour(k));
     if (!path.empty()) p.drawEllipse(f.at(path.back().first, path.back().second), 3.5, 3.5);
   }
   f.save(file);
 }
 
-// White (never visited) through yellow and orange to dark red (most visited).
-QColor heat_colour(double v) {
-  static const QColor stops[] = {QColor(255, 255, 255), QColor(255, 237, 160), QColor(254, 178, 76),
-                                 QColor(240, 59, 32), QColor(128, 0, 38)};
-  const double at = std::clamp(v, 0.0, 100.0) / 100 * 4;
-  const int i = std::min(3, static_cast<int>(at));
+// v in 0 … 100 along colours spaced evenly.
+QColor ramp(const std::vector<QColor>& stops, double v) {
+  const int last = static_cast<int>(stops.size()) - 1;
+  const double at = std::clamp(v, 0.0, 100.0) / 100 * last;
+  const int i = std::min(last - 1, static_cast<int>(at));
   const double w = at - i;
-  const QColor &a = stops[i], &b = stops[i + 1];
+  const QColor &a = stops[static_cast<std::size_t>(i)], &b = stops[static_cast<std::size_t>(i + 1)];
   return QColor::fromRgbF(static_cast<float>(a.redF() + w * (b.redF() - a.redF())), static_cast<float>(a.greenF() + w * (b.greenF() - a.greenF())),
                           static_cast<float>(a.blueF() + w * (b.blueF() - a.blueF())));
+}
+
+// White (never visited) through yellow and orange to dark red (most visited).
+QColor heat_colour(double v) {
+  static const std::vector<QColor> stops = {QColor(255, 255, 255), QColor(255, 237, 160), QColor(254, 178, 76),
+                                            QColor(240, 59, 32), QColor(128, 0, 38)};
+  return ramp(stops, v);
+}
+
+// With groups, a cell takes the colour of the group there most, from a pale tint (a visited cell
+// shows its hue) to the colour darkened (the busiest cell); white: never visited.
+std::vector<QColor> group_ramp(std::size_t g) {
+  const QColor c = group_colour(g);
+  const QColor tint = QColor::fromRgbF(static_cast<float>(0.8 + 0.2 * c.redF()), static_cast<float>(0.8 + 0.2 * c.greenF()), static_cast<float>(0.8 + 0.2 * c.blueF()));
+  return {tint, c, c.darker(190)};
 }
 
 constexpr int heat_columns = 60;
@@ -368,28 +482,59 @@ void heat_map(const TestData& t, const fs::path& file) {
   Points all;
   for (const auto& [id, path] : t.paths) all.insert(all.end(), path.begin(), path.end());
   const HeatGrid g = bin_positions(all, t.area, heat_columns);
+  // With groups: each cell's positions per group, to find the group there most.
+  const std::size_t groups = t.by_group() ? t.groups.size() : 1;
+  std::vector<std::vector<double>> per_group(groups, std::vector<double>(g.values.size(), 0.0));
+  if (groups > 1)
+    for (const auto& [key, path] : t.paths)
+      for (auto [x, y] : path)
+        if (const int i = g.index_of(x, y); i >= 0 && y <= t.area.y1) ++per_group[key.first][static_cast<std::size_t>(i)];
+  std::vector<std::vector<QColor>> ramps;
+  for (std::size_t k = 0; k < groups; ++k) ramps.push_back(group_ramp(k));
+  auto cell_colour = [&](std::size_t i) {
+    if (groups == 1) return heat_colour(g.values[i]);
+    if (g.values[i] == 0) return QColor(Qt::white);
+    std::size_t most = 0;
+    for (std::size_t k = 1; k < groups; ++k)
+      if (per_group[k][i] > per_group[most][i]) most = k;
+    return ramp(ramps[most], g.values[i]);
+  };
+  const int scale_width = 110 + 18 * static_cast<int>(groups - 1);  // a colour bar per group
   Figure f(QString::fromStdString(t.name) + ": where the drones were", plot_width, plot_height);
   f.x_axis("x (m)", t.view.x0, t.view.x1, true);
   f.y_axis("y (m)", t.view.y0, std::max(t.view.y1, t.area.y0 + g.rows * g.cell), true);
   f.equal_aspect();
-  f.reserve_right(110);
+  f.reserve_right(scale_width);
+  if (groups > 1) {
+    std::vector<LegendEntry> legend;
+    for (std::size_t k = 0; k < groups; ++k) legend.push_back({LegendEntry::square, group_colour(k), QString::fromStdString(t.groups[k].name)});
+    legend.push_back({LegendEntry::note, Qt::black, "(a cell: the group there most)"});
+    f.legend(legend);
+  }
   QPainter& p = f.begin();
   for (int r = 0; r < g.rows; ++r)
     for (int c = 0; c < g.columns; ++c) {
       const double x = t.area.x0 + c * g.cell, y = t.area.y0 + r * g.cell;
-      p.fillRect(QRectF(f.at(x, y + g.cell), f.at(x + g.cell, y)).adjusted(0, 0, 0.6, 0.6), heat_colour(g.values[static_cast<std::size_t>(r * g.columns + c)]));
+      p.fillRect(QRectF(f.at(x, y + g.cell), f.at(x + g.cell, y)).adjusted(0, 0, 0.6, 0.6), cell_colour(static_cast<std::size_t>(r * g.columns + c)));
     }
   MapShape outline = t.map;
   draw_map(f, outline);
-  // Colour scale on the right: 0 … 100 % of the busiest cell.
+  // Colour scale on the right: 0 … 100 % of the busiest cell (a bar per group, side by side).
   p.setClipping(false);
   const QRectF area = f.plot_area();
-  const QRectF bar(plot_width - 30 - 110 + 20, area.top() + 20, 26, std::min(area.height() - 40, 500.0));
-  for (int i = 0; i < static_cast<int>(bar.height()); ++i)
-    p.fillRect(QRectF(bar.left(), bar.bottom() - i - 1, bar.width(), 1), heat_colour(100.0 * i / (bar.height() - 1)));
-  p.setPen(Qt::black);
-  p.setBrush(Qt::NoBrush);
-  p.drawRect(bar);
+  const double bar_height = std::min(area.height() - 40, 500.0);
+  QRectF bar;
+  for (std::size_t k = 0; k < groups; ++k) {
+    bar = groups == 1 ? QRectF(plot_width - 30 - 110 + 20, area.top() + 20, 26, bar_height)
+                      : QRectF(plot_width - 30 - scale_width + 20 + 18 * static_cast<double>(k), area.top() + 20, 14, bar_height);
+    for (int i = 0; i < static_cast<int>(bar.height()); ++i) {
+      const double v = 100.0 * i / (bar.height() - 1);
+      p.fillRect(QRectF(bar.left(), bar.bottom() - i - 1, bar.width(), 1), groups == 1 ? heat_colour(v) : ramp(ramps[k], v));
+    }
+    p.setPen(Qt::black);
+    p.setBrush(Qt::NoBrush);
+    p.drawRect(bar);
+  }
   p.setFont(font(15));
   for (int v = 0; v <= 100; v += 20) {
     const double y = bar.bottom() - v / 100.0 * bar.height();
@@ -447,17 +592,20 @@ void draw_test_plots(const fs::path& folder) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw InputError(name_of(dir) + ": cannot create folder (" + ec.message() + ")");
-  time_chart(t, t.found, "targets found", "targets found (%)", std::pair{0.0, 100.0}, dir / "found.png");
-  if (std::any_of(t.nn.begin(), t.nn.end(), [](double v) { return !std::isnan(v); }))
-    time_chart(t, t.nn, "distance to the nearest drone", "mean nearest-neighbour distance (m)", std::nullopt, dir / "nn_distance.png");
-  if (t.has_coverage) time_chart(t, t.coverage, "area covered", "coverage (%)", std::pair{0.0, 100.0}, dir / "coverage.png");
+  time_chart(t, per_group(t, t.found, &Group::found), "targets found", "targets found (%)", std::pair{0.0, 100.0}, dir / "found.png");
+  auto any_value = [](const std::vector<double>& v) { return std::any_of(v.begin(), v.end(), [](double x) { return !std::isnan(x); }); };
+  if (any_value(t.nn))
+    time_chart(t, {{"", &t.nn, palette(0)}}, "distance to the nearest drone", "mean nearest-neighbour distance (m)", std::nullopt, dir / "nn_distance.png");
+  if (t.has_coverage) time_chart(t, {{"", &t.coverage, palette(0)}}, "area covered", "coverage (%)", std::pair{0.0, 100.0}, dir / "coverage.png");
+  // Counts and sums from 0, with room above the total's largest value (a flat line off the frame).
+  auto from_zero = [](const std::vector<double>& total) { return std::pair{0.0, range_of(total).second * 1.04}; };
+  if (any_value(t.alive)) time_chart(t, per_group(t, t.alive, &Group::alive), "drones alive", "drones flying", from_zero(t.alive), dir / "alive.png");
+  if (std::any_of(t.energy.begin(), t.energy.end(), [](double x) { return x > 0; }))  // none used: no power model
+    time_chart(t, per_group(t, t.energy, &Group::energy), "energy used", "energy used so far (Wh)", from_zero(t.energy), dir / "energy.png");
   if (!t.paths.empty()) {
     trajectories(t, dir / "trajectories.png");
-
     heat_map(t, dir / "heatmap.png");
-
     speeds(t, dir / "speeds.png");
-
   }
 }
 
@@ -527,37 +675,53 @@ void box_plot(const std::vector<QueueRow>& rows, const fs::path& file) {
   f.save(file);
 }
 
-// Mean found (%) over time per variant with a 95 % t-interval over the repeats, for one swarm size.
-void over_time(const fs::path& out, const std::vector<QueueRow>& rows, const std::string& size, const fs::path& file) {
+// A column of the tests' summary.csv drawn over time per variant; `optional`: tests without it are left out.
+struct Measure {
+  const char* column;
+  double scale;
+  std::optional<double> top;  // the largest value there can be, else the largest a repeat had
+  bool optional;
+  const char* title;  // "<title>, N drones (…)"
+  QString y_label;
+  std::string file;  // "<file>_<N>_drones.png"
+};
+const Measure found_measure{"fraction_found", 100, 100.0, false, "Targets found over time", "targets found (%)", "found_over_time"};
+const Measure alive_measure{"alive", 1, std::nullopt, true, "Drones alive over time", "drones flying", "alive_over_time"};
+
+// The mean of a measure over time per variant with a 95 % t-interval over the repeats, for one swarm size.
+void over_time(const fs::path& out, const std::vector<QueueRow>& rows, const std::string& size, const Measure& m) {
   const auto variants = in_order(rows, &QueueRow::variant);
-  struct Line { std::vector<double> time, mean, lo, hi; };
-  std::vector<std::pair<std::size_t, Line>> lines;
-  double t0 = 1e300, t1 = -1e300;
+  struct Mean { std::vector<double> time, mean, lo, hi; };
+  std::vector<std::pair<std::size_t, Mean>> lines;
+  double t0 = 1e300, t1 = -1e300, top = 0;
   for (std::size_t v = 0; v < variants.size(); ++v) {
-    std::map<double, std::vector<double>> at;  // time → found (%) of each repeat
+    std::map<double, std::vector<double>> at;  // time → the value of each repeat
     for (const auto& r : rows) {
       if (r.drones != size || r.variant != variants[v]) continue;
       CsvReader in(out / r.name / "summary.csv");
-      const std::size_t c_time = in.column("time"), c_found = in.column("fraction_found");
-      while (in.next()) at[in.number(c_time)].push_back(in.number(c_found) * 100);
+      if (m.optional && !in.find(m.column)) continue;
+      const std::size_t c_time = in.column("time"), c_value = in.column(m.column);
+      while (in.next()) at[in.number(c_time)].push_back(in.number(c_value) * m.scale);
     }
     if (at.empty()) continue;
-    Line l;
+    double highest = 0;
+    for (const auto& [time, values] : at) highest = std::max(highest, *std::max_element(values.begin(), values.end()));
+    Mean l;
     for (const auto& [time, values] : at) {
       const double n = static_cast<double>(values.size());
       const double mean = std::accumulate(values.begin(), values.end(), 0.0) / n;
       double ss = 0;
       for (double x : values) ss += (x - mean) * (x - mean);
       const double half = values.size() > 1 ? t_half_width(values.size(), std::sqrt(ss / (n - 1))) : 0;
-      l.time.push_back(time), l.mean.push_back(mean), l.lo.push_back(std::max(0.0, mean - half)), l.hi.push_back(std::min(100.0, mean + half));
-      t0 = std::min(t0, time), t1 = std::max(t1, time);
+      l.time.push_back(time), l.mean.push_back(mean), l.lo.push_back(std::max(0.0, mean - half)), l.hi.push_back(std::min(m.top.value_or(highest), mean + half));
+      t0 = std::min(t0, time), t1 = std::max(t1, time), top = std::max(top, l.hi.back());
     }
     lines.emplace_back(v, std::move(l));
   }
   if (lines.empty()) return;
-  Figure f("Targets found over time, " + QString::fromStdString(size) + " drones (mean, 95 % CI over repeats)", plot_width, plot_height);
+  Figure f(QString(m.title) + ", " + QString::fromStdString(size) + " drones (mean, 95 % CI over repeats)", plot_width, plot_height);
   f.x_axis("simulated time (s)", t0, t1);
-  f.y_axis("targets found (%)", 0, 100);
+  f.y_axis(m.y_label, 0, m.top.value_or(top * 1.04));  // room above a flat line at the top
   std::vector<LegendEntry> legend;
   for (const auto& [v, l] : lines) legend.push_back({LegendEntry::line, palette(v), QString::fromStdString(variants[v])});
   legend.push_back({LegendEntry::band, QColor(0, 0, 0, 40), "95 % confidence interval"});
@@ -569,7 +733,7 @@ void over_time(const fs::path& out, const std::vector<QueueRow>& rows, const std
     draw_band(f, l.time, l.lo, l.hi, band);
   }
   for (const auto& [v, l] : lines) draw_line(f, l.time, l.mean, palette(v));
-  f.save(file);
+  f.save(out / "plots" / (m.file + "_" + size + "_drones.png"));
 }
 
 // A forest plot of comparison.csv: one row per pair of variants, mean difference and its 95 % interval.
@@ -654,7 +818,8 @@ void draw_queue_plots(const fs::path& out) {
   if (ec) throw InputError(name_of(dir) + ": cannot create folder (" + ec.message() + ")");
   if (rows.empty()) return;
   box_plot(rows, dir / "found_boxplot.png");
-  for (const auto& size : sizes_of(rows)) over_time(out, rows, size, dir / ("found_over_time_" + size + "_drones.png"));
+  for (const auto& size : sizes_of(rows))
+    for (const Measure* m : {&found_measure, &alive_measure}) over_time(out, rows, size, *m);
   if (is_file(out / "comparison.csv")) forest(out / "comparison.csv", dir / "comparison.png");
 }
 

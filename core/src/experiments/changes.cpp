@@ -2,6 +2,7 @@
 #include "salsa/core/experiments/changes.hpp"
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string_view>
 
@@ -12,92 +13,174 @@
 namespace salsa {
 namespace {
 
+constexpr std::string_view groups_prefix = "groups.";
 constexpr std::string_view params_prefix = "behavior.params.";
 constexpr std::string_view drone_prefix = "drone.";
 constexpr double max_drones = 1'000'000;  // as "drones" in a test file
+constexpr double max_id = 4294967294.0;   // ids are 32-bit
 
 std::string whole_in(double lo, double hi) {
   return "whole number in [" + Parameter::format(lo) + ", " + Parameter::format(hi) + "]";
+}
+
+/// A key split into the group it addresses and the rest ("groups.scouts.drones" → scouts, "drones").
+/// Keys of no group (failures, fail events) have group -1.
+struct Target {
+  int group = -1;
+  std::string_view rest;
+  std::string problem;  ///< why the key names no group it should
+};
+bool of_a_group(std::string_view rest) {
+  return rest == "drones" || rest.starts_with(params_prefix) || rest.starts_with(drone_prefix);
+}
+std::string group_names(const TestSpec& test) {
+  std::string out;
+  for (const GroupSpec& g : test.groups) out += (out.empty() ? "" : ", ") + g.name;
+  return out;
+}
+Target target(const TestSpec& test, std::string_view key) {
+  if (key.starts_with(groups_prefix)) {
+    const std::string_view tail = key.substr(groups_prefix.size());
+    const auto dot = tail.find('.');
+    const std::string_view name = tail.substr(0, dot);
+    const int g = test.group_index(name);
+    if (g < 0) return {-1, {}, "unknown group '" + std::string(name) + "' (groups: " + group_names(test) + ")"};
+    if (dot == std::string_view::npos || !of_a_group(tail.substr(dot + 1)))
+      return {-1, {}, "unknown key (allowed: groups.<name>.drones, groups.<name>.drone.<property>, groups.<name>.behavior.params.<name>)"};
+    return {g, tail.substr(dot + 1), {}};
+  }
+  if (!of_a_group(key)) return {-1, key, {}};
+  if (test.groups.size() > 1)
+    return {-1, {}, "the test has " + std::to_string(test.groups.size()) + " groups: say whose, groups.<name>." + std::string(key) +
+                        " (groups: " + group_names(test) + ")"};
+  return {0, key, {}};
 }
 
 }  // namespace
 
 std::uint64_t change_step(double time, double dt) { return static_cast<std::uint64_t>(std::llround(time / dt)); }
 
+bool change_is_whole(std::string_view key) {
+  if (key == "drones" || key.ends_with(".drones") || key == "fail.drone" || key == "fail.camera") return true;
+  const auto at = key.rfind(drone_prefix);
+  const DroneProperty* p = at != std::string_view::npos ? find_drone_property(key.substr(at + drone_prefix.size())) : nullptr;
+  return p && p->spec.is_integer();
+}
+
 std::string check_change(const TestSpec& test, const Change& c, const PluginHost& host) {
   const std::string value = Parameter::format(c.value);
-  const std::string_view key = c.key;
-  if (key.starts_with(params_prefix)) {
-    const std::string_view name = key.substr(params_prefix.size());
-    const Parameters& schema = host.behavior(test.behavior.name).factory.parameters;
-    for (const Parameter& p : schema)
-      if (p.name == name) {
-        const std::string why = p.check(c.value);
-        return why.empty() ? "" : value + " " + why;
-      }
-    std::string declared;
-    for (const Parameter& p : schema) declared += (declared.empty() ? "" : ", ") + p.name;
-    return "unknown parameter of behavior '" + test.behavior.name + "' (declared: " + (declared.empty() ? "none" : declared) + ")";
-  }
-  if (key == "drones") {
-    if (!(c.value >= 1 && c.value <= max_drones) || c.value != std::floor(c.value))
-      return value + " is out of range (allowed: " + whole_in(1, max_drones) + ")";
-    return {};
-  }
-  if (key.starts_with(drone_prefix)) {
+  const Target to = target(test, c.key);
+  if (!to.problem.empty()) return to.problem;
+  const std::string_view key = to.rest;
+  if (to.group >= 0) {
+    const GroupSpec& g = test.groups[static_cast<std::size_t>(to.group)];
+    if (key.starts_with(params_prefix)) {
+      const std::string_view name = key.substr(params_prefix.size());
+      const Parameters& schema = host.behavior(g.behavior.name).factory.parameters;
+      for (const Parameter& p : schema)
+        if (p.name == name) {
+          const std::string why = p.check(c.value);
+          return why.empty() ? "" : value + " " + why;
+        }
+      std::string declared;
+      for (const Parameter& p : schema) declared += (declared.empty() ? "" : ", ") + p.name;
+      return "unknown parameter of behavior '" + g.behavior.name + "' (declared: " + (declared.empty() ? "none" : declared) + ")";
+    }
+    if (key == "drones") {
+      if (!(c.value >= 1 && c.value <= max_drones) || c.value != std::floor(c.value))
+        return value + " is out of range (allowed: " + whole_in(1, max_drones) + ")";
+      return {};
+    }
     const DroneProperty* property = find_drone_property(key.substr(drone_prefix.size()));
     if (!property) return "unknown drone property (allowed: " + drone_property_names() + ")";
     if (const std::string why = property->spec.check(c.value); !why.empty()) return value + " " + why;
-    DroneConfig d = test.drone;
+    DroneConfig d = g.drone;
     property->set(d, c.value);
     if (const Problem p = check_drone(d, test.dt)) return p.what;
     return {};
   }
-  return "unknown key (allowed: behavior.params.<name>, drones, drone.<property>)";
+  if (key == "failures.drone_mtbf" || key == "failures.camera_mtbf") {
+    if (!(c.value >= 0 && c.value <= 1e9)) return value + " is out of range (allowed: [0, 1e9] s; 0: never)";
+    return {};
+  }
+  if (key == "fail.drone" || key == "fail.camera") {
+    if (!(c.value >= 0 && c.value <= max_id) || c.value != std::floor(c.value))
+      return value + " is out of range (allowed: a drone id, " + whole_in(0, max_id) + ")";
+    return {};
+  }
+  if (key == "fail.fraction" || key == "fail.camera_fraction") {
+    if (!(c.value >= 0 && c.value <= 1)) return value + " is out of range (allowed: a fraction in [0, 1])";
+    return {};
+  }
+  return "unknown key (allowed: behavior.params.<name>, drones, drone.<property>, groups.<name>.<any of those>, "
+         "failures.drone_mtbf, failures.camera_mtbf, fail.drone, fail.camera, fail.fraction, fail.camera_fraction)";
 }
 
 void apply_to_test(TestSpec& test, const Change& c) {
-  const std::string_view key = c.key;
-  if (key.starts_with(params_prefix)) test.behavior.params.set(key.substr(params_prefix.size()), c.value);
-  else if (key == "drones") test.drones = static_cast<std::size_t>(c.value);
-  else if (key.starts_with(drone_prefix)) find_drone_property(key.substr(drone_prefix.size()))->set(test.drone, c.value);
+  const Target to = target(test, c.key);
+  const std::string_view key = to.rest;
+  if (to.group >= 0) {
+    GroupSpec& g = test.groups[static_cast<std::size_t>(to.group)];
+    if (key.starts_with(params_prefix)) g.behavior.params.set(key.substr(params_prefix.size()), c.value);
+    else if (key == "drones") g.drones = static_cast<std::size_t>(c.value);
+    else find_drone_property(key.substr(drone_prefix.size()))->set(g.drone, c.value);
+  } else if (key == "failures.drone_mtbf") {
+    test.failures.drone_mtbf = c.value;
+  } else if (key == "failures.camera_mtbf") {
+    test.failures.camera_mtbf = c.value;
+  }  // fail.*: events, nothing the test holds
 }
 
 void apply_change(Simulation& sim, TestSpec& test, const Change& c, const PluginHost& host) {
   if (const std::string why = check_change(test, c, host); !why.empty()) throw std::invalid_argument(c.key + ": " + why);
   TestSpec changed = test;
   apply_to_test(changed, c);
-  const std::string_view key = c.key;
-  if (key.starts_with(params_prefix)) {
-    const ParameterValues old = sim.behavior().parameters();
+  const Target to = target(test, c.key);
+  const std::string_view key = to.rest;
+  const auto g = static_cast<std::uint32_t>(std::max(to.group, 0));
+  if (to.group >= 0 && key.starts_with(params_prefix)) {
+    Behavior& behavior = sim.behavior(g);
+    const ParameterValues old = behavior.parameters();
     try {
-      sim.behavior().set_parameters(changed.behavior.params);
+      behavior.set_parameters(changed.groups[g].behavior.params);
     } catch (const std::exception& e) {
-      sim.behavior().set_parameters(old);  // configure() refused the combination: back to what ran
-      throw PluginFailure("behavior", 0, e.what());
+      behavior.set_parameters(old);  // configure() refused the combination: back to what ran
+      throw PluginFailure("behavior", g, e.what());
     } catch (...) {
-      sim.behavior().set_parameters(old);
-      throw PluginFailure("behavior", 0, "an exception that is not a std::exception");
+      behavior.set_parameters(old);
+      throw PluginFailure("behavior", g, "an exception that is not a std::exception");
     }
-  } else if (key == "drones") {
-    sim.set_drone_count(changed.drones);
+  } else if (to.group >= 0 && key == "drones") {
+    sim.set_drone_count(changed.groups[g].drones, g);
+  } else if (to.group >= 0) {
+    sim.set_drone_config(changed.groups[g].drone, g);
+  } else if (key.starts_with("failures.")) {
+    sim.set_failures(changed.failures);
+  } else if (key == "fail.drone" || key == "fail.camera") {
+    try {
+      sim.fail(static_cast<std::uint32_t>(c.value), key == "fail.camera");
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(c.key + ": " + e.what());
+    }
   } else {
-    sim.set_drone_config(changed.drone);
+    sim.fail_fraction(c.value, key == "fail.camera_fraction");
   }
   test = std::move(changed);
 }
 
 std::string refused_change(const TestSpec& test, const PluginHost& host) {
-  std::shared_ptr<Behavior> behavior;  // made at the first change of a behavior parameter
+  std::vector<std::shared_ptr<Behavior>> behaviors(test.groups.size());  // each made at its group's first parameter change
   TestSpec state = test;
   for (const Change& c : test.changes) {
     apply_to_test(state, c);
-    if (!std::string_view(c.key).starts_with(params_prefix)) continue;
-    const Entry<Behavior>& entry = host.behavior(test.behavior.name);
-    if (!behavior) behavior = PluginHost::create(entry, test.behavior.params);  // throws naming the plugin
+    const Target to = target(test, c.key);
+    if (to.group < 0 || !to.rest.starts_with(params_prefix)) continue;
+    const auto g = static_cast<std::size_t>(to.group);
+    const Entry<Behavior>& entry = host.behavior(test.groups[g].behavior.name);
+    if (!behaviors[g]) behaviors[g] = PluginHost::create(entry, test.groups[g].behavior.params);  // throws naming the plugin
     std::string why;
     try {
-      behavior->set_parameters(state.behavior.params);
+      behaviors[g]->set_parameters(state.groups[g].behavior.params);
     } catch (const std::exception& e) {
       why = e.what();
     } catch (...) {
@@ -108,7 +191,7 @@ std::string refused_change(const TestSpec& test, const PluginHost& host) {
       if (ch == '\n' || ch == '\r') ch = ' ';
     std::string time = Parameter::format(c.time);
     return "changes at t = " + time + " s: " + c.key + " = " + Parameter::format(c.value) + ": behavior '" +
-           test.behavior.name + "' (" + entry.plugin().file.string() + ") refused it: " + why;
+           test.groups[g].behavior.name + "' (" + entry.plugin().file.string() + ") refused it: " + why;
   }
   return {};
 }

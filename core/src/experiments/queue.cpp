@@ -58,12 +58,27 @@ std::string world_key(const TestSpec& t) {
   key["map"] = {{"name", t.map.name}, {"params", sorted_params(t.map.params)}};
   // The file's name only: the same map reached from another working folder is the same world.
   if (!t.map_file.empty()) key["map"]["file"] = fs::path(t.map_file).filename().string();
-  key["spawn"] = {{"mode", t.spawn_mode == SpawnMode::disc ? "disc" : "uniform"}, {"radius", t.spawn_radius}};
-  if (t.spawn) key["spawn"]["point"] = {t.spawn->x, t.spawn->y};
-  key["drone"] = nlohmann::json::object();
-  for (const DroneProperty& p : drone_schema())
-    key["drone"][p.spec.name] = p.spec.is_integer() ? nlohmann::json(static_cast<int>(p.get(t.drone))) : nlohmann::json(p.get(t.drone));
-  key["drones"] = t.drones;
+  // A group's part: its spawn, the drone properties that shape the world and its count; the single
+  // form's at the top level, as before groups.
+  auto group_key = [](const GroupSpec& g, nlohmann::json& out) {
+    out["spawn"] = {{"mode", g.spawn_mode == SpawnMode::disc ? "disc" : "uniform"}, {"radius", g.spawn_radius}};
+    if (g.spawn) out["spawn"]["point"] = {g.spawn->x, g.spawn->y};
+    out["drone"] = nlohmann::json::object();
+    for (const DroneProperty& p : drone_schema())
+      if (p.shapes_world)
+        out["drone"][p.spec.name] = p.spec.is_integer() ? nlohmann::json(static_cast<int>(p.get(g.drone))) : nlohmann::json(p.get(g.drone));
+    out["drones"] = g.drones;
+  };
+  if (t.groups.size() > 1) {
+    key["groups"] = nlohmann::json::array();
+    for (const GroupSpec& g : t.groups) {
+      nlohmann::json one = {{"name", g.name}};
+      group_key(g, one);
+      key["groups"].push_back(one);
+    }
+  } else {
+    group_key(t.groups[0], key);
+  }
   key["targets"] = {{"count", t.targets}};
   if (t.targets > 0) {
     key["targets"]["kind"] = t.target.name;
@@ -81,7 +96,11 @@ std::string describe_choice(const PluginChoice& choice, const Parameters& schema
 }
 
 std::string variant(const TestSpec& t, const PluginHost& host) {
-  return describe_choice(t.behavior, host.behavior(t.behavior.name).factory.parameters);
+  if (t.groups.size() == 1) return describe_choice(t.groups[0].behavior, host.behavior(t.groups[0].behavior.name).factory.parameters);
+  std::string out;  // "scouts=flocking / base=random_walk(speed=2)"
+  for (const GroupSpec& g : t.groups)
+    out += (out.empty() ? "" : " / ") + g.name + "=" + describe_choice(g.behavior, host.behavior(g.behavior.name).factory.parameters);
+  return out;
 }
 
 // ---- Reading a queue
@@ -598,13 +617,14 @@ void join(std::string& to, const std::string& part, const char* separator) {
   if (!part.empty()) to += (to.empty() ? "" : separator) + part;
 }
 
-/// How a test object's behavior shows in its name: "flocking"; with groups, theirs joined by '-'.
+/// How a test object's behavior shows in its name: "flocking"; with groups, theirs joined by '+' ("flocking+random_walk",
+/// which name_safe makes "flocking_random_walk").
 std::string behavior_name(const json& test) {
   if (test.contains("behavior")) return entry_name(test["behavior"]);
   std::string out;
   if (test.contains("groups") && test["groups"].is_array())
     for (const json& group : test["groups"])
-      if (group.is_object() && group.contains("behavior")) out += (out.empty() ? "" : "-") + entry_name(group["behavior"]);
+      if (group.is_object() && group.contains("behavior")) out += (out.empty() ? "" : "+") + entry_name(group["behavior"]);
   return out;
 }
 

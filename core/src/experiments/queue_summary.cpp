@@ -166,6 +166,26 @@ std::vector<std::pair<std::string, std::string>> inputs_of(const json& config) {
           for (const auto& [p, pv] : m["params"].items()) out.emplace_back(each + name + "." + p, cell_text(pv));
       }
       out.emplace_back(key, names);
+    } else if (key == "groups" && value.is_array()) {
+      // Each group's fields under its name (groups.<name>.behavior, groups.<name>.behavior.<p>, ...),
+      // and "drones" the whole swarm.
+      std::uint64_t drones = 0;
+      for (const json& g : value) {
+        if (!g.is_object()) continue;
+        const std::string at = "groups." + cell_text(g.value("name", json())) + ".";
+        for (const auto& [k, v] : g.items()) {
+          if (k == "name") continue;
+          if (k == "behavior" && v.is_object()) {
+            out.emplace_back(at + "behavior", cell_text(v.value("name", json())));
+            if (v.contains("params") && v["params"].is_object())
+              for (const auto& [p, pv] : v["params"].items()) out.emplace_back(at + "behavior." + p, cell_text(pv));
+          } else {
+            flatten(v, at + k, out);
+          }
+        }
+        if (g.contains("drones") && g["drones"].is_number_unsigned()) drones += g["drones"].get<std::uint64_t>();
+      }
+      out.emplace_back("drones", std::to_string(drones));
     } else if (key == "versions" && value.is_object()) {
       for (const auto& [k, v] : value.items()) out.emplace_back("versions." + k, version_text(v));
     } else {
@@ -228,8 +248,12 @@ void replace_file(const fs::path& file, const std::string& text) {
 std::string cell_of(const std::string& config_json) {
   json config = json::parse(config_json);
   for (const char* key : {"behavior", "name", "seed", "repeat"}) config.erase(key);
+  if (config.contains("groups") && config["groups"].is_array())  // the behaviors are what a cell compares
+    for (json& g : config["groups"])
+      if (g.is_object()) g.erase("behavior");
   if (config.contains("versions") && config["versions"].is_object()) {
     config["versions"].erase("behavior");
+    config["versions"].erase("behaviors");
     // Where a plugin was found is not the condition (its version and hash are): the same queue run
     // from another install or build folder gets the same cells.
     for (auto& [kind, v] : config["versions"].items()) {
@@ -255,10 +279,12 @@ void for_each_test_config(const std::vector<TestSpec>& tests, const PluginHost& 
   std::vector<Template> templates;
   std::unordered_multimap<std::size_t, std::size_t> groups;
   auto key = [](const TestSpec& t) {
-    std::size_t h = std::hash<std::string>{}(t.behavior.name);
+    std::size_t h = std::hash<std::string>{}(t.groups[0].behavior.name);
     auto mix = [&h](std::size_t v) { h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2); };
-    mix(t.drones), mix(t.targets), mix(std::hash<double>{}(t.time)), mix(std::hash<std::string>{}(t.map.name));
-    for (const PluginChoice* c : {&t.behavior, &t.map, &t.target})
+    mix(t.drone_total()), mix(t.targets), mix(std::hash<double>{}(t.time)), mix(std::hash<std::string>{}(t.map.name));
+    std::vector<const PluginChoice*> choices{&t.map, &t.target};
+    for (const GroupSpec& g : t.groups) choices.push_back(&g.behavior);
+    for (const PluginChoice* c : choices)
       for (const auto& [name, value] : c->params.items()) mix(std::hash<double>{}(value));
     return h;
   };
@@ -411,6 +437,14 @@ void write_queue_summary(const fs::path& out, const PluginHost* host) {
       if (config->contains("behavior") && (*config)["behavior"].is_object()) {
         row.behavior = (*config)["behavior"].value("name", "");
         row.behavior_params = (*config)["behavior"].value("params", json::object());
+      } else if (config->contains("groups") && (*config)["groups"].is_array()) {
+        // Groups: the behaviors of every group, "scouts=flocking / base=random_walk"; their parameters
+        // are in the groups.<name>.behavior.<p> columns.
+        const json& groups = (*config)["groups"];
+        for (const json& g : groups)
+          if (g.is_object() && g.contains("behavior") && g["behavior"].is_object())
+            row.behavior += (row.behavior.empty() ? "" : " / ") + (groups.size() > 1 ? cell_text(g.value("name", json())) + "=" : "") +
+                            cell_text(g["behavior"].value("name", json()));
       }
       if (const auto outcome = read_text(folder / "outcome.csv")) {
         std::istringstream lines(*outcome);

@@ -26,6 +26,24 @@ std::size_t TestSpec::steps() const { return static_cast<std::size_t>(std::llrou
 std::size_t TestSpec::log_every() const {
   return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(log_interval / dt)));
 }
+std::size_t TestSpec::drone_total() const {
+  std::size_t n = 0;
+  for (const GroupSpec& g : groups) n += g.drones;
+  return n;
+}
+int TestSpec::group_index(std::string_view wanted) const {
+  for (std::size_t g = 0; g < groups.size(); ++g)
+    if (groups[g].name == wanted) return static_cast<int>(g);
+  return -1;
+}
+bool TestSpec::fleet() const {
+  if (groups.size() > 1 || failures != FailureSetup{}) return true;
+  for (const GroupSpec& g : groups)
+    if (g.drone.battery_capacity > 0) return true;
+  for (const Change& c : changes)
+    if (c.key.starts_with("fail") || (c.key.ends_with("battery_capacity") && c.value > 0)) return true;
+  return false;
+}
 
 namespace detail {
 
@@ -102,8 +120,45 @@ std::pair<std::string, json> name_and_params(const json& v, const Reader& r, con
 
 }  // namespace
 
+namespace {
+
+SpawnMode spawn_mode(const json& v, const Reader& r, const std::string& field) {
+  const std::string mode = r.string(v, field);
+  if (mode == "disc") return SpawnMode::disc;
+  if (mode == "uniform") return SpawnMode::uniform;
+  r.fail(field, show(v) + " is not a spawn mode (allowed: disc, uniform)");
+}
+
+/// A group's fields, from the test's top level (at "") or from one of its "groups" (at "groups[1]").
+void parse_group(GroupSpec& g, const json& j, const Reader& r, const PluginHost& host, const std::vector<DroneConfig>& named,
+                 const std::string& at) {
+  // behavior: "name" or {"name": ..., "params": {...}}
+  const std::string behavior = Reader::join(at, "behavior");
+  if (!j.contains("behavior")) r.fail(behavior, "missing (e.g. \"behavior\": \"flocking\")");
+  json params;
+  std::tie(g.behavior.name, params) = name_and_params(j["behavior"], r, behavior);
+  try {
+    const auto& e = host.behavior(g.behavior.name);
+    g.behavior.params = r.params(params, behavior + ".params", e.factory.parameters, "behavior '" + g.behavior.name + "'");
+  } catch (const UnknownPlugin& e) {
+    r.fail(behavior, e.what());
+  }
+  if (j.contains("drone")) g.drone = parse_drone(j["drone"], r, named, Reader::join(at, "drone"));
+  if (j.contains("drones")) g.drones = r.integer(j["drones"], Reader::join(at, "drones"), 1, 1'000'000);
+  if (j.contains("spawn")) {
+    const std::string field = Reader::join(at, "spawn");
+    const json& s = j["spawn"];
+    r.only_keys(s, field, {"mode", "point", "radius"});
+    if (s.contains("mode")) g.spawn_mode = spawn_mode(s["mode"], r, field + ".mode");
+    if (s.contains("point")) g.spawn = point(s["point"], r, field + ".point");
+    if (s.contains("radius")) g.spawn_radius = r.number(s["radius"], field + ".radius", 0, 1e7, "m");
+  }
+}
+
+}  // namespace
+
 TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
-  r.only_keys(j, "", {"name", "behavior", "drone", "drone_configs", "drones", "map", "spawn", "targets",
+  r.only_keys(j, "", {"name", "behavior", "drone", "drone_configs", "drones", "groups", "failures", "map", "spawn", "targets",
                       "contact_handlers", "metrics", "time", "dt", "log_interval", "velocity_iterations",
                       "position_iterations", "decision_lag", "seed", "repeat", "changes", "versions"});
   TestSpec t;
@@ -112,23 +167,39 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
     if (const std::string why = test_name_problem(t.name); !why.empty()) r.fail("name", why);
   }
 
-  // behavior: "name" or {"name": ..., "params": {...}}
-  if (!j.contains("behavior")) r.fail("behavior", "missing (e.g. \"behavior\": \"flocking\")");
-  {
-    json params;
-    std::tie(t.behavior.name, params) = name_and_params(j["behavior"], r, "behavior");
-    try {
-      const auto& e = host.behavior(t.behavior.name);
-      t.behavior.params = r.params(params, "behavior.params", e.factory.parameters, "behavior '" + t.behavior.name + "'");
-    } catch (const UnknownPlugin& e) {
-      r.fail("behavior", e.what());
-    }
-  }
-
   std::vector<DroneConfig> named = builtin_drone_configs();
   if (j.contains("drone_configs")) named = drone_configs_file(r.path(j["drone_configs"], "drone_configs"));
-  if (j.contains("drone")) t.drone = parse_drone(j["drone"], r, named, "drone");
-  if (j.contains("drones")) t.drones = r.integer(j["drones"], "drones", 1, 1'000'000);
+  if (j.contains("groups")) {
+    // [{"name": "surveyors", "drones": 10, "drone": "large", "behavior": ..., "spawn": {...}}, ...]
+    for (const char* key : {"behavior", "drone", "drones", "spawn"})
+      if (j.contains(key)) r.fail(key, std::string("given beside \"groups\" (allowed: one or the other; each group has its own ") + key + ")");
+    const json& list = j["groups"];
+    if (!list.is_array() || list.empty())
+      r.fail("groups", show(list) + " must be a non-empty list of groups, e.g. [{\"name\": \"scouts\", \"drones\": 10, \"behavior\": \"flocking\"}]");
+    t.groups.assign(list.size(), {});
+    t.named_groups = true;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string at = "groups[" + std::to_string(i) + "]";
+      r.only_keys(list[i], at, {"name", "behavior", "drone", "drones", "spawn"});
+      GroupSpec& g = t.groups[i];
+      if (!list[i].contains("name")) r.fail(at + ".name", "missing (each group has a name, used in the outputs' columns)");
+      g.name = r.string(list[i]["name"], at + ".name");
+      if (const std::string why = name_problem(g.name); !why.empty()) r.fail(at + ".name", why);
+      if (g.name.find('.') != std::string::npos)
+        r.fail(at + ".name", show(list[i]["name"]) + " has a dot (allowed: letters, digits, '_' and '-'; keys such as groups.<name>.drones split at dots)");
+      if (const int k = t.group_index(g.name); k >= 0 && static_cast<std::size_t>(k) < i)
+        r.fail(at + ".name", "'" + g.name + "' is also groups[" + std::to_string(k) + "]'s name (allowed: each name once)");
+      parse_group(g, list[i], r, host, named, at);
+    }
+  } else {
+    parse_group(t.groups[0], j, r, host, named, "");
+  }
+  if (j.contains("failures")) {
+    const json& f = j["failures"];
+    r.only_keys(f, "failures", {"drone_mtbf", "camera_mtbf"});
+    if (f.contains("drone_mtbf")) t.failures.drone_mtbf = r.number(f["drone_mtbf"], "failures.drone_mtbf", 0, 1e9, "s");
+    if (f.contains("camera_mtbf")) t.failures.camera_mtbf = r.number(f["camera_mtbf"], "failures.camera_mtbf", 0, 1e9, "s");
+  }
 
   // map: "name" | "file.json" | {"name", "params", "file"}
   {
@@ -150,19 +221,6 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
     } catch (const UnknownPlugin& e) {
       r.fail("map", e.what());
     }
-  }
-
-  if (j.contains("spawn")) {
-    const json& s = j["spawn"];
-    r.only_keys(s, "spawn", {"mode", "point", "radius"});
-    if (s.contains("mode")) {
-      const std::string mode = r.string(s["mode"], "spawn.mode");
-      if (mode == "disc") t.spawn_mode = SpawnMode::disc;
-      else if (mode == "uniform") t.spawn_mode = SpawnMode::uniform;
-      else r.fail("spawn.mode", show(s["mode"]) + " is not a spawn mode (allowed: disc, uniform)");
-    }
-    if (s.contains("point")) t.spawn = point(s["point"], r, "spawn.point");
-    if (s.contains("radius")) t.spawn_radius = r.number(s["radius"], "spawn.radius", 0, 1e7, "m");
   }
 
   // targets: {"kind": "tree", "count": 100, "params": {...}}
@@ -301,15 +359,36 @@ json plugin_json(const Entry<Base>& e) {
 std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   json j;
   j["name"] = t.name;
-  j["behavior"] = {{"name", t.behavior.name}, {"params", params_json(t.behavior.params)}};
-  j["drone"] = {{"name", t.drone.name}};
-  for (const DroneProperty& p : drone_schema())
-    j["drone"][p.spec.name] = p.spec.is_integer() ? json(static_cast<std::int64_t>(p.get(t.drone))) : json(p.get(t.drone));
-  j["drones"] = t.drones;
+  // A group's fields: at the top level in the single form (as before groups), else in "groups".
+  auto group_json = [](const GroupSpec& g, json& out) {
+    out["behavior"] = {{"name", g.behavior.name}, {"params", params_json(g.behavior.params)}};
+    out["drone"] = {{"name", g.drone.name}};
+    // The energy model's properties matter only with a battery: written then (config.json stays as it was without).
+    for (const DroneProperty& p : drone_schema())
+      if (p.shapes_world || g.drone.battery_capacity > 0)
+        out["drone"][p.spec.name] = p.spec.is_integer() ? json(static_cast<std::int64_t>(p.get(g.drone))) : json(p.get(g.drone));
+    out["drones"] = g.drones;
+  };
+  auto spawn_json = [](const GroupSpec& g) {
+    json out = {{"mode", g.spawn_mode == SpawnMode::disc ? "disc" : "uniform"}, {"radius", g.spawn_radius}};
+    if (g.spawn) out["point"] = {g.spawn->x, g.spawn->y};
+    return out;
+  };
+  if (t.named_groups) {
+    j["groups"] = json::array();
+    for (const GroupSpec& g : t.groups) {
+      json one = {{"name", g.name}};
+      group_json(g, one);
+      one["spawn"] = spawn_json(g);
+      j["groups"].push_back(one);
+    }
+  } else {
+    group_json(t.groups[0], j);
+  }
+  if (t.failures != FailureSetup{}) j["failures"] = {{"drone_mtbf", t.failures.drone_mtbf}, {"camera_mtbf", t.failures.camera_mtbf}};
   j["map"] = {{"name", t.map.name}, {"params", params_json(t.map.params)}};
   if (!t.map_file.empty()) j["map"]["file"] = t.map_file;
-  j["spawn"] = {{"mode", t.spawn_mode == SpawnMode::disc ? "disc" : "uniform"}, {"radius", t.spawn_radius}};
-  if (t.spawn) j["spawn"]["point"] = {t.spawn->x, t.spawn->y};
+  if (!t.named_groups) j["spawn"] = spawn_json(t.groups[0]);
   j["targets"] = {{"kind", t.target.name}, {"count", t.targets}, {"params", params_json(t.target.params)}};
   j["contact_handlers"] = json::array();
   for (const auto& h : t.contact_handlers)
@@ -327,14 +406,19 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   if (!t.changes.empty()) {  // only when there are some: earlier tests keep their config.json bytes
     json changes = json::array();
     for (const Change& c : t.changes) {
-      const DroneProperty* property = c.key.starts_with("drone.") ? find_drone_property(c.key.substr(6)) : nullptr;
-      const bool whole = c.key == "drones" || (property && property->spec.is_integer());  // counts read as counts
+      const bool whole = change_is_whole(c.key);  // counts read as counts
       changes.push_back({{"time", c.time}, {"set", {{c.key, whole ? json(static_cast<std::uint64_t>(c.value)) : json(c.value)}}}});
     }
     j["changes"] = changes;
   }
-  json versions = {{"salsa", salsa_version()}, {"behavior", plugin_json(host.behavior(t.behavior.name))},
-                   {"map", plugin_json(host.map(t.map.name))}};
+  json versions = {{"salsa", salsa_version()}};
+  if (t.named_groups) {
+    versions["behaviors"] = json::array();
+    for (const GroupSpec& g : t.groups) versions["behaviors"].push_back(plugin_json(host.behavior(g.behavior.name)));
+  } else {
+    versions["behavior"] = plugin_json(host.behavior(t.groups[0].behavior.name));
+  }
+  versions["map"] = plugin_json(host.map(t.map.name));
   if (t.targets > 0) versions["target"] = plugin_json(host.target_kind(t.target.name));
   json handlers = json::array();
   for (const auto& h : t.contact_handlers) handlers.push_back(plugin_json(host.contact_handler(h.name)));
@@ -358,10 +442,13 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   SimulationSetup s;
   const Entry<MapGenerator>* map_entry = nullptr;
   std::shared_ptr<MapGenerator> map;
+  s.groups.clear();
   try {
     map_entry = &host.map(t.map.name);
     map = PluginHost::create(*map_entry, t.map.params);
-    s.behavior = PluginHost::create(host.behavior(t.behavior.name), t.behavior.params);
+    for (const GroupSpec& g : t.groups)
+      s.groups.push_back({g.name, g.drone, g.drones, PluginHost::create(host.behavior(g.behavior.name), g.behavior.params), g.spawn,
+                          g.spawn_mode, g.spawn_radius});
     if (t.targets > 0) s.target_kind = PluginHost::create(host.target_kind(t.target.name), t.target.params);
     for (const auto& h : t.contact_handlers)
       s.contact_handlers.push_back(PluginHost::create(host.contact_handler(h.name), handler_params(h, host)));
@@ -370,11 +457,7 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   }
   // A change the behavior's configure() refuses would end the run at its time: refuse it now.
   if (const std::string why = refused_change(t, host); !why.empty()) throw InputError(t.source + ": " + why);
-  s.spawn = t.spawn;
-  s.spawn_mode = t.spawn_mode;
-  s.spawn_radius = t.spawn_radius;
-  s.drone = t.drone;
-  s.drones = t.drones;
+  s.failures = t.failures;
   s.targets = t.targets;
   s.dt = t.dt;
   s.velocity_iterations = t.velocity_iterations;
@@ -383,7 +466,10 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   s.seed = t.seed;
   s.threads = threads;
   s.log_every = t.log_every();
-  if (const Problem p = check_drone(t.drone, t.dt)) throw InputError(t.source + ": " + p.text());
+  // A group's field in messages: "drone.max_speed" in the single form, "groups.scouts.drone.max_speed" with groups.
+  auto in = [&](const GroupSpec& g) { return t.named_groups ? "groups." + g.name + "." : std::string(); };
+  for (const GroupSpec& g : t.groups)
+    if (const Problem p = check_drone(g.drone, t.dt)) throw InputError(t.source + ": " + in(g) + p.text());
 
   // The map: what the plugin made is input too, checked like a map file (DESIGN §4).
   try {
@@ -398,20 +484,28 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   }
   if (const Problem p = check_map(s.map)) throw InputError(t.source + ": " + provider("map", *map_entry) + " returned " + p.text());
   const std::string map_name = t.map_file.empty() ? "map '" + t.map.name + "'" : "map " + t.map_file;
-  if (const Problem p = check_resolution(s.map.bounds, t.drone, t.dt)) throw InputError(t.source + ": " + map_name + ": " + p.text());
+  double obstacle_range = 0;
+  for (const GroupSpec& g : t.groups) {
+    if (const Problem p = check_resolution(s.map.bounds, g.drone, t.dt)) throw InputError(t.source + ": " + in(g) + map_name + ": " + p.text());
+    obstacle_range = std::max(obstacle_range, g.drone.obstacle_range);
+  }
 
-  // The spawn point must be free before anything is built on it.
-  const StaticGeometry geometry(s.map, std::max(t.drone.obstacle_range, 1.0));
-  const Vec2 spawn = t.spawn.value_or(s.map.spawn);
-  if (!geometry.is_free(spawn, t.drone.radius))
-    throw InputError(t.source + ": " + (t.spawn ? "spawn.point" : map_name) + ": spawn point [" + num(spawn.x) + ", " + num(spawn.y) +
-                     "] is inside an obstacle or outside the bounds (allowed: free space, at least the drone radius " +
-                     num(t.drone.radius) + " m from any wall)");
+  // Each group's spawn point must be free before anything is built on it.
+  const StaticGeometry geometry(s.map, std::max(obstacle_range, 1.0));
+  for (const GroupSpec& g : t.groups) {
+    const Vec2 spawn = g.spawn.value_or(s.map.spawn);
+    if (!geometry.is_free(spawn, g.drone.radius))
+      throw InputError(t.source + ": " + (g.spawn ? in(g) + "spawn.point" : in(g) + map_name) + ": spawn point [" + num(spawn.x) + ", " +
+                       num(spawn.y) + "] is inside an obstacle or outside the bounds (allowed: free space, at least the drone radius " +
+                       num(g.drone.radius) + " m from any wall)");
+  }
 
   // The targets, placed as the simulation will place them: the kind's radius and positions are input too.
   if (s.target_kind) {
     try {
-      initial_targets(*s.target_kind, t.targets, s.map, geometry, t.drone, t.dt, t.seed);
+      initial_targets(*s.target_kind, t.targets, s.map, geometry, t.groups[0].drone, t.dt, t.seed);
+      for (const GroupSpec& g : t.groups)
+        if (const Problem p = check_view_range(*s.target_kind, g.drone)) throw std::invalid_argument(p.text());
     } catch (const std::exception& e) {
       throw InputError(t.source + ": " + provider("target kind", host.target_kind(t.target.name)) + ": " + e.what());
     }
@@ -425,9 +519,11 @@ std::optional<std::pair<std::size_t, std::size_t>> first_same_test(const std::ve
     std::size_t h = std::hash<std::uint64_t>{}(t.seed);
     auto mix = [&h](std::size_t v) { h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2); };
     auto mix_double = [&](double v) { mix(std::hash<double>{}(v == 0 ? 0.0 : v)); };  // -0 == 0, as == says
-    mix(t.drones), mix(t.targets), mix(t.repeat);
+    mix(t.drone_total()), mix(t.targets), mix(t.repeat);
     mix_double(t.time), mix_double(t.dt);
-    for (const PluginChoice* c : {&t.behavior, &t.map, &t.target}) {
+    std::vector<const PluginChoice*> choices{&t.map, &t.target};
+    for (const GroupSpec& g : t.groups) choices.push_back(&g.behavior);
+    for (const PluginChoice* c : choices) {
       mix(std::hash<std::string>{}(c->name));
       for (const auto& [name, value] : c->params.items()) mix_double(value);
     }
@@ -474,7 +570,9 @@ std::string workload_warning(const TestSpec& t, const SimulationSetup& s) {
   double seconds = 0, heaviest = -1, drones = 0, range = 0, neighbours = 0;
   std::uint64_t from = 0;
   auto stretch = [&](std::uint64_t to) {
-    const double n = static_cast<double>(now.drones), r = now.drone.detection_range, k = neighbours_of(n, r);
+    double r = 0;
+    for (const GroupSpec& g : now.groups) r = std::max(r, g.drone.detection_range);
+    const double n = static_cast<double>(now.drone_total()), k = neighbours_of(n, r);
     const double per_step = n * (per_drone_step + per_neighbour * k);
     seconds += static_cast<double>(to - std::min(from, to)) * per_step;
     if (per_step > heaviest) heaviest = per_step, drones = n, range = r, neighbours = k;
@@ -491,7 +589,9 @@ std::string workload_warning(const TestSpec& t, const SimulationSetup& s) {
   const double steps_per_second = 1 / t.dt;
   if (seconds < 3600) return {};
   const double hours = seconds / 3600;
-  const bool changed = drones != static_cast<double>(t.drones) || range != t.drone.detection_range;
+  double first_range = 0;
+  for (const GroupSpec& g : t.groups) first_range = std::max(first_range, g.drone.detection_range);
+  const bool changed = drones != static_cast<double>(t.drone_total()) || range != first_range;
   return t.source + ": " + grouped(drones) + " drones" + (changed ? " (after its timed changes)" : "") + " with detection range " +
          sig(range, 6) + " m on a " + sig(b.width(), 6) + " m × " + sig(b.height(), 6) + " m map: ~" + grouped(neighbours) +
          " neighbours per drone, about " + sig(drones * neighbours * steps_per_second, 2) + " drone-neighbour checks per simulated second; " +

@@ -62,6 +62,13 @@ CsvWriter& CsvWriter::field(std::uint64_t value) {
   return *this;
 }
 
+CsvWriter& CsvWriter::text(std::string_view value) {
+  if (!first_field_) row_ += ',';
+  first_field_ = false;
+  row_ += value;
+  return *this;
+}
+
 CsvWriter& CsvWriter::empty_field() {
   if (!first_field_) row_ += ',';
   first_field_ = false;

@@ -1,5 +1,7 @@
 #include "salsa/core/model/drone_config.hpp"
 
+#include <cmath>
+
 namespace salsa {
 
 const std::vector<DroneProperty>& drone_schema() {
@@ -14,8 +16,23 @@ const std::vector<DroneProperty>& drone_schema() {
       {{"radius", 1, 1e-2, 100, "m", "the drone's body, a circle", 0.01}, &DroneConfig::radius},
       {{"mass", 1.5, 1e-3, 1e6, "kg", "mass of the body (collisions)", 1e-3}, &DroneConfig::mass},
       {{"obstacle_rays", 8, 0, 64, "", "obstacle rays, evenly spread over 360°", 1}, nullptr, &DroneConfig::obstacle_rays},
+      {{"battery_capacity", 0, 0, 1e6, "Wh", "battery energy; 0: no battery model (never runs flat)", 0.1}, &DroneConfig::battery_capacity, nullptr, false},
+      {{"blade_power", 79.86, 0, 1e6, "W", "P0: blade profile power in hover (Zeng et al. 2019)", 0.01}, &DroneConfig::blade_power, nullptr, false},
+      {{"induced_power", 88.63, 0, 1e6, "W", "Pi: induced power in hover", 0.01}, &DroneConfig::induced_power, nullptr, false},
+      {{"tip_speed", 120, 1, 1e3, "m/s", "U: rotor blade tip speed", 0.1}, &DroneConfig::tip_speed, nullptr, false},
+      {{"induced_velocity", 4.03, 0.01, 100, "m/s", "v0: mean rotor induced velocity in hover", 0.01}, &DroneConfig::induced_velocity, nullptr, false},
+      {{"parasite_drag", 0.0092, 0, 100, "kg/m", "k = d0 rho s A / 2: fuselage drag term, k V^3 W", 1e-4}, &DroneConfig::parasite_drag, nullptr, false},
+      {{"charge_power", 0, 0, 1e6, "W", "charging power at the group's base; 0: bases do not recharge", 0.1}, &DroneConfig::charge_power, nullptr, false},
+      {{"charge_radius", 5, 0, 1e4, "m", "a drone slower than 1 m/s this close to its base charges", 0.1}, &DroneConfig::charge_radius, nullptr, false},
   };
   return schema;
+}
+
+double flight_power(const DroneConfig& d, double v) {
+  const double v2 = v * v, v02 = d.induced_velocity * d.induced_velocity;
+  const double blade = d.blade_power * (1 + 3 * v2 / (d.tip_speed * d.tip_speed));
+  const double induced = d.induced_power * std::sqrt(std::sqrt(1 + v2 * v2 / (4 * v02 * v02)) - v2 / (2 * v02));
+  return blade + induced + d.parasite_drag * v2 * v;
 }
 
 const DroneProperty* find_drone_property(std::string_view name) {

@@ -24,6 +24,7 @@ namespace {
 
 // Rng streams: a few fixed ones for set-up, then one per drone.
 constexpr std::uint64_t targets_stream = 1, spawn_stream = 2, first_drone_stream = 16;
+constexpr double inf = std::numeric_limits<double>::infinity();
 
 /// A number in a message: whole numbers in full, others with 6 significant digits ("nan", "inf" too).
 std::string num(double v) {
@@ -58,8 +59,13 @@ double quoted_limit(double x) {
 class StateView final : public WorldView {
  public:
   StateView(const MapData& map, const StaticGeometry& geometry, const DroneProperties& drone, double time, double dt,
-            std::span<const Vec2> positions = {}, std::span<const Vec2> velocities = {})
-      : map_(map), geometry_(geometry), drone_(drone), time_(time), dt_(dt), positions_(positions), velocities_(velocities) {}
+            std::span<const Vec2> positions = {}, std::span<const Vec2> velocities = {},
+            std::span<const std::uint32_t> groups = {}, std::span<const DroneStatus> status = {})
+      : map_(map), geometry_(geometry), drone_(drone), time_(time), dt_(dt), positions_(positions), velocities_(velocities),
+        groups_(groups.begin(), groups.end()), status_(status.begin(), status.end()) {
+    groups_.resize(positions.size(), 0);
+    status_.resize(positions.size(), DroneStatus::flying);
+  }
   Rect bounds() const override { return map_.bounds; }
   double time() const override { return time_; }
   double dt() const override { return dt_; }
@@ -80,8 +86,8 @@ class StateView final : public WorldView {
   DroneProperties drone_;
   double time_, dt_;
   std::span<const Vec2> positions_, velocities_;
-  std::vector<std::uint32_t> groups_ = std::vector<std::uint32_t>(positions_.size(), 0);
-  std::vector<DroneStatus> status_ = std::vector<DroneStatus>(positions_.size(), DroneStatus::flying);
+  std::vector<std::uint32_t> groups_;
+  std::vector<DroneStatus> status_;
 };
 
 /// The simulation as a contact handler sees it during an event: as it is, at the event's time (a
@@ -319,8 +325,8 @@ struct Simulation::Parallel {
 };
 
 struct Simulation::World {
-  Vec2 spawn;
   StaticGeometry geometry;
+  std::vector<Group> groups;
   std::unique_ptr<PhysicsWorld> physics;
   Rng spawn_rng;
   Drones drones;
@@ -329,12 +335,17 @@ struct Simulation::World {
 
 Simulation::Simulation(SimulationSetup setup)
     : setup_(std::move(setup)), parallel_(std::make_unique<Parallel>(setup_.threads)) {
-  if (!setup_.behavior) throw std::invalid_argument("behavior: none given");
+  if (setup_.groups.empty()) throw std::invalid_argument("groups: none given");
+  for (const GroupSetup& g : setup_.groups)
+    if (!g.behavior) throw std::invalid_argument("behavior: none given");
   if (setup_.log_every == 0) setup_.log_every = 1;
   World world = build_world(setup_);
-  plugin_call(behavior_kind, 0, [&] { setup_.behavior->reset(setup_.drones); });
+  for (std::uint32_t g = 0; g < setup_.groups.size(); ++g) {
+    Behavior& b = *setup_.groups[g].behavior;
+    b.group_ = g;
+    plugin_call(behavior_kind, g, [&] { b.reset(world.drones.positions.size()); });
+  }
   install(std::move(world));
-  drone_properties_ = drone_properties(setup_.drone);
   reset_handlers(*this);
 }
 
@@ -345,23 +356,22 @@ namespace {
 /// Where a new drone starts: in spawn mode disc a random point of the spawn disc (or, outside the walls,
 /// the nearest point inside them, as the paper does), else a random free point of the map; every try
 /// bounded, the spawn point itself (checked free) as the last resort.
-Vec2 spawn_position(const SimulationSetup& s, const StaticGeometry& geometry, Vec2 spawn, std::size_t total, Rng& rng,
-                    bool& scarce) {
-  const double r = s.drone.radius;
-  if (s.spawn_mode == SpawnMode::disc) {
-    const double disc = s.spawn_radius > 0 ? s.spawn_radius : static_cast<double>(total) * r;
+Vec2 spawn_position(const GroupSetup& g, const Rect& bounds, const StaticGeometry& geometry, Vec2 spawn, std::size_t total,
+                    Rng& rng, bool& scarce) {
+  const double r = g.drone.radius;
+  if (g.spawn_mode == SpawnMode::disc) {
+    const double disc = g.spawn_radius > 0 ? g.spawn_radius : static_cast<double>(total) * r;
     Vec2 p;
     for (int tries = 0; tries < 100; ++tries) {
       p = rng.in_disc(spawn, disc);
       if (geometry.is_free(p, r)) return p;
     }
-    const Rect& b = s.map.bounds;
-    p = {std::clamp(p.x, b.min.x + r, b.max.x - r), std::clamp(p.y, b.min.y + r, b.max.y - r)};
+    p = {std::clamp(p.x, bounds.min.x + r, bounds.max.x - r), std::clamp(p.y, bounds.min.y + r, bounds.max.y - r)};
     if (geometry.is_free(p, r)) return p;
   }
   // Free space under 1/10,000 of the map: once a drone found none, the others try briefly.
   for (int tries = 0, most = scarce ? 100 : 10'000; tries < most; ++tries)
-    if (Vec2 p = rng.in_rect(s.map.bounds); geometry.is_free(p, r)) return p;
+    if (Vec2 p = rng.in_rect(bounds); geometry.is_free(p, r)) return p;
   scarce = true;
   return spawn;
 }
@@ -372,72 +382,107 @@ std::vector<Vec2> ray_directions(int rays) {
   return out;
 }
 
+/// A drone's failure draws: Exp(1) for the whole drone, then for its camera, from its own stream.
+constexpr std::uint64_t first_failure_stream = std::uint64_t{1} << 40;
+std::pair<double, double> failure_draws(std::uint64_t seed, std::uint32_t id) {
+  Rng rng(seed, first_failure_stream + id);
+  const double drone = -std::log1p(-rng.uniform());
+  return {drone, -std::log1p(-rng.uniform())};
+}
+
 }  // namespace
 
+Simulation::Group Simulation::make_group(const GroupSetup& g, Vec2 base, const TargetKind* kind, bool with_targets) {
+  Group out;
+  out.properties = drone_properties(g.drone);
+  out.base = base;
+  out.rays = ray_directions(g.drone.obstacle_rays);
+  if (kind && with_targets) {
+    if (auto p = check_view_range(*kind, g.drone)) throw std::invalid_argument(p.text());
+    out.reach = plugin_call(target_kind, 0, [&] { return kind->view_range(g.drone.camera_range); });
+  }
+  return out;
+}
+
+std::size_t Simulation::ray_slots(const std::vector<Group>& groups) {
+  std::size_t most = 0;
+  for (const Group& g : groups) most = std::max(most, g.rays.size());
+  return most;
+}
+
 Simulation::World Simulation::build_world(const SimulationSetup& s) {
-  if (auto p = check_drone(s.drone, s.dt)) throw std::invalid_argument(p.text());
   if (auto p = check_map(s.map)) throw std::invalid_argument("map: " + p.text());
-  if (auto p = check_resolution(s.map.bounds, s.drone, s.dt)) throw std::invalid_argument("map: " + p.text());
-  check_drone_count(s.drones);
+  double obstacle_range = 0;
+  for (const GroupSetup& g : s.groups) {
+    const std::string in = s.groups.size() > 1 ? "groups." + g.name + "." : "";
+    if (auto p = check_drone(g.drone, s.dt)) throw std::invalid_argument(in + p.text());
+    if (auto p = check_resolution(s.map.bounds, g.drone, s.dt)) throw std::invalid_argument(in + "map: " + p.text());
+    check_drone_count(g.drones);
+    obstacle_range = std::max(obstacle_range, g.drone.obstacle_range);
+  }
   World w;
-  w.geometry = StaticGeometry(s.map, std::max(s.drone.obstacle_range, 1.0));
-  w.spawn = s.spawn.value_or(s.map.spawn);
-  if (!finite(w.spawn) || !w.geometry.is_free(w.spawn, s.drone.radius))
-    throw std::invalid_argument("spawn point " + point(w.spawn) +
-                                " is inside an obstacle or outside the map bounds (it needs a free disc of the drone radius)");
-  // Targets go on the map before any drone exists, so make_setup can check them without spawning.
+  w.geometry = StaticGeometry(s.map, std::max(obstacle_range, 1.0));
+  // Targets go on the map before any drone exists, so make_setup can check them without spawning; they
+  // see the first group's drone properties.
   std::vector<Vec2> targets;
-  if (s.target_kind) targets = initial_targets(*s.target_kind, s.targets, s.map, w.geometry, s.drone, s.dt, s.seed);
-  w.targets = make_targets(std::move(targets), s.drone, s.target_kind.get());
+  if (s.target_kind) targets = initial_targets(*s.target_kind, s.targets, s.map, w.geometry, s.groups[0].drone, s.dt, s.seed);
+  for (const GroupSetup& g : s.groups) {
+    const Vec2 base = g.spawn.value_or(s.map.spawn);
+    if (!finite(base) || !w.geometry.is_free(base, g.drone.radius))
+      throw std::invalid_argument((s.groups.size() > 1 ? "groups." + g.name + ": " : "") + "spawn point " + point(base) +
+                                  " is inside an obstacle or outside the map bounds (it needs a free disc of the drone radius)");
+    w.groups.push_back(make_group(g, base, s.target_kind.get(), !targets.empty()));
+  }
+  w.targets = make_targets(std::move(targets), w.groups);
   w.physics = std::make_unique<PhysicsWorld>(w.geometry);
   w.spawn_rng = Rng(s.seed, spawn_stream);
-  w.drones = resized({}, s.drones, s, w.geometry, w.spawn, w.spawn_rng);
-  w.physics->bodies.reserve(s.drones);
-  for (std::size_t i = 0; i < s.drones; ++i)
-    w.physics->add_drone(static_cast<std::uint32_t>(i), w.drones.positions[i], w.drones.velocities[i], s.drone);
+  for (std::uint32_t g = 0; g < s.groups.size(); ++g)
+    w.drones = grown(std::move(w.drones), g, s.groups[g].drones, s, w.geometry, w.groups[g].base, w.spawn_rng, 0);
+  w.drones.hits.assign(w.drones.positions.size() * ray_slots(w.groups), {});
   return w;
 }
 
-// The first n drones of `from` (their places and velocities), new ones spawned for the rest; every
-// drone with fresh steering and a fresh Rng stream.
-Simulation::Drones Simulation::resized(const Drones& from, std::size_t n, const SimulationSetup& s,
-                                       const StaticGeometry& geometry, Vec2 spawn, Rng& spawn_rng) {
-  const DroneConfig& cfg = s.drone;
-  Drones d;
-  const std::size_t kept = std::min(n, from.positions.size());
-  d.positions.assign(from.positions.begin(), from.positions.begin() + static_cast<std::ptrdiff_t>(kept));
-  d.velocities.assign(from.velocities.begin(), from.velocities.begin() + static_cast<std::ptrdiff_t>(kept));
-  d.commanded.assign(from.commanded.begin(), from.commanded.begin() + static_cast<std::ptrdiff_t>(std::min(kept, from.commanded.size())));
-  d.positions.reserve(n);
-  d.velocities.reserve(n);
+// `from` and `count` new drones of group `group` after it, spawned at `base` at time `time`, each with
+// a fresh Rng stream of its own id and its failure draws.
+Simulation::Drones Simulation::grown(Drones d, std::uint32_t group, std::size_t count, const SimulationSetup& s,
+                                     const StaticGeometry& geometry, Vec2 base, Rng& spawn_rng, double time) {
+  const GroupSetup& g = s.groups[group];
+  const std::size_t first = d.positions.size(), n = first + count;
+  check_drone_count(n);
+  std::size_t total = count;  // the group's drones once these are added: the spawn disc's size
+  for (std::size_t i = 0; i < first; ++i) total += d.groups[i] == group && d.status[i] != DroneStatus::removed;
   bool scarce = false;
-  for (std::size_t i = kept; i < n; ++i) {
-    d.positions.push_back(spawn_position(s, geometry, spawn, n, spawn_rng, scarce));
+  for (std::size_t i = first; i < n; ++i) {
+    d.positions.push_back(spawn_position(g, s.map.bounds, geometry, base, total, spawn_rng, scarce));
     const double heading = spawn_rng.angle();  // drawn first, as g++ evaluated the call: the order is fixed, not the compiler's
-    d.velocities.push_back(Vec2::polar(spawn_rng.uniform(0.1 * cfg.max_speed, cfg.max_speed), heading));
+    d.velocities.push_back(Vec2::polar(spawn_rng.uniform(0.1 * g.drone.max_speed, g.drone.max_speed), heading));
+    d.rngs.emplace_back(s.seed, first_drone_stream + i);
+    const auto [drone, camera] = failure_draws(s.seed, static_cast<std::uint32_t>(i));
+    d.due.push_back(drone);
+    d.camera_due.push_back(camera);
   }
-  d.steering.assign(n, {});
+  d.steering.resize(n);
   d.commanded.resize(n);
-  d.rngs.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) d.rngs.emplace_back(s.seed, first_drone_stream + i);
-  d.ray_directions = ray_directions(cfg.obstacle_rays);
-  d.hits.assign(n * d.ray_directions.size(), {});
-  d.hit_counts.assign(n, 0);
-  d.groups.assign(n, 0);
-  d.status.assign(n, DroneStatus::flying);
+  d.groups.resize(n, group);
+  d.status.resize(n, DroneStatus::flying);
+  d.camera.resize(n, 1);
+  d.used.resize(n, 0.0);
+  d.charge.resize(n, g.drone.battery_capacity > 0 ? g.drone.battery_capacity * 3600 : inf);
+  d.since.resize(n, time);
+  d.exposure.resize(n, 0.0);
+  d.camera_exposure.resize(n, 0.0);
+  d.hit_counts.resize(n, 0);
   return d;
 }
 
-Simulation::Targets Simulation::make_targets(std::vector<Vec2> positions, const DroneConfig& drone, const TargetKind* kind) {
+Simulation::Targets Simulation::make_targets(std::vector<Vec2> positions, const std::vector<Group>& groups) {
   Targets t;
-  if (kind && !positions.empty()) {
-    if (auto p = check_view_range(*kind, drone)) throw std::invalid_argument(p.text());
-    t.reach = plugin_call(target_kind, 0, [&] { return kind->view_range(drone.camera_range); });
-  }
+  double reach = 0;
+  for (const Group& g : groups) reach = std::max(reach, g.reach);
   t.states.reserve(positions.size());
   for (Vec2 p : positions) t.states.push_back({p});
   // Cells of the query radius: a query touches 3 × 3 cells whatever the kind's view range.
-  t.grid.build(positions, std::max(t.reach, 1.0));
+  t.grid.build(positions, std::max(reach, 1.0));
   return t;
 }
 
@@ -447,91 +492,193 @@ void Simulation::reset_handlers(const WorldView& world) const {
 }
 
 void Simulation::install(World&& w) noexcept {
-  spawn_ = w.spawn;
   geometry_ = std::move(w.geometry);
+  groups_ = std::move(w.groups);
+  ray_slots_ = ray_slots(groups_);
+  grid_range_ = 0;
+  for (const GroupSetup& g : setup_.groups) grid_range_ = std::max(grid_range_, g.drone.detection_range);
   physics_ = std::move(w.physics);
   spawn_rng_ = w.spawn_rng;
   drones_ = std::move(w.drones);
   targets_ = std::move(w.targets);
+  flying_ = static_cast<std::size_t>(std::count(drones_.status.begin(), drones_.status.end(), DroneStatus::flying));
+  physics_->remove_drones_from(0);
+  add_bodies();
 }
 
-void Simulation::set_drone_count(std::size_t n) {
+void Simulation::add_bodies() {
+  physics_->bodies.reserve(drones_.positions.size());
+  for (std::uint32_t i = 0; i < drones_.positions.size(); ++i) {
+    physics_->add_drone(i, drones_.positions[i], drones_.velocities[i], setup_.groups[drones_.groups[i]].drone);
+    if (drones_.status[i] != DroneStatus::flying) physics_->bodies[i]->SetEnabled(false);
+  }
+}
+
+void Simulation::ground(std::uint32_t id, DroneStatus status) {
+  drones_.status[id] = status;
+  drones_.since[id] = time();
+  drones_.velocities[id] = drones_.commanded[id] = drones_.steering[id] = {};
+  physics_->bodies[id]->SetLinearVelocity({0, 0});
+  physics_->bodies[id]->SetEnabled(false);  // no longer collides or is collided with
+  --flying_;
+}
+
+void Simulation::set_drone_count(std::size_t n, std::uint32_t group) {
   check_drone_count(n);
+  if (group >= setup_.groups.size()) throw std::invalid_argument("group " + std::to_string(group) + " does not exist");
+  std::vector<std::uint32_t> present;  // the group's drones not removed, by id
+  for (std::uint32_t i = 0; i < drones_.positions.size(); ++i)
+    if (drones_.groups[i] == group && drones_.status[i] != DroneStatus::removed) present.push_back(i);
   Rng rng = spawn_rng_;
-  Drones next = resized(drones_, n, setup_, geometry_, spawn_, rng);
-  physics_->bodies.reserve(n);
-  plugin_call(behavior_kind, 0, [&] { setup_.behavior->reset(n); });
-  reset_handlers(StateView(setup_.map, geometry_, drone_properties_, time(), setup_.dt, next.positions, next.velocities));
+  Drones next = n > present.size() ? grown(drones_, group, n - present.size(), setup_, geometry_, groups_[group].base, rng, time())
+                                   : drones_;
+  for (std::size_t k = n; k < present.size(); ++k) {  // the highest ids go
+    const std::uint32_t i = present[k];
+    next.status[i] = DroneStatus::removed;
+    next.since[i] = time();
+    next.velocities[i] = next.commanded[i] = next.steering[i] = {};
+  }
+  next.hits.resize(next.positions.size() * ray_slots_);
+  for (std::uint32_t g = 0; g < setup_.groups.size(); ++g)
+    plugin_call(behavior_kind, g, [&] { setup_.groups[g].behavior->resize(next.positions.size()); });
+  // Handlers see the drones as they will be (removed ones stay in the spans, with their status).
+  {
+    std::swap(drones_, next);
+    struct Restore {
+      Simulation& sim;
+      Drones& old;
+      bool done = false;
+      ~Restore() { if (!done) std::swap(sim.drones_, old); }
+    } restore{*this, next};
+    reset_handlers(*this);
+    restore.done = true;
+  }
   // Nothing below throws.
-  const std::size_t before = drones_.positions.size();
-  physics_->remove_drones_from(n);
-  for (std::size_t i = before; i < n; ++i)
-    physics_->add_drone(static_cast<std::uint32_t>(i), next.positions[i], next.velocities[i], setup_.drone);
-  drones_ = std::move(next);
+  const std::size_t before = physics_->bodies.size();
+  for (std::uint32_t i = 0; i < drones_.positions.size(); ++i) {
+    if (i >= before) physics_->add_drone(i, drones_.positions[i], drones_.velocities[i], setup_.groups[group].drone);
+    else if (drones_.status[i] == DroneStatus::removed && physics_->bodies[i]->IsEnabled()) {
+      physics_->bodies[i]->SetLinearVelocity({0, 0});
+      physics_->bodies[i]->SetEnabled(false);
+    }
+  }
+  flying_ = static_cast<std::size_t>(std::count(drones_.status.begin(), drones_.status.end(), DroneStatus::flying));
   spawn_rng_ = rng;
-  setup_.drones = n;
+  setup_.groups[group].drones = n;
 }
 
-void Simulation::set_drone_config(const DroneConfig& config) {
+void Simulation::set_drone_config(const DroneConfig& config, std::uint32_t group) {
+  if (group >= setup_.groups.size()) throw std::invalid_argument("group " + std::to_string(group) + " does not exist");
   if (auto p = check_drone(config, setup_.dt)) throw std::invalid_argument(p.text());
   if (auto p = check_resolution(setup_.map.bounds, config, setup_.dt)) throw std::invalid_argument("map: " + p.text());
-  DroneConfig next = config;
-  std::vector<Vec2> rays = ray_directions(config.obstacle_rays);
-  std::vector<ObstacleHit> hits(drones_.positions.size() * rays.size());
-  std::vector<Vec2> points;  // the camera range sizes the target grid
+  SimulationSetup next_setup = setup_;
+  next_setup.groups[group].drone = config;
+  std::vector<Group> next_groups = groups_;
+  const TargetKind* kind = setup_.target_kind.get();
+  next_groups[group] = make_group(next_setup.groups[group], groups_[group].base, kind, !targets_.states.empty());
+  std::vector<Vec2> points;  // the cameras size the target grid
   points.reserve(targets_.states.size());
   for (const auto& t : targets_.states) points.push_back(t.position);
-  Targets regridded = make_targets(std::move(points), config, setup_.target_kind.get());
-  const DroneProperties properties = drone_properties(config);
-  // Nothing below throws.
-  physics_->remove_drones_from(0);
-  for (std::size_t i = 0; i < drones_.positions.size(); ++i)
-    physics_->add_drone(static_cast<std::uint32_t>(i), drones_.positions[i], drones_.velocities[i].clamped(config.max_speed), config);
-  drones_.ray_directions = std::move(rays);
-  drones_.hits = std::move(hits);
+  Targets regridded = make_targets(std::move(points), next_groups);
+  // Nothing below throws. A battery keeps its charge as a fraction of the new capacity.
+  const double old_capacity = setup_.groups[group].drone.battery_capacity * 3600, capacity = config.battery_capacity * 3600;
+  for (std::uint32_t i = 0; i < drones_.positions.size(); ++i) {
+    if (drones_.groups[i] != group) continue;
+    drones_.velocities[i] = drones_.velocities[i].clamped(config.max_speed);
+    if (capacity != old_capacity)
+      drones_.charge[i] = capacity <= 0 ? inf : old_capacity <= 0 ? capacity : drones_.charge[i] / old_capacity * capacity;
+  }
+  setup_ = std::move(next_setup);
+  groups_ = std::move(next_groups);
+  ray_slots_ = ray_slots(groups_);
+  drones_.hits.assign(drones_.positions.size() * ray_slots_, {});
+  grid_range_ = 0;
+  for (const GroupSetup& g : setup_.groups) grid_range_ = std::max(grid_range_, g.drone.detection_range);
   targets_.grid = std::move(regridded.grid);
-  targets_.reach = regridded.reach;
-  setup_.drone = std::move(next);
-  drone_properties_ = properties;
+  physics_->remove_drones_from(0);
+  add_bodies();
 }
 
 void Simulation::set_dt(double dt) {
-  if (auto p = check_drone(setup_.drone, dt)) throw std::invalid_argument(p.text());
-  if (auto p = check_resolution(setup_.map.bounds, setup_.drone, dt)) throw std::invalid_argument("map: " + p.text());
+  for (const GroupSetup& g : setup_.groups) {
+    if (auto p = check_drone(g.drone, dt)) throw std::invalid_argument(p.text());
+    if (auto p = check_resolution(setup_.map.bounds, g.drone, dt)) throw std::invalid_argument("map: " + p.text());
+  }
   dt_base_time_ = time();
   dt_base_steps_ = steps_;
   setup_.dt = dt;
 }
 
-void Simulation::set_behavior(std::shared_ptr<Behavior> behavior) {
+void Simulation::set_behavior(std::shared_ptr<Behavior> behavior, std::uint32_t group) {
   if (!behavior) throw std::invalid_argument("behavior: none given");
-  plugin_call(behavior_kind, 0, [&] { behavior->reset(drones_.positions.size()); });
-  setup_.behavior = std::move(behavior);
+  if (group >= setup_.groups.size()) throw std::invalid_argument("group " + std::to_string(group) + " does not exist");
+  behavior->group_ = group;
+  plugin_call(behavior_kind, group, [&] { behavior->reset(drones_.positions.size()); });
+  setup_.groups[group].behavior = std::move(behavior);
 }
 
 void Simulation::set_map(const MapData& map, std::optional<Vec2> spawn) {
   SimulationSetup next = setup_;
   next.map = map;
-  next.spawn = spawn;
-  next.drones = drones_.positions.size();
+  next.groups[0].spawn = spawn;
+  for (std::uint32_t g = 0; g < next.groups.size(); ++g) {  // each group as many as it has now
+    next.groups[g].drones = 0;
+    for (std::uint32_t i = 0; i < drones_.positions.size(); ++i)
+      next.groups[g].drones += drones_.groups[i] == g && drones_.status[i] != DroneStatus::removed;
+  }
   World world = build_world(next);
-  plugin_call(behavior_kind, 0, [&] { setup_.behavior->reset(next.drones); });
-  reset_handlers(StateView(next.map, world.geometry, drone_properties_, time(), next.dt, world.drones.positions,
-                           world.drones.velocities));
+  for (std::uint32_t g = 0; g < next.groups.size(); ++g)
+    plugin_call(behavior_kind, g, [&] { next.groups[g].behavior->reset(world.drones.positions.size()); });
+  StateView view(next.map, world.geometry, world.groups[0].properties, time(), next.dt, world.drones.positions,
+                 world.drones.velocities, world.drones.groups, world.drones.status);
+  reset_handlers(view);
   // Nothing below throws.
-  install(std::move(world));
   setup_ = std::move(next);
+  install(std::move(world));
 }
 
 void Simulation::set_targets(std::shared_ptr<TargetKind> kind, std::size_t count) {
   std::vector<Vec2> positions;
-  if (kind) positions = initial_targets(*kind, count, setup_.map, geometry_, setup_.drone, setup_.dt, setup_.seed);
-  Targets next = make_targets(std::move(positions), setup_.drone, kind.get());
+  if (kind) positions = initial_targets(*kind, count, setup_.map, geometry_, setup_.groups[0].drone, setup_.dt, setup_.seed);
+  std::vector<Group> next_groups;
+  for (std::uint32_t g = 0; g < setup_.groups.size(); ++g)
+    next_groups.push_back(make_group(setup_.groups[g], groups_[g].base, kind.get(), !positions.empty()));
+  Targets next = make_targets(std::move(positions), next_groups);
   reset_handlers(*this);  // what a handler sees of the world (no targets) is as it will be
   // Nothing below throws.
   targets_ = std::move(next);
+  groups_ = std::move(next_groups);
   setup_.target_kind = std::move(kind);
   setup_.targets = count;
+}
+
+void Simulation::set_failures(const FailureSetup& f) {
+  for (const auto& [name, mtbf] : {std::pair{"failures.drone_mtbf", f.drone_mtbf}, std::pair{"failures.camera_mtbf", f.camera_mtbf}})
+    if (!(std::isfinite(mtbf) && mtbf >= 0))
+      throw std::invalid_argument(std::string(name) + ": " + num(mtbf) + " s is out of range (allowed: a finite time ≥ 0 s; 0: never)");
+  setup_.failures = f;
+}
+
+void Simulation::fail(std::uint32_t id, bool camera_only) {
+  if (id >= drones_.positions.size())
+    throw std::invalid_argument("drone " + std::to_string(id) + " does not exist (allowed: ids 0 to " +
+                                std::to_string(drones_.positions.size() - 1) + ")");
+  if (drones_.status[id] != DroneStatus::flying) return;  // down already
+  if (!camera_only) ground(id, DroneStatus::failed);
+  else if (drones_.camera[id]) drones_.camera[id] = 0;
+}
+
+void Simulation::fail_fraction(double fraction, bool camera_only) {
+  if (!(fraction >= 0 && fraction <= 1))
+    throw std::invalid_argument(num(fraction) + " is out of range (allowed: a fraction in [0, 1])");
+  std::vector<std::uint32_t> candidates;
+  for (std::uint32_t i = 0; i < drones_.positions.size(); ++i)
+    if (drones_.status[i] == DroneStatus::flying && (!camera_only || drones_.camera[i])) candidates.push_back(i);
+  // A shuffle from the seed's own stream for this event: the same drones whatever the behavior.
+  Rng rng(setup_.seed, first_failure_stream - 1 - fraction_failures_++);
+  for (std::size_t k = candidates.size(); k > 1; --k) std::swap(candidates[k - 1], candidates[rng.index(k)]);
+  const auto count = static_cast<std::size_t>(std::llround(fraction * static_cast<double>(candidates.size())));
+  for (std::size_t k = 0; k < count; ++k) fail(candidates[k], camera_only);
 }
 
 // ---------------------------------------------------------------- one step
@@ -563,32 +710,33 @@ void Simulation::step() {
   }
   ++steps_;
   read_back();
+  timed(Phase::fleet, [this] { fleet(); });
   timed(Phase::detect, [this] { dispatch_contacts(); });
   timed(Phase::observe, [this] { observe(); });
 }
 
-// Sense: index the drones for neighbour queries, cast each drone's obstacle rays against static
+// Sense: index the drones for neighbour queries, cast each flying drone's obstacle rays against static
 // geometry and find the targets in its camera view. Neighbours are gathered per drone in `decide`,
 // where they stay in cache.
 void Simulation::sense() {
-  const DroneConfig& cfg = setup_.drone;
-  drone_grid_.build(drones_.positions, cfg.detection_range / 2);  // 5×5 cells of R/2 cover less than 3×3 of R
-  const std::size_t rays = drones_.ray_directions.size();
+  drone_grid_.build(drones_.positions, grid_range_ / 2);  // 5×5 cells of R/2 cover less than 3×3 of R
   seen_.resize(drones_.positions.size());
   const TargetKind* kind = targets_.states.empty() ? nullptr : setup_.target_kind.get();
-  const double reach = targets_.reach;  // the kind's view_range
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
+    seen_[i].clear();
+    if (drones_.status[i] != DroneStatus::flying) return;
+    const Group& group = groups_[drones_.groups[i]];
+    const DroneProperties& cfg = group.properties;
     const Vec2 p = drones_.positions[i];
     std::uint8_t count = 0;
     geometry_.candidates(p, cfg.obstacle_range, s.segment_ids);
     if (!s.segment_ids.empty())
-      for (Vec2 direction : drones_.ray_directions)
+      for (Vec2 direction : group.rays)
         if (auto hit = geometry_.ray_cast(p, direction, cfg.obstacle_range, s.segment_ids))
-          drones_.hits[i * rays + count++] = *hit;
+          drones_.hits[i * ray_slots_ + count++] = *hit;
     drones_.hit_counts[i] = count;
-    seen_[i].clear();
-    if (kind)
-      targets_.grid.query(p, reach, [&](std::uint32_t t, Vec2, double d2) {
+    if (kind && drones_.camera[i])
+      targets_.grid.query(p, group.reach, [&](std::uint32_t t, Vec2, double d2) {
         const double d = std::sqrt(d2);
         if (plugin_call(target_kind, 0, [&] { return kind->in_view(d, cfg.camera_range); })) seen_[i].emplace_back(t, d);
       });
@@ -596,19 +744,22 @@ void Simulation::sense() {
 }
 
 Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) const {
-  const DroneConfig& cfg = setup_.drone;
+  const std::uint32_t g = drones_.groups[id];
+  const DroneProperties& cfg = groups_[g].properties;
   const Vec2 p = drones_.positions[id];
   s.neighbours.clear();
   if (senses.neighbours) {
     s.hits.clear();
     drone_grid_.gather(p, cfg.detection_range, s.hits);
+    const bool everyone = flying_ == drones_.positions.size();  // no status to check, the common case
     for (const auto& [j, d2] : s.hits)
-      if (j != id) s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j});
+      if (j != id && (everyone || drones_.status[j] == DroneStatus::flying))
+        s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j, drones_.groups[j]});
   }
   s.targets.clear();
   if (senses.targets)
     for (const auto& [t, d] : seen_[id]) s.targets.push_back({targets_.states[t].position, d, t, targets_.states[t].found()});
-  const std::size_t rays = drones_.ray_directions.size();
+  const GroupSetup& group = setup_.groups[g];
   Perception me;
   me.id = id;
   me.position = p;
@@ -622,23 +773,36 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   me.detection_range = cfg.detection_range;
   me.dt = setup_.dt;
   me.time = time();
+  me.group = g;
+  me.base = groups_[g].base;
+  me.battery_capacity = group.drone.battery_capacity;
+  me.battery = me.battery_capacity > 0 ? std::clamp(drones_.charge[id] / (me.battery_capacity * 3600), 0.0, 1.0) : 1.0;
   me.neighbours = s.neighbours;
-  me.obstacles = {drones_.hits.data() + id * rays, drones_.hit_counts[id]};
+  me.obstacles = {drones_.hits.data() + id * ray_slots_, drones_.hit_counts[id]};
   me.targets = s.targets;
   me.world = this;
   return me;
 }
 
-// Decide: the behavior's shared state first (serial), then every drone in parallel, each perceiving only
-// what the behavior senses. Each drone writes only its own steering slot and uses its own Rng stream,
-// so any thread count gives the same result.
+// Decide: each group's behavior's shared state first (serial, in group order), then every flying drone
+// in parallel, each perceiving only what its behavior senses. Each drone writes only its own steering
+// slot and uses its own Rng stream, so any thread count gives the same result.
 void Simulation::decide() {
-  Behavior& behavior = *setup_.behavior;
-  plugin_call(behavior_kind, 0, [&] { behavior.prepare(*this); });
-  const Senses senses = plugin_call(behavior_kind, 0, [&] { return behavior.senses(); });
+  std::array<Senses, 1> one{};
+  std::vector<Senses> many;
+  std::span<Senses> senses = one;
+  if (setup_.groups.size() > 1) many.resize(setup_.groups.size()), senses = many;
+  for (std::uint32_t g = 0; g < setup_.groups.size(); ++g) {
+    Behavior& behavior = *setup_.groups[g].behavior;
+    plugin_call(behavior_kind, g, [&] { behavior.prepare(*this); });
+    senses[g] = plugin_call(behavior_kind, g, [&] { return behavior.senses(); });
+  }
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
-    const Perception me = perceive(i, senses, s);
-    drones_.steering[i] = plugin_call(behavior_kind, 0, [&] { return behavior.decide(me, drones_.rngs[i]); });
+    if (drones_.status[i] != DroneStatus::flying) return;
+    const std::uint32_t g = drones_.groups[i];
+    Behavior& behavior = *setup_.groups[g].behavior;
+    const Perception me = perceive(i, senses[g], s);
+    drones_.steering[i] = plugin_call(behavior_kind, g, [&] { return behavior.decide(me, drones_.rngs[i]); });
   });
 }
 
@@ -646,12 +810,13 @@ void Simulation::decide() {
 // Box2D. Max force bounds each steering term (the SDK's helpers clamp to it), not a behavior's weighted
 // sum of terms: table1's flocking applies 1.6 + 3 + 1 + 4 = 9.6 × max force at most.
 void Simulation::act() {
-  const double max_speed = setup_.drone.max_speed;
   for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
+    if (drones_.status[i] != DroneStatus::flying) continue;
+    const std::uint32_t g = drones_.groups[i];
     const Vec2 a = drones_.steering[i];
     if (!std::isfinite(a.x) || !std::isfinite(a.y))
-      throw PluginFailure(behavior_kind, 0, "decide returned a non-finite steering " + point(a) + " for drone " + std::to_string(i));
-    const Vec2 v = (drones_.velocities[i] + a).clamped(max_speed);
+      throw PluginFailure(behavior_kind, g, "decide returned a non-finite steering " + point(a) + " for drone " + std::to_string(i));
+    const Vec2 v = (drones_.velocities[i] + a).clamped(groups_[g].properties.max_speed);
     drones_.commanded[i] = v;
     physics_->bodies[i]->SetLinearVelocity(to_b2(v));
   }
@@ -665,6 +830,41 @@ void Simulation::read_back() {
   for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
     drones_.positions[i] = from_b2(physics_->bodies[i]->GetPosition());
     drones_.velocities[i] = from_b2(physics_->bodies[i]->GetLinearVelocity());
+  }
+}
+
+// Fleet: each flying drone's battery drains by the power its speed over the step takes (or charges on
+// its base), and its failure clocks advance. An empty battery lands the drone, a due failure grounds
+// it, at the end of this step. Nothing to do (and no cost) without batteries or failure rates.
+void Simulation::fleet() {
+  const double dt = setup_.dt;
+  const FailureSetup& f = setup_.failures;
+  for (std::uint32_t i = 0; i < drones_.positions.size(); ++i) {
+    if (drones_.status[i] != DroneStatus::flying) continue;
+    const GroupSetup& g = setup_.groups[drones_.groups[i]];
+    if (g.drone.battery_capacity > 0) {
+      const double speed = drones_.velocities[i].length();
+      const bool on_base = g.drone.charge_power > 0 && speed < 1 &&
+                           distance(drones_.positions[i], groups_[drones_.groups[i]].base) <= g.drone.charge_radius;
+      if (on_base) {
+        drones_.charge[i] = std::min(drones_.charge[i] + g.drone.charge_power * dt, g.drone.battery_capacity * 3600);
+      } else {
+        const double energy = flight_power(g.drone, speed) * dt;
+        drones_.used[i] += energy;
+        drones_.charge[i] -= energy;
+        if (drones_.charge[i] <= 0) {
+          drones_.charge[i] = 0;
+          ground(i, DroneStatus::landed);
+          continue;
+        }
+      }
+    }
+    if (f.drone_mtbf > 0 && (drones_.exposure[i] += dt / f.drone_mtbf) >= drones_.due[i]) {
+      ground(i, DroneStatus::failed);
+      continue;
+    }
+    if (f.camera_mtbf > 0 && drones_.camera[i] && (drones_.camera_exposure[i] += dt / f.camera_mtbf) >= drones_.camera_due[i])
+      drones_.camera[i] = 0;
   }
 }
 
@@ -739,7 +939,8 @@ void Simulation::observe() {
 std::vector<double> Simulation::nearest_neighbour_distances() const {
   const std::size_t n = drones_.positions.size();
   std::vector<double> out(n, std::numeric_limits<double>::infinity());
-  if (n < 2) return out;
+  if (flying_ < 2) return out;
+  const bool everyone = flying_ == n;
   // Cells sized by the grid to the drones' spread (not the detection range, which may be 0 or span the
   // map); the search widens from one cell until it finds someone, and ends once it covers the map.
   PointGrid grid;
@@ -747,9 +948,9 @@ std::vector<double> Simulation::nearest_neighbour_distances() const {
   const Rect& b = setup_.map.bounds;
   const double far = std::hypot(b.width(), b.height());
   for (std::uint32_t i = 0; i < n; ++i)
-    for (double r = grid.cell_size();; r *= 4) {  // r > 0, so r >= far within a few dozen rounds
+    for (double r = grid.cell_size(); everyone || drones_.status[i] == DroneStatus::flying; r *= 4) {  // r > 0, so r >= far within a few dozen rounds
       grid.query(drones_.positions[i], r, [&](std::uint32_t j, Vec2, double d2) {
-        if (j != i) out[i] = std::min(out[i], std::sqrt(d2));
+        if (j != i && (everyone || drones_.status[j] == DroneStatus::flying)) out[i] = std::min(out[i], std::sqrt(d2));
       });
       if (!std::isinf(out[i]) || r >= far) break;
     }

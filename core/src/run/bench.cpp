@@ -14,9 +14,10 @@ SimulationSetup table1(const PluginHost& host, const Workload& w) {
   SimulationSetup s;
   s.map.bounds = {{0, 0}, {w.side, w.side}};
   s.map.spawn = w.spawn;
-  s.spawn_mode = w.spawn_mode;
-  s.drone = builtin_drone_configs().front();  // "small"
-  s.drones = w.drones;
+  GroupSetup& g = s.groups.front();
+  g.spawn_mode = w.spawn_mode;
+  g.drone = builtin_drone_configs().front();  // "small"
+  g.drones = w.drones;
   const auto& behavior = host.behavior(w.behavior);
   ParameterValues params(behavior.factory.parameters);
   if (w.behavior == "flocking") {
@@ -26,7 +27,19 @@ SimulationSetup table1(const PluginHost& host, const Workload& w) {
     params.set("separation_weight", 3.0);
     params.set("obstacle_avoidance_weight", 4.0);
   }
-  s.behavior = PluginHost::create(behavior, params);
+  g.behavior = PluginHost::create(behavior, params);
+  if (w.fleet) {
+    // Two groups of half the swarm each, batteries that last the run and failures at a rate that takes
+    // a few drones: all of the fleet model's per-step work, with the same drones flying.
+    g.drone.battery_capacity = 100;
+    s.failures = {3600, 3600};
+    GroupSetup second = g;
+    second.name = "second";
+    g.drones = w.drones / 2;
+    second.drones = w.drones - g.drones;
+    second.behavior = PluginHost::create(behavior, params);
+    s.groups.push_back(std::move(second));
+  }
   const auto& tree = host.target_kind("tree");
   ParameterValues tree_params(tree.factory.parameters);
   tree_params.set("radius", 5);
@@ -76,7 +89,7 @@ double Floor::replay_seconds(const SimulationSetup& setup, bool cpu) const {
 
   PhysicsWorld world(spawned.geometry());
   for (std::size_t i = 0; i < positions.size(); ++i)
-    world.add_drone(static_cast<std::uint32_t>(i), positions[i], {}, setup.drone);
+    world.add_drone(static_cast<std::uint32_t>(i), positions[i], {}, setup.groups[spawned.drone_groups()[i]].drone);
   const std::size_t steps = drones_ ? commands_.size() / (2 * drones_) : 0;
   const double start = seconds_now(cpu);
   const float* v = commands_.data();

@@ -39,11 +39,22 @@ std::string header(std::string columns, const std::vector<std::string>& more) {
   return columns;
 }
 
-// summary.csv: one row per logged step, salsa's columns then the metrics'.
+/// The fleet's values (fleet_values) as CSV fields: counts whole, energy in Wh to 4 decimals.
+void fleet_fields(CsvWriter& csv, const std::vector<double>& values) {
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    // Per group (after the first two): found, alive, energy; the first two: alive, energy.
+    const bool energy = k < 2 ? k == 1 : (k - 2) % 3 == 2;
+    if (energy) csv.field(values[k], 4);
+    else csv.field(static_cast<std::uint64_t>(values[k]));
+  }
+}
+
+// summary.csv: one row per logged step, salsa's columns, the metrics', then the fleet's (TestSpec::fleet).
 class SummaryObserver final : public Observer {
  public:
-  SummaryObserver(const fs::path& file, MetricSet& metrics)
-      : csv_(file, header(summary_columns, metrics.step_columns())), metrics_(metrics) {}
+  SummaryObserver(const fs::path& file, MetricSet& metrics, const TestSpec& test)
+      : csv_(file, header(header(summary_columns, metrics.step_columns()), test.fleet() ? fleet_columns(test) : std::vector<std::string>{})),
+        metrics_(metrics), fleet_(test.fleet()), per_group_(test.groups.size() > 1) {}
   void observe(const Simulation& sim) override {
     const SummaryRow row = summary_row(sim);
     csv_.field(row.time, 4).field(static_cast<std::uint64_t>(row.targets_found)).field(row.fraction_found, 6);
@@ -52,6 +63,7 @@ class SummaryObserver final : public Observer {
     else csv_.empty_field();
     csv_.field(row.collisions);
     metrics_.row(sim, csv_);
+    if (fleet_) fleet_fields(csv_, fleet_values(sim, per_group_));
     csv_.end_row();
   }
   void close() { csv_.close(); }
@@ -59,18 +71,27 @@ class SummaryObserver final : public Observer {
  private:
   CsvWriter csv_;
   MetricSet& metrics_;
+  bool fleet_, per_group_;
 };
 
-// drones.csv: one row per logged step and drone.
+// drones.csv: one row per logged step and drone not removed; with the fleet, its group, status and
+// energy drawn.
 class DroneObserver final : public Observer {
  public:
-  explicit DroneObserver(const fs::path& file) : csv_(file, "time,id,x,y,vx,vy") {}
+  DroneObserver(const fs::path& file, bool fleet)
+      : csv_(file, fleet ? "time,id,x,y,vx,vy,group,status,energy_used_Wh" : "time,id,x,y,vx,vy"), fleet_(fleet) {}
   void observe(const Simulation& sim) override {
     const auto p = sim.drone_positions();
     const auto v = sim.drone_velocities();
-    for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto status = sim.drone_status();
+    for (std::uint32_t i = 0; i < p.size(); ++i) {
+      if (status[i] == DroneStatus::removed) continue;
       csv_.field(sim.time(), 4).field(static_cast<std::uint64_t>(i));
       csv_.field(p[i].x, 4).field(p[i].y, 4).field(v[i].x, 4).field(v[i].y, 4);
+      if (fleet_) {
+        csv_.text(sim.setup().groups[sim.drone_groups()[i]].name).text(status_name(sim, i));
+        csv_.field(sim.energy_used(i) / 3600, 4);
+      }
       csv_.end_row();
     }
   }
@@ -78,7 +99,26 @@ class DroneObserver final : public Observer {
 
  private:
   CsvWriter csv_;
+  bool fleet_;
 };
+
+// fleet.csv: each drone at the end, removed ones too: its status, since when, energy and battery.
+void write_fleet(const fs::path& file, const Simulation& sim) {
+  CsvWriter csv(file, "id,group,status,since,energy_used_Wh,battery_left");
+  const auto status = sim.drone_status();
+  for (std::uint32_t i = 0; i < status.size(); ++i) {
+    const std::uint32_t g = sim.drone_groups()[i];
+    csv.field(static_cast<std::uint64_t>(i)).text(sim.setup().groups[g].name).text(status_name(sim, i));
+    if (status[i] == DroneStatus::flying) csv.empty_field();
+    else csv.field(sim.status_time(i), 4);
+    csv.field(sim.energy_used(i) / 3600, 4);
+    const double capacity = sim.drone_config(g).battery_capacity * 3600;
+    if (capacity > 0) csv.field(std::clamp(sim.battery_left(i) / capacity, 0.0, 1.0), 4);
+    else csv.empty_field();
+    csv.end_row();
+  }
+  csv.close();
+}
 
 void write_targets(const fs::path& file, const Simulation& sim) {
   CsvWriter csv(file, "id,x,y,found_time,found_by,observations");
@@ -147,9 +187,9 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     } catch (const WriteError& e) {
       throw write_failed(e);
     }
-    SummaryObserver summary(work / "summary.csv", session->metrics());
+    SummaryObserver summary(work / "summary.csv", session->metrics(), test);
     std::optional<DroneObserver> drones;
-    if (options.drones_csv) drones.emplace(work / "drones.csv");
+    if (options.drones_csv) drones.emplace(work / "drones.csv", test.fleet());
     session->add_observer(&summary);
     if (drones) session->add_observer(&*drones);
     try {
@@ -190,6 +230,18 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
       summary.close();
       if (drones) drones->close();
       write_targets(work / "targets.csv", sim);
+      if (test.fleet()) {
+        write_fleet(work / "fleet.csv", sim);
+        const std::vector<std::string> columns = fleet_columns(test);
+        const std::vector<double> values = fleet_values(sim, test.groups.size() > 1);
+        for (std::size_t k = 0; k < columns.size(); ++k) {
+          const bool energy = k < 2 ? k == 1 : (k - 2) % 3 == 2;
+          std::string text;
+          if (energy) append_number(text, values[k], 4);
+          else text = std::to_string(static_cast<std::uint64_t>(values[k]));
+          finals.emplace_back(columns[k], text);
+        }
+      }
       write_file(work / "outcome.csv", outcome_csv(sim, finals));
     } catch (const WriteError& e) {
       throw write_failed(e);

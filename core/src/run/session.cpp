@@ -11,8 +11,8 @@ std::string failed_plugin(const PluginFailure& failure, const TestSpec& test, co
   std::string name;
   std::filesystem::path file;
   try {
-    if (failure.kind == "behavior") {
-      name = test.behavior.name;
+    if (failure.kind == "behavior" && failure.index < test.groups.size()) {
+      name = test.groups[failure.index].behavior.name;
       file = host.behavior(name).plugin().file;
     } else if (failure.kind == "target kind") {
       name = test.target.name;
@@ -32,6 +32,8 @@ std::string failed_plugin(const PluginFailure& failure, const TestSpec& test, co
   std::string out = failure.kind;
   if (failure.kind == "contact handler" && name.empty()) out += " #" + std::to_string(failure.index);
   if (!name.empty()) out += " '" + name + "'";
+  if (failure.kind == "behavior" && test.named_groups && failure.index < test.groups.size())
+    out += " of group '" + test.groups[failure.index].name + "'";
   if (!file.empty()) out += " (" + file.string() + ")";
   return out;
 }
@@ -40,8 +42,11 @@ SummaryRow summary_row(const Simulation& sim) {
   SummaryRow row;
   row.time = sim.time();
   double sum = 0;
-  for (Vec2 v : sim.drone_velocities()) {
-    const double s = v.length();
+  const auto status = sim.drone_status();
+  const auto velocities = sim.drone_velocities();
+  for (std::size_t i = 0; i < velocities.size(); ++i) {
+    if (status[i] != DroneStatus::flying) continue;
+    const double s = velocities[i].length();
     sum += s;
     row.max_speed = std::max(row.max_speed, s);
   }
@@ -49,7 +54,7 @@ SummaryRow summary_row(const Simulation& sim) {
   std::size_t nn_count = 0;
   for (double d : sim.nearest_neighbour_distances())
     if (std::isfinite(d)) nn_sum += d, ++nn_count;
-  const std::size_t n = sim.drone_count(), targets = sim.targets().size();
+  const std::size_t n = sim.flying_count(), targets = sim.targets().size();
   row.targets_found = sim.targets_found();
   row.fraction_found = targets ? static_cast<double>(row.targets_found) / static_cast<double>(targets) : 0.0;
   row.mean_speed = n ? sum / static_cast<double>(n) : 0.0;
@@ -58,11 +63,48 @@ SummaryRow summary_row(const Simulation& sim) {
   return row;
 }
 
+std::vector<std::string> fleet_columns(const TestSpec& test) {
+  std::vector<std::string> out{"alive", "energy_used_Wh"};
+  if (test.groups.size() > 1)
+    for (const GroupSpec& g : test.groups)
+      for (const char* column : {".found", ".alive", ".energy_used_Wh"}) out.push_back(g.name + column);
+  return out;
+}
+
+std::vector<double> fleet_values(const Simulation& sim, bool per_group) {
+  const std::size_t groups = per_group ? sim.group_count() : 0;
+  std::vector<double> found(groups), alive(groups + 1), energy(groups + 1);  // [groups]: everyone
+  const auto status = sim.drone_status();
+  const auto group = sim.drone_groups();
+  for (std::uint32_t i = 0; i < status.size(); ++i) {
+    const double joules = sim.energy_used(i);
+    const bool flying = status[i] == DroneStatus::flying;
+    alive[groups] += flying, energy[groups] += joules;
+    if (per_group) alive[group[i]] += flying, energy[group[i]] += joules;
+  }
+  if (per_group)
+    for (const TargetState& t : sim.targets())
+      if (t.found()) ++found[group[t.found_by]];
+  std::vector<double> out{alive[groups], energy[groups] / 3600};
+  for (std::size_t g = 0; g < groups; ++g) out.insert(out.end(), {found[g], alive[g], energy[g] / 3600});
+  return out;
+}
+
+const char* status_name(const Simulation& sim, std::uint32_t id) {
+  switch (sim.drone_status()[id]) {
+    case DroneStatus::flying: return sim.camera_works(id) ? "flying" : "camera_failed";
+    case DroneStatus::landed: return "landed";
+    case DroneStatus::failed: return "failed";
+    case DroneStatus::removed: return "removed";
+  }
+  return "?";
+}
+
 Session::Session(TestSpec test, const PluginHost& host, SessionOptions options)
     : test_(std::move(test)), current_(test_), host_(&host), timeline_(test_.changes) {
   try {
     SimulationSetup setup = make_setup(test_, host, options.threads);
-    if (options.behavior) setup.behavior = std::move(options.behavior);
+    if (options.behavior) setup.groups[0].behavior = std::move(options.behavior);
     sim_ = std::make_unique<Simulation>(std::move(setup));
     metrics_ = std::make_unique<MetricSet>(test_, host);
   } catch (const PluginFailure& e) {
@@ -125,10 +167,10 @@ void Session::change(const std::string& key, double value) {
   ++next_change_;
 }
 
-void Session::use_plugins(const PluginHost& host, std::shared_ptr<Behavior> behavior, ParameterValues params) {
+void Session::use_plugins(const PluginHost& host, std::shared_ptr<Behavior> behavior, ParameterValues params, std::uint32_t group) {
   if (behavior) {
-    sim_->set_behavior(std::move(behavior));
-    current_.behavior.params = std::move(params);
+    sim_->set_behavior(std::move(behavior), group);
+    current_.groups[group].behavior.params = std::move(params);
   }
   host_ = &host;
 }

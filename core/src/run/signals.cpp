@@ -171,8 +171,9 @@ RunningNote* prepare_note(const TestSpec& test, const PluginHost& host, const st
   auto plugin = [](const char* kind, const std::string& name, const auto& entry) {
     return std::string(kind) + " '" + name + "' (" + entry.plugin().file.string() + ")";
   };
-  std::string plugins = plugin("behavior", test.behavior.name, host.behavior(test.behavior.name)) + ", " +
-                        plugin("map", test.map.name, host.map(test.map.name));
+  std::string plugins;
+  for (const GroupSpec& g : test.groups) plugins += plugin("behavior", g.behavior.name, host.behavior(g.behavior.name)) + ", ";
+  plugins += plugin("map", test.map.name, host.map(test.map.name));
   if (test.targets > 0) plugins += ", " + plugin("target kind", test.target.name, host.target_kind(test.target.name));
   for (const auto& h : test.contact_handlers) plugins += ", " + plugin("contact handler", h.name, host.contact_handler(h.name));
   for (const auto& m : test.metrics) plugins += ", " + plugin("metric", m.name, host.metric(m.name));

@@ -16,6 +16,7 @@ enum class DroneStatus : std::uint8_t {
   flying = 0,
   landed = 1,  ///< battery empty
   failed = 2,  ///< the whole drone failed (a failure model or a timed change)
+  removed = 3, ///< taken out by a lower drone count; its id is never reused and it is in no output
 };
 
 /// A drone's view of another drone within its drone-detection range.

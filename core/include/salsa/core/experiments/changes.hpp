@@ -19,7 +19,11 @@ struct TestSpec;
 
 /// One live change: before the step that starts at `time` s, set `key` to `value`.
 /// Keys: "behavior.params.<name>" (a declared parameter of the test's behavior), "drones" (drone count,
-/// whole number ≥ 1), "drone.<property>" (a property of drone_schema()).
+/// whole number ≥ 1), "drone.<property>" (a property of drone_schema()); with "groups", each of those
+/// as "groups.<name>.<key>". "failures.drone_mtbf", "failures.camera_mtbf" (s; 0: never). Events:
+/// "fail.drone" and "fail.camera" (a drone id: it, or its camera, fails; nothing if it is down
+/// already), "fail.fraction" and "fail.camera_fraction" (that share of the flying drones, chosen
+/// from the seed).
 struct Change {
   double time = 0;  ///< s; a whole number of steps: llround(time / dt) is the step it precedes
   std::string key;
@@ -29,6 +33,9 @@ struct Change {
 
 /// The step before which a change at `time` s is applied: llround(time / dt).
 std::uint64_t change_step(double time, double dt);
+
+/// Whether `key` takes whole numbers (a count, an id, a whole-number property): written as such.
+bool change_is_whole(std::string_view key);
 
 /// Empty when `change` may be applied to `test` as it stands (key known, value allowed by the behavior's
 /// declared range, the drone configuration it makes passes check_drone), else why not, without the

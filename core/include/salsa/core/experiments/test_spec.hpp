@@ -6,6 +6,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -27,17 +28,26 @@ struct PluginChoice {
   bool operator==(const PluginChoice&) const = default;
 };
 
-struct TestSpec {
-  std::string source;               ///< where it was read from, for messages ("queue.json: tests[2]")
-  std::string name;                 ///< also its output folder's name
+/// One group of drones alike (SimulationSetup's GroupSetup, as the test file holds it).
+struct GroupSpec {
+  std::string name = "swarm";       ///< the single form's one group is "swarm"
   PluginChoice behavior;
   DroneConfig drone;
   std::size_t drones = 10;
-  PluginChoice map;
-  std::string map_file;             ///< for file-based maps; absolute or relative to the working folder
-  std::optional<Vec2> spawn;        ///< overrides the map's spawn point
+  std::optional<Vec2> spawn;        ///< the group's base; overrides the map's spawn point
   SpawnMode spawn_mode = SpawnMode::disc;
   double spawn_radius = 0;          ///< m; 0: drones × drone radius
+  bool operator==(const GroupSpec&) const = default;
+};
+
+struct TestSpec {
+  std::string source;               ///< where it was read from, for messages ("queue.json: tests[2]")
+  std::string name;                 ///< also its output folder's name
+  std::vector<GroupSpec> groups{1}; ///< at least one; drone ids run over them in order
+  bool named_groups = false;        ///< read from "groups" (and written back so); false: the single form
+  FailureSetup failures;
+  PluginChoice map;
+  std::string map_file;             ///< for file-based maps; absolute or relative to the working folder
   PluginChoice target;
   std::size_t targets = 0;
   /// Called in this order. Parameters not given (a TestSpec made in code) get their declared defaults.
@@ -56,6 +66,13 @@ struct TestSpec {
 
   std::size_t steps() const;
   std::size_t log_every() const;
+  std::size_t drone_total() const;  ///< over all groups
+  /// The index of the group called `name`, or -1.
+  int group_index(std::string_view name) const;
+  /// Whether the outputs carry the fleet's columns and fleet.csv (docs/output-format.md): the test has
+  /// two or more groups, a battery, failure rates or failure events. Off, every data file is as before
+  /// them (one group in "groups" is the single form, with the same seed and bytes).
+  bool fleet() const;
   bool operator==(const TestSpec&) const = default;
 };
 

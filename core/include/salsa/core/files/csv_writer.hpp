@@ -9,6 +9,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <thread>
 
 namespace salsa {
@@ -40,6 +41,8 @@ class CsvWriter {
   CsvWriter& field(double value, int decimals);
   CsvWriter& field(std::uint64_t value);
   CsvWriter& empty_field();
+  /// A name as it is (names in salsa hold no comma, quote or line break).
+  CsvWriter& text(std::string_view value);
   /// Hands the row to the writer thread; throws WriteError once a write has failed.
   void end_row();
   /// Writes every ended row, syncs the file to disk and closes it; throws WriteError on an I/O error.

@@ -21,6 +21,17 @@ struct DroneConfig {
   double radius = 1;              ///< m
   double mass = 1.5;              ///< kg
   int obstacle_rays = 8;          ///< rays evenly spread over 360°
+  // Energy (off while battery_capacity is 0): a battery, the rotary-wing power model of Zeng, Xu &
+  // Zhang (2019), P(V) = P0 (1 + 3V²/U²) + Pi (sqrt(1 + V⁴/(4 v0⁴)) − V²/(2 v0²))^½ + k V³, with
+  // their example airframe's values, and charging at the group's base.
+  double battery_capacity = 0;    ///< Wh; 0: no battery model, the drone never runs flat
+  double blade_power = 79.86;     ///< W: P0, blade profile power in hover
+  double induced_power = 88.63;   ///< W: Pi, induced power in hover
+  double tip_speed = 120;         ///< m/s: U, rotor blade tip speed
+  double induced_velocity = 4.03; ///< m/s: v0, mean rotor induced velocity in hover
+  double parasite_drag = 0.0092;  ///< kg/m: k = ½ d0 ρ s A (fuselage drag ratio, air density, rotor solidity, disc area)
+  double charge_power = 0;        ///< W a drone charges with at its base; 0: bases do not recharge
+  double charge_radius = 5;       ///< m from the base within which a drone slower than 1 m/s charges
   bool operator==(const DroneConfig&) const = default;
 };
 
@@ -30,12 +41,18 @@ struct DroneProperty {
   Parameter spec;
   double DroneConfig::*real = nullptr;  ///< a number, or
   int DroneConfig::*whole = nullptr;    ///< a whole number
+  /// Part of the world key that pairs seeds (queue.hpp): the properties that shape the world a test
+  /// starts in. The energy model's are not, so tests that differ only in batteries share their worlds.
+  bool shapes_world = true;
   double get(const DroneConfig& d) const { return real ? d.*real : static_cast<double>(d.*whole); }
   void set(DroneConfig& d, double v) const {
     if (real) d.*real = v;
     else d.*whole = static_cast<int>(v);
   }
 };
+
+/// Power drawn in flight at speed `v` (m/s), W: the model above.
+double flight_power(const DroneConfig& d, double v);
 
 /// Every drone property, in file order.
 const std::vector<DroneProperty>& drone_schema();

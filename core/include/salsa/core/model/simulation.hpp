@@ -44,14 +44,30 @@ struct PluginFailure : std::runtime_error {
 
 enum class SpawnMode { disc, uniform };
 
-struct SimulationSetup {
-  MapData map;
-  std::optional<Vec2> spawn;          ///< overrides the map's spawn point
-  SpawnMode spawn_mode = SpawnMode::disc;
-  double spawn_radius = 0;            ///< m; 0: drone count × drone radius (the paper's disc)
+/// One group of drones alike: its drone configuration, count, behavior and base. A test without
+/// "groups" is one group named "swarm".
+struct GroupSetup {
+  std::string name = "swarm";
   DroneConfig drone;
   std::size_t drones = 10;
   std::shared_ptr<Behavior> behavior;
+  std::optional<Vec2> spawn;          ///< the group's base; overrides the map's spawn point
+  SpawnMode spawn_mode = SpawnMode::disc;
+  double spawn_radius = 0;            ///< m; 0: drone count × drone radius (the paper's disc)
+};
+
+/// Random failures, each drone's own exponential clock. Its failure times come from the seed alone (a
+/// stream per drone id), never from the behavior's randomness: paired across behaviors.
+struct FailureSetup {
+  double drone_mtbf = 0;   ///< s, mean time to failure of the whole drone; 0: never
+  double camera_mtbf = 0;  ///< s, of its camera only (it flies on, seeing no targets); 0: never
+  bool operator==(const FailureSetup&) const = default;
+};
+
+struct SimulationSetup {
+  MapData map;
+  std::vector<GroupSetup> groups{1};  ///< drone ids run over the groups in order
+  FailureSetup failures;
   std::shared_ptr<TargetKind> target_kind;  ///< may be null: no targets
   std::size_t targets = 0;
   std::vector<std::shared_ptr<ContactHandler>> contact_handlers;
@@ -110,9 +126,9 @@ std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, con
 /// What plugins see of a drone configuration (WorldView::drone()).
 DroneProperties drone_properties(const DroneConfig& config);
 
-/// Step phases, timed separately (DESIGN §3).
-enum class Phase { sense, decide, act, physics, detect, observe };
-inline constexpr std::array<const char*, 6> phase_names{"sense", "decide", "act", "physics", "detect", "observe"};
+/// Step phases, timed separately (DESIGN §3). `fleet`: batteries and failures.
+enum class Phase { sense, decide, act, physics, fleet, detect, observe };
+inline constexpr std::array<const char*, 7> phase_names{"sense", "decide", "act", "physics", "fleet", "detect", "observe"};
 
 class Simulation final : public WorldView {
  public:
@@ -127,14 +143,22 @@ class Simulation final : public WorldView {
 
   // ---- Live changes (take effect at the next step). Each either succeeds or throws and leaves the
   // simulation exactly as it was (the new state is built aside, then swapped in); std::invalid_argument
-  // for a refused value, or what the plugin threw. Those that re-spawn drones or re-place targets
-  // (drone count, map, targets) reset the behavior and the contact handlers (before swapping in, with
-  // a view of the new state), as the constructor does.
-  void set_drone_count(std::size_t n);      ///< adds drones at the spawn, or removes the highest ids; fresh memory
-  void set_drone_config(const DroneConfig& config);  ///< rebuilds the drones where they are; targets stay
-  void set_behavior(std::shared_ptr<Behavior> behavior);  ///< fresh per-drone memory
-  void set_map(const MapData& map, std::optional<Vec2> spawn = std::nullopt);  ///< re-spawns drones and targets
+  // for a refused value, or what the plugin threw. Drone ids are never reused: every other drone keeps
+  // its place, memory and random stream. A map or target change re-spawns everything and resets the
+  // behaviors and contact handlers (before swapping in, with a view of the new state).
+  /// The group's drone count: new drones (ids from drone_count() up, fresh memory) at its base, or
+  /// its highest ids removed (status removed). The contact handlers are reset.
+  void set_drone_count(std::size_t n, std::uint32_t group = 0);
+  void set_drone_config(const DroneConfig& config, std::uint32_t group = 0);  ///< rebuilds the group's drones where they are
+  void set_behavior(std::shared_ptr<Behavior> behavior, std::uint32_t group = 0);  ///< fresh per-drone memory
+  void set_map(const MapData& map, std::optional<Vec2> spawn = std::nullopt);  ///< re-spawns drones and targets; spawn: the first group's base
   void set_targets(std::shared_ptr<TargetKind> kind, std::size_t count);        ///< re-places targets
+  void set_failures(const FailureSetup& failures);  ///< rates from the next step on; each drone's clock runs on
+  /// Drone `id` fails (the whole drone, or its camera only) now; nothing when it is down already,
+  /// std::invalid_argument when there is no such drone. A fraction: that share of the flying drones (rounded to the nearest), chosen with the
+  /// seed's own stream, so every behavior of a repeat loses the same drones if the same fly.
+  void fail(std::uint32_t id, bool camera_only = false);
+  void fail_fraction(double fraction, bool camera_only = false);
   /// A new time step (s), from the next step on: the GUI's "larger time step" (fast, inexact). Refused
   /// (std::invalid_argument) when a drone could pass through a wall in one step (check_drone,
   /// check_resolution). Time goes on from where it is.
@@ -143,12 +167,19 @@ class Simulation final : public WorldView {
 
   // ---- State ----
   std::uint64_t step_count() const { return steps_; }
-  std::size_t drone_count() const { return drones_.positions.size(); }
-  const DroneConfig& drone_config() const { return setup_.drone; }
+  std::size_t drone_count() const { return drones_.positions.size(); }  ///< ids, removed ones included
+  std::size_t flying_count() const { return flying_; }
+  const DroneConfig& drone_config(std::uint32_t group = 0) const { return setup_.groups[group].drone; }
   const SimulationSetup& setup() const { return setup_; }
-  Behavior& behavior() const { return *setup_.behavior; }
+  Behavior& behavior(std::uint32_t group = 0) const { return *setup_.groups[group].behavior; }
   const MapData& map() const override { return setup_.map; }
-  Vec2 spawn_point() const { return spawn_; }
+  Vec2 spawn_point() const { return groups_[0].base; }
+  /// Per drone: whether its camera works, energy drawn so far (J), battery left (J; +inf without a
+  /// battery model) and when its status began (s; 0 while flying).
+  bool camera_works(std::uint32_t id) const { return drones_.camera[id] != 0; }
+  double energy_used(std::uint32_t id) const { return drones_.used[id]; }
+  double battery_left(std::uint32_t id) const { return drones_.charge[id]; }
+  double status_time(std::uint32_t id) const { return drones_.since[id]; }
   const std::vector<TargetState>& targets() const { return targets_.states; }
   std::size_t targets_found() const { return targets_.found; }
   std::uint64_t collisions() const { return collisions_; }  ///< contacts begun, drone–drone and drone–obstacle
@@ -158,11 +189,10 @@ class Simulation final : public WorldView {
   std::vector<double> nearest_neighbour_distances() const;
   /// The drone's obstacle-ray hits of the last sense phase.
   std::span<const ObstacleHit> obstacle_hits(std::uint32_t id) const {
-    const std::size_t rays = drones_.ray_directions.size();
-    return {drones_.hits.data() + id * rays, id < drones_.hit_counts.size() ? drones_.hit_counts[id] : 0u};
+    return {drones_.hits.data() + id * ray_slots_, id < drones_.hit_counts.size() ? drones_.hit_counts[id] : 0u};
   }
   /// Seconds spent in each phase so far (zeros unless SimulationSetup::profile).
-  const std::array<double, 6>& profile() const { return profile_; }
+  const std::array<double, 7>& profile() const { return profile_; }
 
   // ---- WorldView ----
   Rect bounds() const override { return setup_.map.bounds; }
@@ -174,11 +204,11 @@ class Simulation final : public WorldView {
   std::span<const Vec2> commanded_velocities() const { return drones_.commanded; }
   bool is_free(Vec2 p, double clearance) const override { return geometry_.is_free(p, clearance); }
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const override { return geometry_.ray_cast(from, to); }
-  const DroneProperties& drone(std::uint32_t = 0) const override { return drone_properties_; }
+  const DroneProperties& drone(std::uint32_t group = 0) const override { return groups_[group].properties; }
   std::span<const std::uint32_t> drone_groups() const override { return drones_.groups; }
   std::span<const DroneStatus> drone_status() const override { return drones_.status; }
-  std::size_t group_count() const override { return 1; }
-  Vec2 base(std::uint32_t) const override { return spawn_; }
+  std::size_t group_count() const override { return groups_.size(); }
+  Vec2 base(std::uint32_t group) const override { return groups_[group].base; }
 
  private:
   struct Scratch;
@@ -189,6 +219,7 @@ class Simulation final : public WorldView {
   void decide();
   void act();
   void physics();
+  void fleet();               // batteries and failures
   void dispatch_sightings();  // detect, part 1
   void dispatch_contacts();   // detect, part 2
   void observe();
@@ -199,26 +230,42 @@ class Simulation final : public WorldView {
     std::vector<Rng> rngs;
     std::vector<std::uint32_t> groups;
     std::vector<DroneStatus> status;
-    std::vector<Vec2> ray_directions;   ///< unit vectors of the obstacle rays
-    std::vector<ObstacleHit> hits;      ///< obstacle_rays slots per drone
+    std::vector<std::uint8_t> camera;   ///< 1 while the camera works
+    std::vector<double> used, charge;   ///< J drawn so far; J left in the battery (+inf: no battery model)
+    std::vector<double> since;          ///< s: when the status began
+    /// Failure clocks: exposure so far (∫ dt / mtbf) against an Exp(1) draw from the drone's failure
+    /// stream; the drone (its camera) fails when exposure reaches the draw. Rates may change live.
+    std::vector<double> exposure, due, camera_exposure, camera_due;
+    std::vector<ObstacleHit> hits;      ///< ray_slots_ per drone
     std::vector<std::uint8_t> hit_counts;
+  };
+  /// What the simulation derives for each group from its GroupSetup.
+  struct Group {
+    DroneProperties properties;  ///< its drone configuration as plugins see it
+    Vec2 base;                   ///< spawn point
+    std::vector<Vec2> rays;      ///< unit vectors of its obstacle rays
+    double reach = 0;            ///< m: the target kind's view_range for its camera
   };
   struct Targets {
     std::vector<TargetState> states;
     PointGrid grid;
-    double reach = 0;  ///< m: the kind's view_range, how far sense() queries the grid
     std::size_t found = 0;
   };
   struct World;  // everything a map change rebuilds
 
   // Set-up and live changes: each builds its new state aside (may throw), then installs it (cannot).
   static World build_world(const SimulationSetup& setup);
-  static Drones resized(const Drones& from, std::size_t n, const SimulationSetup& setup, const StaticGeometry& geometry,
-                        Vec2 spawn, Rng& spawn_rng);
-  static Targets make_targets(std::vector<Vec2> positions, const DroneConfig& drone, const TargetKind* kind);
+  /// `from` with `count` new drones of `group` appended, spawned at its base.
+  static Drones grown(Drones from, std::uint32_t group, std::size_t count, const SimulationSetup& setup,
+                      const StaticGeometry& geometry, Vec2 base, Rng& spawn_rng, double time);
+  static Group make_group(const GroupSetup& g, Vec2 base, const TargetKind* kind, bool with_targets);
+  static Targets make_targets(std::vector<Vec2> positions, const std::vector<Group>& groups);
+  static std::size_t ray_slots(const std::vector<Group>& groups);
   /// Tells the contact handlers the drones or targets were (re)made; `world` is the state from now on.
   void reset_handlers(const WorldView& world) const;
   void install(World&& world) noexcept;
+  void add_bodies();                 ///< every drone's body, in id order; disabled unless flying
+  void ground(std::uint32_t id, DroneStatus status);  ///< stops a flying drone for good
   Perception perceive(std::uint32_t id, Senses senses, Scratch& scratch) const;
   void read_back();
   void timed(Phase phase, const auto& fn);
@@ -226,24 +273,27 @@ class Simulation final : public WorldView {
   double time_at(std::uint64_t steps) const { return dt_base_time_ + static_cast<double>(steps - dt_base_steps_) * setup_.dt; }
 
   SimulationSetup setup_;
-  DroneProperties drone_properties_;  ///< setup_.drone as plugins see it
-  Vec2 spawn_;
+  std::vector<Group> groups_;
+  std::size_t ray_slots_ = 0;  ///< the most obstacle rays of any group
+  double grid_range_ = 0;      ///< the largest detection range: the drone grid's cells are half of it
   StaticGeometry geometry_;
   std::unique_ptr<PhysicsWorld> physics_;
   std::unique_ptr<Parallel> parallel_;
 
   Drones drones_;
+  std::size_t flying_ = 0;     ///< drones with status flying
   PointGrid drone_grid_;
   Targets targets_;
   std::vector<std::vector<std::pair<std::uint32_t, double>>> seen_;  ///< per drone: (target, distance) in view
 
   std::vector<Observer*> observers_;
   Rng spawn_rng_;
+  std::uint64_t fraction_failures_ = 0;  ///< fail_fraction calls so far: each draws from its own stream
   std::uint64_t steps_ = 0;
   std::uint64_t dt_base_steps_ = 0;  ///< step count and time at the last set_dt (0 and 0 without one)
   double dt_base_time_ = 0;
   std::uint64_t collisions_ = 0;
-  std::array<double, 6> profile_{};
+  std::array<double, 7> profile_{};
 };
 
 }  // namespace salsa

@@ -18,6 +18,7 @@ struct Workload {
   std::uint64_t seed = 1;
   int threads = 0;
   std::string behavior = "flocking";     ///< flocking with the paper's parameters, any other with its defaults
+  bool fleet = false;                    ///< two groups, batteries and failure rates on (the fleet model's cost)
 };
 
 /// Table I: flocking with the paper's parameters (or `w.behavior` with its defaults), "small" drones, trees of radius 5 m, summary every

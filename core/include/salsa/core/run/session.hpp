@@ -40,6 +40,14 @@ struct SummaryRow {
 };
 SummaryRow summary_row(const Simulation& sim);
 
+/// The fleet's columns of summary.csv and outcome.csv (when TestSpec::fleet(); docs/output-format.md):
+/// alive, energy_used_Wh, and with "groups" <name>.found, <name>.alive, <name>.energy_used_Wh for each
+/// group in order. fleet_values gives their values now, in that order; counts are whole numbers.
+std::vector<std::string> fleet_columns(const TestSpec& test);
+std::vector<double> fleet_values(const Simulation& sim, bool per_group);
+/// A drone's status as the outputs write it: flying, camera_failed, landed, failed or removed.
+const char* status_name(const Simulation& sim, std::uint32_t id);
+
 /// The plugin a PluginFailure is about, as `test` chose it: "contact handler 'h' (/path/libh.so)"
 /// (without the file when the host no longer knows the name).
 std::string failed_plugin(const PluginFailure& failure, const TestSpec& test, const PluginHost& host);
@@ -70,9 +78,10 @@ class Session {
   /// refused; nothing changed then.
   void change(const std::string& key, double value);
   /// Hot reload (the desktop): the plugins of a rescan from now on, and, when `behavior` is given, the
-  /// running behavior replaced where the drones are (fresh per-drone memory), `params` its values.
+  /// running behavior of `group` replaced where the drones are (fresh per-drone memory), `params` its values.
   /// Throws what the simulation or plugin throws; nothing changed then.
-  void use_plugins(const PluginHost& host, std::shared_ptr<Behavior> behavior = nullptr, ParameterValues params = {});
+  void use_plugins(const PluginHost& host, std::shared_ptr<Behavior> behavior = nullptr, ParameterValues params = {},
+                   std::uint32_t group = 0);
   /// The metrics' final columns (outcome.csv). Throws TestFailure.
   std::vector<std::pair<std::string, std::string>> finish();
 
