@@ -364,7 +364,8 @@ json& place(json& test, const std::string& key, const Reader& r) {
 /// sweep.set, checked against sweep.test and the other axes: one axis per key, in key order.
 std::vector<std::vector<Point>> set_axes(const json& set, const json& s, const json& base, const Reader& r) {
   if (!set.is_object() || set.empty())
-    r.fail("sweep.set", show(set) + " must be an object of keys and their values, e.g. {\"drone.max_speed\": [5, 10], \"groups.scouts.drones\": {\"from\": 2, \"to\": 8, \"step\": 2}}");
+    r.fail("sweep.set", show(set) + " must be an object of keys and their values, e.g. {\"drone.max_speed\": [5, 10], "
+                                    "\"groups.scouts.drones\": {\"from\": 2, \"to\": 8, \"step\": 2}}");
   std::vector<std::string> keys;
   for (const auto& item : set.items()) keys.push_back(item.key());
   std::sort(keys.begin(), keys.end());  // names and order do not depend on how the file orders the keys
@@ -403,8 +404,9 @@ std::vector<std::vector<Point>> set_axes(const json& set, const json& s, const j
     std::size_t n = 1;
     while (std::ranges::any_of(keys, [&](const std::string& other) { return other != key && suffix(other, n) == suffix(key, n); })) ++n;
     const std::string label = name_safe(suffix(key, n));
-    const std::vector<double> values =
-        swept_numbers(set[key], Reader::join("sweep.set", key), r, {"numbers", "at least one number; or leave the key out"}, [](double) { return std::string(); });
+    const std::vector<double> values = swept_numbers(set[key], Reader::join("sweep.set", key), r,
+                                                     {"numbers", "at least one number; or leave the key out"},
+                                                     [](double) { return std::string(); });  // ranges: the test reader's
     std::vector<Point>& axis = out.emplace_back();
     for (std::size_t i = 0; i < values.size(); ++i)
       axis.push_back({{{key, as_json(values[i])}}, label + number_token(values[i]), "set." + key + "[" + std::to_string(i) + "]"});
