@@ -751,10 +751,15 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   if (senses.neighbours) {
     s.hits.clear();
     drone_grid_.gather(p, cfg.detection_range, s.hits);
-    const bool everyone = flying_ == drones_.positions.size();  // no status to check, the common case
-    for (const auto& [j, d2] : s.hits)
-      if (j != id && (everyone || drones_.status[j] == DroneStatus::flying))
-        s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j, drones_.groups[j]});
+    // The common case, every drone flying in one group, reads neither status nor group per neighbour.
+    if (flying_ == drones_.positions.size() && groups_.size() == 1) {
+      for (const auto& [j, d2] : s.hits)
+        if (j != id) s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j, 0});
+    } else {
+      for (const auto& [j, d2] : s.hits)
+        if (j != id && drones_.status[j] == DroneStatus::flying)
+          s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j, drones_.groups[j]});
+    }
   }
   s.targets.clear();
   if (senses.targets)
