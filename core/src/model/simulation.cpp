@@ -542,16 +542,12 @@ void Simulation::set_drone_count(std::size_t n, std::uint32_t group) {
   for (std::uint32_t g = 0; g < setup_.groups.size(); ++g)
     plugin_call(behavior_kind, g, [&] { setup_.groups[g].behavior->resize(next.positions.size()); });
   // Handlers see the drones as they will be (removed ones stay in the spans, with their status).
-  {
-    std::swap(drones_, next);
-    struct Restore {
-      Simulation& sim;
-      Drones& old;
-      bool done = false;
-      ~Restore() { if (!done) std::swap(sim.drones_, old); }
-    } restore{*this, next};
+  std::swap(drones_, next);
+  try {
     reset_handlers(*this);
-    restore.done = true;
+  } catch (...) {
+    std::swap(drones_, next);
+    throw;
   }
   // Nothing below throws.
   const std::size_t before = physics_->bodies.size();
