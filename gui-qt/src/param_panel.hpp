@@ -55,8 +55,9 @@ class ParamPanel : public QWidget {
   bool updating_ = false;
 };
 
-/// The drone properties as the panel edits them: the core's salsa::drone_schema() (the ranges a test
-/// file allows; check_drone still has the last word on the combination with dt).
-Parameters drone_schema();
+/// The drone properties as the panels edit them: the core's salsa::drone_schema() (the ranges a test
+/// file allows; check_drone still has the last word on the combination with dt). `energy`: the battery
+/// and power model's properties (those that do not shape the world); else the others.
+Parameters drone_schema(bool energy);
 
 }  // namespace salsa::gui
