@@ -1,5 +1,6 @@
 #include "sandbox_page.hpp"
 
+#include <QAbstractSpinBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QFileDialog>
@@ -308,6 +309,8 @@ void SandboxPage::build_controls() {
   column->insertWidget(0, run);  // first: the buttons used most stay in sight
   column->addStretch();
 
+  for (QWidget* input : panel->findChildren<QWidget*>())
+    if (qobject_cast<QAbstractSpinBox*>(input) || qobject_cast<QComboBox*>(input)) wheel_scrolls_unless_focused(input);
   auto* scroll = new QScrollArea;
   scroll->setWidget(panel);
   scroll->setWidgetResizable(true);
