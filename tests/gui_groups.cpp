@@ -210,7 +210,7 @@ class GuiGroups : public QObject {
     auto snap = sandbox().engine().snapshot();
     QCOMPARE(snap->status_of(7), DroneStatus::failed);
     QVERIFY(snap->selected && snap->selected->fleet);
-    QTRY_VERIFY(sandbox().inspector_text().startsWith("drone 7 of group inspectors: failed\nenergy used"));
+    QTRY_VERIFY(sandbox().inspector_text().startsWith("drone 7 of group inspectors: failed\nno battery model\n"));
     QTRY_VERIFY(!sandbox().fail_button()->isEnabled());  // it is down already
     QVERIFY(legend_rows(*snap).contains("inspectors: 11 flying, 1 stopped"));
     // The saved test replays both: the rate and the event at their times.
@@ -219,6 +219,18 @@ class GuiGroups : public QObject {
     const auto saved = load_tests((dir.path() + "/failed.json").toStdString(), *host_);
     QVERIFY(has_change(saved[0].changes, "failures.drone_mtbf", 600));
     QVERIFY(has_change(saved[0].changes, "fail.drone", 7));
+    // salsa run of it ends where the sandbox is: each drone's group and status in fleet.csv as shown.
+    const CliResult r = run_salsa({"run", "failed.json", "--out", "out", "--no-plots", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const QStringList fleet = non_empty_lines(read_file(dir.path() + "/out/failed/fleet.csv"));
+    QCOMPARE(fleet.value(0), QString("id,group,status,since,energy_used_Wh,battery_left"));
+    QCOMPARE(fleet.size(), 1 + 18);
+    for (std::uint32_t id = 0; id < 18; ++id) {
+      const QStringList cells = fleet[static_cast<int>(id) + 1].split(',');
+      QCOMPARE(cells[0].toUInt(), id);
+      QCOMPARE(cells[1], q(snap->groups[snap->group_of(id)].name));
+      QCOMPARE(cells[2], QString(snap->status_of(id) == DroneStatus::failed ? "failed" : "flying"));
+    }
   }
 
   void battery_properties_fold_away_with_their_units() {
@@ -246,7 +258,7 @@ class GuiGroups : public QObject {
     const auto snap = sandbox().engine().snapshot();
     QVERIFY(snap->selected && snap->selected->battery_left && *snap->selected->battery_left < 1);
     QVERIFY(snap->selected->energy_used > 0);
-    QVERIFY(sandbox().inspector_text().startsWith("drone 0: flying\n"));
+    QVERIFY(sandbox().inspector_text().startsWith("drone 0: flying\nenergy used "));
   }
 };
 

@@ -305,8 +305,10 @@ struct Engine::Worker {
     if (status[id] == DroneStatus::flying)  // a stopped drone sees no one, and no one sees it
       for (std::uint32_t j = 0; j < p.size(); ++j)  // one drone against all: cheap, and only for the selection
         if (j != id && status[j] == DroneStatus::flying && distance_squared(p[j], p[id]) <= range * range) in.neighbours.push_back(j);
-    const auto hits = sim->obstacle_hits(id);
-    in.hits.assign(hits.begin(), hits.end());
+    if (status[id] == DroneStatus::flying) {  // a stopped drone senses nothing: its last hits are stale
+      const auto hits = sim->obstacle_hits(id);
+      in.hits.assign(hits.begin(), hits.end());
+    }
     if ((in.fleet = fleet_on())) {
       in.status = status_name(*sim, id);
       in.energy_used = sim->energy_used(id) / 3600;  // J to Wh

@@ -60,7 +60,7 @@ struct Inspection {
   /// say it. status: flying, camera_failed, landed or failed.
   bool fleet = false;
   std::string status;
-  double energy_used = 0;                  ///< Wh
+  double energy_used = 0;                  ///< Wh (drawn from its battery: 0 without one)
   std::optional<double> battery_left;      ///< fraction 0..1; none without a battery
 };
 

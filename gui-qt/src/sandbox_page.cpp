@@ -883,8 +883,9 @@ void SandboxPage::refresh() {
     QString text = QString("drone %1").arg(in.id);
     if (snap->groups.size() > 1) text += QString(" of group %1").arg(q(in.group));
     if (in.fleet) {
-      text += QString(": %1\nenergy used %2 Wh").arg(q(in.status)).arg(in.energy_used, 0, 'f', 3);
-      text += in.battery_left ? QString(", battery left %1 %").arg(100 * *in.battery_left, 0, 'f', 1) : QString(", no battery model");
+      text += QString(": %1\n").arg(q(in.status));
+      text += in.battery_left ? QString("energy used %1 Wh, battery left %2 %").arg(in.energy_used, 0, 'f', 3).arg(100 * *in.battery_left, 0, 'f', 1)
+                              : QString("no battery model");
     }
     text += QString("\nposition (%1, %2) m\nvelocity (%3, %4) m/s, speed %5 m/s\ncommanded (%6, %7) m/s\n")
                 .arg(in.position.x, 0, 'f', 2).arg(in.position.y, 0, 'f', 2)
