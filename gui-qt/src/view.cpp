@@ -326,7 +326,7 @@ void render_dynamic(QPainter& painter, const Snapshot& snap, const ViewOptions& 
     }
     painter.setPen(QPen(selected_colour, 2.5));
     painter.drawEllipse(me, radius + 5, radius + 5);
-    if (const double range = snap.drone_of(in.id).detection_range; range > 0) {
+    if (const double range = snap.drone_of(in.id).detection_range; range > 0 && flying(in.id)) {  // a stopped one detects no one
       painter.setPen(QPen(selected_colour, 1, Qt::DotLine));
       painter.drawEllipse(me, range * px, range * px);
     }
