@@ -18,6 +18,18 @@ shot examples/flocking-forest.json --start --screenshot $img/gui-sandbox.png --a
 shot examples/dynamic-space-partitioning-forest.json --start --view heat,camera,-trails --select 4 \
   --screenshot $img/gui-inspect.png --after 14
 
+# Two groups, 44 s in: the surveyors' 1.8 Wh batteries ran flat at about 37 s, inspector 9 was failed
+# at 20 s (a timed fail.drone) and inspector 11 at 42 s (drone_mtbf); surveyor 2 inspected.
+cat > "$work/groups.json" <<'JSON'
+{"name": "groups", "groups": [
+  {"name": "surveyors", "drones": 6, "drone": {"base": "large", "battery_capacity": 1.8}, "behavior": "pheromone_avoidance",
+   "spawn": {"point": [150, 150]}},
+  {"name": "inspectors", "drones": 12, "behavior": "random_walk"}],
+ "map": {"name": "forest", "params": {"size": 600}}, "targets": {"count": 400}, "time": 300, "seed": 2,
+ "failures": {"drone_mtbf": 300}, "changes": [{"time": 20, "set": {"fail.drone": 9}}]}
+JSON
+shot "$work/groups.json" --start --select 2 --screenshot $img/gui-groups.png --after 44
+
 # Queue mode, 1.6 s into a run of the comparison queue.
 shot --queue examples/comparison-queue.json --run-queue "$work/results" --screenshot $img/gui-queue.png --after 1.6
 

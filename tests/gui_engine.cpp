@@ -27,9 +27,10 @@ void steps(Engine& engine, int n) {
 /// The drones.csv rows the runner writes for a snapshot (the runner's "%.4f" fields).
 QStringList rows_of(const Snapshot& s) {
   QStringList rows;
-  for (std::size_t i = 0; i < s.positions.size(); ++i) {
+  for (std::uint32_t i = 0; i < s.positions.size(); ++i) {
+    if (s.status_of(i) == DroneStatus::removed) continue;  // in no output
     const Vec2 p = s.positions[i], v = s.velocities[i];
-    rows << QString::asprintf("%.4f,%zu,%.4f,%.4f,%.4f,%.4f", s.time, i, p.x, p.y, v.x, v.y);
+    rows << QString::asprintf("%.4f,%u,%.4f,%.4f,%.4f,%.4f", s.time, i, p.x, p.y, v.x, v.y);
   }
   return rows;
 }
@@ -80,7 +81,8 @@ class GuiEngine : public QObject {
     steps(engine, 15);  // 120 steps: t = 2 s, a logged row
     const auto snap = engine.snapshot();
     QCOMPARE(snap->step, std::uint64_t(120));
-    QCOMPARE(snap->positions.size(), std::size_t(7));
+    QCOMPARE(snap->positions.size(), std::size_t(20));  // ids are never reused: 13 of them removed
+    QCOMPARE(rows_of(*snap).size(), 7);
 
     std::string why;
     const auto test = engine.as_test(&why);
@@ -153,11 +155,14 @@ class GuiEngine : public QObject {
     auto snap = engine.snapshot();
     QCOMPARE(snap->positions.size(), std::size_t(30));
     for (std::size_t i = 0; i < 12; ++i) QCOMPARE(snap->positions[i], before->positions[i]);  // the old ones stay
-    const Vec2 spawn = snap->scene->spawn;
+    const Vec2 spawn = snap->scene->bases.at(0);
     for (std::size_t i = 12; i < 30; ++i)  // new ones come in around the spawn point
       QVERIFY2(distance(snap->positions[i], spawn) < 100, qPrintable(QString("drone %1 far from spawn").arg(i)));
+    // A lower count removes the highest ids (never reused): they stay in the spans, marked removed.
     QCOMPARE(engine.set("drones", 5).get(), std::string());
-    QCOMPARE(engine.snapshot()->positions.size(), std::size_t(5));
+    snap = engine.snapshot();
+    QCOMPARE(snap->positions.size(), std::size_t(30));
+    for (std::uint32_t i = 0; i < 30; ++i) QCOMPARE(snap->status_of(i) == DroneStatus::removed, i >= 5);
     QCOMPARE(engine.set("drones", 0).get().substr(0, 9), std::string("drones: 0"));
   }
 

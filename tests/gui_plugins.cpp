@@ -129,6 +129,33 @@ class GuiPlugins : public QObject {
     QVERIFY(QString::fromStdString(why).contains("reloaded"));
   }
 
+  // With groups, every group running the rebuilt behavior goes on with the new code; the others are untouched.
+  void every_group_running_a_rebuilt_behavior_reloads() {
+    const QString file = folder_.filePath("reload.so");
+    QFile::remove(file);
+    QVERIFY(QFile::copy(built("reload-v1"), file));
+    auto w = window_with(folder_.path());
+    const TestSpec t = parse_test(R"({"name": "reload", "groups": [
+        {"name": "a", "behavior": "test_reload", "drones": 2, "spawn": {"point": [40, 60]}},
+        {"name": "b", "behavior": "random_walk", "drones": 2, "spawn": {"point": [150, 250]}},
+        {"name": "c", "behavior": "test_reload", "drones": 2, "spawn": {"point": [40, 140]}}],
+      "map": {"name": "empty", "params": {"size": 300}}, "time": 60, "seed": 4, "decision_lag": 0})", "test", *w->host());
+    QVERIFY(w->sandbox()->open_test_spec(t).empty());
+    steps(*w, 60);
+    QVERIFY(overwrite(file, read_file(built("reload-v2"))));
+    QTRY_VERIFY_WITH_TIMEOUT(w->status_text().contains("reloaded behavior 'test_reload'"), 20000);
+    steps(*w, 120);
+    const auto snap = w->sandbox()->engine().snapshot();
+    for (std::uint32_t id : {0u, 1u, 4u, 5u}) QVERIFY2(snap->velocities[id].x < -1, qPrintable(QString("drone %1 runs version 2").arg(id)));
+    const TestSpec now = *w->sandbox()->engine().current_test();
+    QVERIFY(now.groups[0].behavior.params.has("added_in_v2"));
+    QVERIFY(now.groups[2].behavior.params.has("added_in_v2"));
+    QCOMPARE(now.groups[1].behavior.name, std::string("random_walk"));
+    w->sandbox()->engine().select(4);
+    w->sandbox()->engine().sync();
+    QTRY_VERIFY(w->sandbox()->engine().snapshot()->selected && w->sandbox()->engine().snapshot()->selected->memory == "test_reload version 2");
+  }
+
   void a_broken_rebuild_keeps_the_old_code_running() {
     const QString file = folder_.filePath("reload.so");
     QFile::remove(file);

@@ -17,12 +17,15 @@
 #include <QPointer>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QScrollArea>
+#include <QScrollBar>
 #include <QSettings>
 #include <QSlider>
 #include <QSpinBox>
 #include <QStatusBar>
 #include <QTableView>
 #include <QTemporaryDir>
+#include <QWheelEvent>
 #include <cmath>
 #include <functional>
 
@@ -357,6 +360,34 @@ class GuiTyping : public QObject {
         QCOMPARE(panel->slider_value(p.name, s->minimum()), p.min);
         QCOMPARE(panel->slider_value(p.name, s->maximum()), p.max);
       }
+  }
+
+  // The wheel scrolls the panel: it edits a spin box, slider or combo box only once it is clicked
+  // into (a person scrolling down once set the camera range they scrolled past).
+  void the_wheel_scrolls_the_panel_not_its_values() {
+    settle();
+    auto* area = qobject_cast<QScrollArea*>(sandbox().controls());
+    QVERIFY(area);
+    auto wheel = [](QWidget* w) {
+      QWheelEvent down(QPointF(5, 5), w->mapToGlobal(QPointF(5, 5)), {}, QPoint(0, -120), Qt::NoButton, {}, Qt::NoScrollPhase, false);
+      QApplication::sendEvent(w, &down);
+      QApplication::processEvents();
+    };
+    ParamPanel* drone = sandbox().drone_panel();
+    const double range = drone->value("camera_range");
+    const int scrolled = area->verticalScrollBar()->value();
+    for (QWidget* w : std::initializer_list<QWidget*>{drone->spin_box("camera_range"), drone->slider("camera_range"), sandbox().behavior_box()})
+      wheel(w);
+    settle();
+    QCOMPARE(drone->value("camera_range"), range);
+    QCOMPARE(sandbox().behavior_box()->currentText(), QString("flocking"));
+    QVERIFY(area->verticalScrollBar()->value() > scrolled);
+    QCOMPARE(sandbox().engine().timeline().size(), std::size_t(0));
+    // Clicked into, it takes the wheel.
+    drone->spin_box("camera_range")->setFocus(Qt::MouseFocusReason);
+    wheel(drone->spin_box("camera_range"));
+    settle();
+    QVERIFY(drone->value("camera_range") < range);
   }
 
   void a_long_message_never_runs_into_the_figures() {

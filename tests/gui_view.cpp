@@ -25,7 +25,8 @@ namespace {
 std::shared_ptr<Snapshot> fixed_scene() {
   auto scene = std::make_shared<Scene>();
   scene->map.bounds = {{0, 0}, {200, 150}};
-  scene->map.spawn = scene->spawn = {100, 75};
+  scene->map.spawn = {100, 75};
+  scene->bases = {{100, 75}};
   scene->map.obstacles = {{{30, 30}, {60, 30}, {60, 50}, {30, 50}}, {{140, 100}, {170, 95}, {160, 130}}};
   scene->map.hollow = {{{90, 110}, {120, 110}, {120, 135}, {90, 135}}};
   scene->map.lines = {{{20, 120}, {70, 140}}};
@@ -36,9 +37,11 @@ std::shared_ptr<Snapshot> fixed_scene() {
   for (int i = 0; i < 40; i += 3) snap->found[static_cast<std::size_t>(i)] = 1;
   snap->targets_found = 14;
   snap->scene = scene;
-  snap->drone.radius = 2;
-  snap->drone.camera_range = 10;
-  snap->drone.detection_range = 40;
+  GroupLook group{"swarm", {}};
+  group.drone.radius = 2;
+  group.drone.camera_range = 10;
+  group.drone.detection_range = 40;
+  snap->groups = {group};
   snap->positions = {{100, 75}, {110, 80}, {80, 70}, {180, 20}};
   snap->velocities = {{5, 0}, {0, 5}, {-3, -3}, {0, 0}};
   snap->trail_length = 4;

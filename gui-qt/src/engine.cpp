@@ -23,6 +23,12 @@ double seconds(Clock::duration d) { return std::chrono::duration<double>(d).coun
 
 }  // namespace
 
+const DroneConfig& Snapshot::drone_of(std::uint32_t id) const {
+  static const DroneConfig none;
+  const std::uint32_t g = group_of(id);
+  return g < groups.size() ? groups[g].drone : none;
+}
+
 struct Engine::Worker {
   explicit Worker(std::shared_ptr<const PluginHost> h) : host(std::move(h)) {
     publish_empty();
@@ -179,8 +185,11 @@ struct Engine::Worker {
   void after_step() {
     const auto positions = sim->drone_positions();
     if (trail_ring.size() != positions.size() * trail_length) drone_count_changed();  // a timed change
-    // Heat: one visit per drone per step.
-    for (Vec2 p : positions) {
+    // Heat: one visit per flying drone per step (a stopped drone is no visit).
+    const auto status = sim->drone_status();
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+      if (status[i] != DroneStatus::flying) continue;
+      const Vec2 p = positions[i];
       const int c = std::clamp(static_cast<int>((p.x - heat_grid.origin.x) / heat_grid.cell), 0, heat_grid.cols - 1);
       const int r = std::clamp(static_cast<int>((p.y - heat_grid.origin.y) / heat_grid.cell), 0, heat_grid.rows - 1);
       ++heat_counts[static_cast<std::size_t>(r) * heat_grid.cols + c];
@@ -241,10 +250,16 @@ struct Engine::Worker {
     snap->time = sim->time();
     snap->dt = sim->dt();
     snap->inexact = sim->dt() != start.dt;
-    snap->drone = sim->drone_config();
+    for (std::uint32_t g = 0; g < sim->group_count(); ++g) snap->groups.push_back({sim->setup().groups[g].name, sim->drone_config(g)});
     const auto p = sim->drone_positions(), v = sim->drone_velocities();
     snap->positions.assign(p.begin(), p.end());
     snap->velocities.assign(v.begin(), v.end());
+    const auto groups = sim->drone_groups();
+    const auto status = sim->drone_status();
+    snap->drone_groups.assign(groups.begin(), groups.end());
+    snap->status.assign(status.begin(), status.end());
+    snap->camera.resize(p.size());
+    for (std::uint32_t id = 0; id < p.size(); ++id) snap->camera[id] = sim->camera_works(id) ? 1 : 0;
     snap->found = found;
     snap->targets_found = found_count;
     snap->found_version = found_version;
@@ -257,7 +272,7 @@ struct Engine::Worker {
           snap->trails[d * trail_length + k] = trail_ring[d * trail_length + (first + k) % trail_length];
     }
     snap->heat = heat;
-    if (selected && *selected < p.size()) snap->selected = inspect(*selected);
+    if (selected && *selected < p.size() && status[*selected] != DroneStatus::removed) snap->selected = inspect(*selected);
     if (speed_samples.size() >= 2) {
       const auto& [w0, t0] = speed_samples.front();
       const auto& [w1, t1] = speed_samples.back();
@@ -267,25 +282,45 @@ struct Engine::Worker {
     return snap;
   }
 
+  /// Whether the outputs would carry the fleet's columns now: the test's fleet model, or a fail.* change made.
+  bool fleet_on() const {
+    if (session->current().fleet()) return true;
+    const auto& timeline = session->timeline();
+    return std::any_of(timeline.begin(), timeline.begin() + static_cast<std::ptrdiff_t>(session->changes_applied()),
+                       [](const Change& c) { return c.key.starts_with("fail."); });
+  }
+
   Inspection inspect(std::uint32_t id) const {
     Inspection in;
     in.id = id;
+    const std::uint32_t group = sim->drone_groups()[id];
+    in.group = sim->setup().groups[group].name;
     const auto p = sim->drone_positions();
+    const auto status = sim->drone_status();
     in.position = p[id];
     in.velocity = sim->drone_velocities()[id];
     in.commanded = sim->commanded_velocities().size() > id ? sim->commanded_velocities()[id] : Vec2{};
-    const double range = sim->drone_config().detection_range;
-    for (std::uint32_t j = 0; j < p.size(); ++j)  // one drone against all: cheap, and only for the selection
-      if (j != id && distance_squared(p[j], p[id]) <= range * range) in.neighbours.push_back(j);
-    const auto hits = sim->obstacle_hits(id);
-    in.hits.assign(hits.begin(), hits.end());
+    const DroneConfig& drone = sim->drone_config(group);
+    const double range = drone.detection_range;
+    if (status[id] == DroneStatus::flying)  // a stopped drone sees no one, and no one sees it
+      for (std::uint32_t j = 0; j < p.size(); ++j)  // one drone against all: cheap, and only for the selection
+        if (j != id && status[j] == DroneStatus::flying && distance_squared(p[j], p[id]) <= range * range) in.neighbours.push_back(j);
+    if (status[id] == DroneStatus::flying) {  // a stopped drone senses nothing: its last hits are stale
+      const auto hits = sim->obstacle_hits(id);
+      in.hits.assign(hits.begin(), hits.end());
+    }
+    if ((in.fleet = fleet_on())) {
+      in.status = status_name(*sim, id);
+      in.energy_used = sim->energy_used(id) / 3600;  // J to Wh
+      if (drone.battery_capacity > 0) in.battery_left = std::clamp(sim->battery_left(id) / (drone.battery_capacity * 3600), 0.0, 1.0);
+    }
     try {  // plugin code on the worker thread: a throw must not end the desktop
-      in.memory = sim->behavior().inspect(id);
+      in.memory = sim->behavior(group).inspect(id);
     } catch (const std::exception& e) {
-      const PluginFailure failure("behavior", 0, e.what());  // its message on one line
+      const PluginFailure failure("behavior", group, e.what());  // its message on one line
       in.memory = failed_plugin(failure, session->current(), *host) + " failed in inspect: " + failure.what();
     } catch (...) {
-      in.memory = failed_plugin(PluginFailure("behavior", 0, ""), session->current(), *host) +
+      in.memory = failed_plugin(PluginFailure("behavior", group, ""), session->current(), *host) +
                   " failed in inspect: an exception that is not a std::exception";
     }
     return in;
@@ -339,7 +374,7 @@ struct Engine::Worker {
     selected.reset();
     auto s = std::make_shared<Scene>();
     s->map = sim->map();
-    s->spawn = sim->spawn_point();
+    for (std::uint32_t g = 0; g < sim->group_count(); ++g) s->bases.push_back(sim->base(g));
     for (const auto& t : sim->targets()) s->targets.push_back(t.position);
     s->target_radius = sim->setup().target_kind ? sim->setup().target_kind->radius() : 0;
     scene = std::move(s);
@@ -361,9 +396,10 @@ struct Engine::Worker {
     return {};
   }
 
+  /// Drones were added or removed: trails start over; a removed drone is no longer selected.
   void drone_count_changed() {
     reset_trails();
-    if (selected && *selected >= sim->drone_count()) selected.reset();
+    if (selected && (*selected >= sim->drone_count() || sim->drone_status()[*selected] == DroneStatus::removed)) selected.reset();
   }
 
   void reset_trails() {
@@ -379,35 +415,38 @@ struct Engine::Worker {
     } catch (const std::exception& e) {
       return e.what();
     }
-    if (key == "drones") drone_count_changed();
+    if (key.ends_with("drones")) drone_count_changed();
     return {};
   }
 
   /// Plugins from a rescan. `reload`: the running behavior's file was rebuilt, so the simulation goes on
   /// with the new code: same parameter values (those the new version still declares, in its ranges),
   /// positions and velocities kept, per-drone memory fresh. If the new code refuses, the old keeps running.
-  std::string use_plugins(std::shared_ptr<const PluginHost> next, bool reload) {
-    if (reload && sim) {
+  /// Plugins from a rescan. Each group whose behavior is in `rebuilt` goes on with the new code: same
+  /// parameter values (those the new version still declares, in its ranges), positions and velocities
+  /// kept, per-drone memory fresh. If the new code refuses, that group's old code keeps running.
+  std::string use_plugins(std::shared_ptr<const PluginHost> next, const std::vector<std::string>& rebuilt) {
+    for (std::uint32_t g = 0; sim && g < start.groups.size(); ++g) {
+      const std::string name = session->current().groups[g].behavior.name;
+      if (std::find(rebuilt.begin(), rebuilt.end(), name) == rebuilt.end()) continue;
+      const std::string whose = start.groups.size() > 1 ? "group '" + start.groups[g].name + "': " : "";
       try {
-        const TestSpec& current = session->current();
-        const auto& entry = next->behavior(current.groups[0].behavior.name);
-        ParameterValues values(entry.factory.parameters);
-        for (const auto& p : entry.factory.parameters)
-          if (current.groups[0].behavior.params.has(p.name)) {
-            const double v = current.groups[0].behavior.params.get(p.name);
-            if (v >= p.min && v <= p.max) values.set(p.name, v);
-          }
-        session->use_plugins(*next, PluginHost::create(entry, values), values);
-        ParameterValues start_values(entry.factory.parameters);
-        for (const auto& [name, v] : start_values.items())
-          if (start.groups[0].behavior.params.has(name)) start_values.set(name, start.groups[0].behavior.params.get(name));
-        start.groups[0].behavior.params = start_values;
+        const auto& entry = next->behavior(name);
+        auto kept = [&](const ParameterValues& old) {  // the new declaration, with the old values it allows
+          ParameterValues values(entry.factory.parameters);
+          for (const auto& p : entry.factory.parameters)
+            if (old.has(p.name) && old.get(p.name) >= p.min && old.get(p.name) <= p.max) values.set(p.name, old.get(p.name));
+          return values;
+        };
+        const ParameterValues values = kept(session->current().groups[g].behavior.params);
+        session->use_plugins(*next, PluginHost::create(entry, values), values, g);
+        start.groups[g].behavior.params = kept(start.groups[g].behavior.params);
         reloaded_at = sim->time();
         if (state == RunState::failed) state = RunState::paused, error.clear();
       } catch (const PluginFailure& e) {  // the new code's reset threw
-        return "the old code keeps running: " + failed_plugin(e, session->current(), *next) + " failed: " + e.what();
+        return whose + "the old code keeps running: " + failed_plugin(e, session->current(), *next) + " failed: " + e.what();
       } catch (const std::exception& e) {
-        return std::string("the old code keeps running: ") + e.what();
+        return whose + "the old code keeps running: " + e.what();
       }
     }
     if (session) session->use_plugins(*next);
@@ -518,14 +557,19 @@ std::optional<TestSpec> Engine::as_test(std::string* why) const {
   return test;
 }
 
-std::future<std::string> Engine::use_plugins(std::shared_ptr<const PluginHost> host, bool reload_behavior) {
-  return worker_->ask<std::string>([w = worker_.get(), host = std::move(host), reload_behavior]() mutable {
-    return w->use_plugins(std::move(host), reload_behavior);
+std::future<std::string> Engine::use_plugins(std::shared_ptr<const PluginHost> host, std::vector<std::string> rebuilt) {
+  return worker_->ask<std::string>([w = worker_.get(), host = std::move(host), rebuilt = std::move(rebuilt)]() mutable {
+    return w->use_plugins(std::move(host), rebuilt);
   });
 }
 
-std::string Engine::behavior_name() const {
-  return worker_->ask<std::string>([w = worker_.get()] { return w->sim ? w->session->current().groups[0].behavior.name : std::string(); }).get();
+std::vector<std::string> Engine::behavior_names() const {
+  return worker_->ask<std::vector<std::string>>([w = worker_.get()] {
+    std::vector<std::string> names;
+    if (w->sim)
+      for (const GroupSpec& g : w->session->current().groups) names.push_back(g.behavior.name);
+    return names;
+  }).get();
 }
 
 std::vector<Change> Engine::timeline() const {

@@ -25,7 +25,7 @@ namespace salsa::gui {
 /// static layer is keyed on this object's address.
 struct Scene {
   MapData map;
-  Vec2 spawn;
+  std::vector<Vec2> bases;    ///< each group's base (spawn point), in group order
   std::vector<Vec2> targets;  ///< target positions, by id
   double target_radius = 0;   ///< m
 };
@@ -51,10 +51,23 @@ struct StatsRow {
 /// The selected drone, for the inspector.
 struct Inspection {
   std::uint32_t id = 0;
+  std::string group;                       ///< its group's name
   Vec2 position, velocity, commanded;      ///< m, m/s, m/s (what the behavior asked for last step)
-  std::vector<std::uint32_t> neighbours;   ///< ids within detection range
+  std::vector<std::uint32_t> neighbours;   ///< flying ids within its detection range
   std::vector<ObstacleHit> hits;           ///< its obstacle rays' hits, last step
   std::string memory;                      ///< Behavior::inspect(id); empty when not exposed
+  /// With the fleet model on (TestSpec::fleet, or a fail.* change made): as drones.csv and fleet.csv
+  /// say it. status: flying, camera_failed, landed or failed.
+  bool fleet = false;
+  std::string status;
+  double energy_used = 0;                  ///< Wh (drawn from its battery: 0 without one)
+  std::optional<double> battery_left;      ///< fraction 0..1; none without a battery
+};
+
+/// A group of drones as the view draws it.
+struct GroupLook {
+  std::string name;
+  DroneConfig drone;  ///< current configuration (radius and ranges for the view)
 };
 
 enum class RunState { paused, running, failed };
@@ -66,8 +79,11 @@ struct Snapshot {
   double dt = 0;    ///< s, the step in use (larger than the test's when `inexact`)
   bool inexact = false;
   std::shared_ptr<const Scene> scene;
-  DroneConfig drone;                   ///< current configuration (ranges for the view)
-  std::vector<Vec2> positions, velocities;
+  std::vector<GroupLook> groups;       ///< in the test's order; empty before a load
+  std::vector<Vec2> positions, velocities;  ///< by drone id, removed ids included
+  std::vector<std::uint32_t> drone_groups;  ///< by id: index into `groups` (empty: all in the first)
+  std::vector<DroneStatus> status;          ///< by id (empty: all flying)
+  std::vector<std::uint8_t> camera;         ///< by id: 1 while its camera works (empty: all work)
   std::vector<std::uint8_t> found;     ///< per target: 1 once found
   std::size_t targets_found = 0;
   std::uint64_t found_version = 0;     ///< changes whenever `found` does (the static layer redraws)
@@ -83,6 +99,12 @@ struct Snapshot {
   double speed = 0;         ///< simulated seconds per wall second, recent
   std::string test_name;    ///< the loaded test's name
   std::size_t changes_applied = 0;  ///< timeline changes applied so far (the controls refresh when it moves)
+
+  std::uint32_t group_of(std::uint32_t id) const { return id < drone_groups.size() ? drone_groups[id] : 0; }
+  DroneStatus status_of(std::uint32_t id) const { return id < status.size() ? status[id] : DroneStatus::flying; }
+  bool camera_works(std::uint32_t id) const { return id >= camera.size() || camera[id] != 0; }
+  /// The drone's configuration (its group's; the default one before a load).
+  const DroneConfig& drone_of(std::uint32_t id) const;
 };
 
 /// How the worker paces the simulation.
@@ -116,14 +138,15 @@ class Engine {
   /// Fails (returns the reason) when dt_factor makes the step too long for the physics (check_drone).
   std::future<std::string> set_pacing(Pacing pacing);
   void select(std::optional<std::uint32_t> drone);
-  /// The plugins of a rescan, used from now on (resets, loads). `reload_behavior`: the running
-  /// behavior's file was rebuilt: the simulation switches to the new code where it is (positions and
-  /// velocities kept, parameter values kept where the new code still declares them, per-drone memory
-  /// fresh). Refused (the old code keeps running) when the new code has no such behavior or refuses the
-  /// values. After a reload, as_test is refused until the next reset.
-  std::future<std::string> use_plugins(std::shared_ptr<const PluginHost> host, bool reload_behavior);
-  /// The running behavior's name ("" before a load).
-  std::string behavior_name() const;
+  /// The plugins of a rescan, used from now on (resets, loads). `rebuilt`: behaviors whose files were
+  /// rebuilt: every group running one switches to the new code where it is (positions and velocities
+  /// kept, parameter values kept where the new code still declares them, per-drone memory fresh).
+  /// Refused for a group (its old code keeps running, and the groups after it are not tried) when the
+  /// new code has no such behavior or refuses the values. After a reload, as_test is refused until the
+  /// next reset.
+  std::future<std::string> use_plugins(std::shared_ptr<const PluginHost> host, std::vector<std::string> rebuilt = {});
+  /// The behavior each group runs, in group order (empty before a load).
+  std::vector<std::string> behavior_names() const;
   /// Trail samples kept per drone (0: none) and taken every `every` steps.
   void set_trails(std::size_t length, std::size_t every);
 

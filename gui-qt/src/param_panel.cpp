@@ -1,6 +1,9 @@
 #include "param_panel.hpp"
 
+#include <QAbstractScrollArea>
+#include <QApplication>
 #include <QDoubleSpinBox>
+#include <QWheelEvent>
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
@@ -23,7 +26,29 @@ constexpr int log_positions = 1000;
 /// one step above it, so [0, 1000] m in steps of 0.5 m maps [0.5, 1000.5].
 double shift_of(const Parameter& p) { return p.min > 0 ? 0 : step_of(p) - p.min; }
 int clamp_int(double v) { return static_cast<int>(std::clamp(v, -2147483647.0, 2147483647.0)); }
+
+/// Hands a wheel event over an unfocused input to the scroll area around it.
+class WheelGuard : public QObject {
+ public:
+  bool eventFilter(QObject* watched, QEvent* event) override {
+    auto* w = qobject_cast<QWidget*>(watched);
+    if (event->type() != QEvent::Wheel || !w || w->hasFocus()) return false;
+    for (QWidget* up = w->parentWidget(); up; up = up->parentWidget())
+      if (auto* area = qobject_cast<QAbstractScrollArea*>(up)) {
+        QApplication::sendEvent(area->viewport(), event);
+        return true;
+      }
+    event->ignore();
+    return true;
+  }
+};
 }  // namespace
+
+void wheel_scrolls_unless_focused(QWidget* w) {
+  static WheelGuard* guard = new WheelGuard;  // one for the whole program, never deleted (outlives every widget)
+  w->setFocusPolicy(Qt::StrongFocus);         // not WheelFocus: a wheel passing over takes no focus
+  w->installEventFilter(guard);
+}
 
 int ParamPanel::decimals(const Parameter& p) {
   // A logarithmic range is fine near its low end: two decimals at least, where its step allows.
@@ -165,6 +190,8 @@ void ParamPanel::build_rows() {
                         (logarithmic(p) ? "; the slider is logarithmic, arrow keys move it finely" : "");
     row.slider->setToolTip(tip);
     row.spin->setToolTip(tip);
+    wheel_scrolls_unless_focused(row.slider);
+    wheel_scrolls_unless_focused(row.spin);
     line->addWidget(row.slider, 1);
     line->addWidget(row.spin);
     auto* label = new QLabel(QString::fromStdString(p.name).replace('_', ' '));
@@ -210,9 +237,10 @@ QAbstractSpinBox* ParamPanel::spin_box(const std::string& name) const {
   return nullptr;
 }
 
-Parameters drone_schema() {
+Parameters drone_schema(bool energy) {
   Parameters out;  // the core's declaration: the panel allows exactly what a test file allows
-  for (const DroneProperty& p : salsa::drone_schema()) out.push_back(p.spec);
+  for (const DroneProperty& p : salsa::drone_schema())
+    if (p.shapes_world != energy) out.push_back(p.spec);
   return out;
 }
 

@@ -55,8 +55,14 @@ class ParamPanel : public QWidget {
   bool updating_ = false;
 };
 
-/// The drone properties as the panel edits them: the core's salsa::drone_schema() (the ranges a test
-/// file allows; check_drone still has the last word on the combination with dt).
-Parameters drone_schema();
+/// A wheel turned over `w` (a spin box, slider or combo box) scrolls the panel it sits in unless `w` has
+/// the keyboard focus (clicked or tabbed into): scrolling a long panel must not edit the values it
+/// passes over. ParamPanel's rows have this; call it for other inputs of a scrolled panel.
+void wheel_scrolls_unless_focused(QWidget* w);
+
+/// The drone properties as the panels edit them: the core's salsa::drone_schema() (the ranges a test
+/// file allows; check_drone still has the last word on the combination with dt). `energy`: the battery
+/// and power model's properties (those that do not shape the world); else the others.
+Parameters drone_schema(bool energy);
 
 }  // namespace salsa::gui

@@ -1,6 +1,8 @@
 #include "sandbox_page.hpp"
 
+#include <QAbstractSpinBox>
 #include <QComboBox>
+#include <QDoubleSpinBox>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QFormLayout>
@@ -15,6 +17,7 @@
 #include <QScrollArea>
 #include <QSettings>
 #include <QSpinBox>
+#include <QToolButton>
 #include <QVBoxLayout>
 #include <charconv>
 #include <fstream>
@@ -121,22 +124,28 @@ void SandboxPage::fill_plugin_lists() {
 void SandboxPage::use_plugins(std::shared_ptr<const PluginHost> host, const QStringList& rebuilt) {
   host_ = std::move(host);
   fill_plugin_lists();
-  const std::string running = engine_.behavior_name();
-  std::string file;
-  bool reload = false;
-  if (!running.empty() && host_->behaviors().end() != std::find_if(host_->behaviors().begin(), host_->behaviors().end(),
-                                                                    [&](const auto& e) { return e.factory.name == running; })) {
-    file = host_->behavior(running).plugin().file.string();
-    reload = rebuilt.contains(q(file));
+  // The running behaviors (of any group) whose files were rebuilt: each group running one reloads.
+  std::vector<std::string> reload;
+  std::string what;  // "behavior 'a' from /x/liba.so", for the messages
+  for (const std::string& running : engine_.behavior_names()) {
+    const auto& all = host_->behaviors();
+    if (std::find(reload.begin(), reload.end(), running) != reload.end() ||
+        std::none_of(all.begin(), all.end(), [&](const auto& e) { return e.factory.name == running; }))
+      continue;
+    const std::string file = host_->behavior(running).plugin().file.string();
+    if (!rebuilt.contains(q(file))) continue;
+    reload.push_back(running);
+    what += (what.empty() ? "behavior '" : ", behavior '") + running + "' from " + file;
   }
-  pending_.push_back({engine_.use_plugins(host_, reload), [this, reload, running, file](const std::string& why) {
-                        if (!why.empty()) return show_message(q("behavior '" + running + "' (" + file + ") was not reloaded: " + why));
-                        if (!reload) return show_message(QString("plugins rescanned: %1 files").arg(host_->plugins().size()), false);
+  const bool reloading = !reload.empty();
+  pending_.push_back({engine_.use_plugins(host_, std::move(reload)), [this, reloading, what](const std::string& why) {
+                        if (!why.empty()) return show_message(q(what + " was not reloaded: " + why));
+                        if (!reloading) return show_message(QString("plugins rescanned: %1 files").arg(host_->plugins().size()), false);
                         if (auto t = engine_.current_test()) {
                           loaded_ = *t;
                           show_test(*t);  // the new code's parameters
                         }
-                        show_message(q("reloaded behavior '" + running + "' from " + file + ": the simulation goes on with the new code"), false);
+                        show_message(q("reloaded " + what + ": the simulation goes on with the new code"), false);
                       }});
 }
 
@@ -146,12 +155,24 @@ void SandboxPage::build_controls() {
   auto* panel = new QWidget;
   auto* column = new QVBoxLayout(panel);
 
+  // With two or more groups: whose behavior, drone count and drone the controls below show and change.
+  group_row_ = new QWidget;
+  auto* group_line = new QHBoxLayout(group_row_);
+  group_line->setContentsMargins(0, 0, 0, 0);
+  group_ = new QComboBox;
+  group_->setObjectName("group");
+  group_->setToolTip("the group of drones whose behavior, drone count and drone properties the controls below edit");
+  group_line->addWidget(new QLabel("<b>Group</b>"));
+  group_line->addWidget(group_, 1);
+  group_row_->hide();
+  column->addWidget(group_row_);
+
   auto* setup = new QGroupBox("Test (changing these starts over)");
   auto* form = new QFormLayout(setup);
   behavior_ = new QComboBox;
   behavior_->setObjectName("behavior");
   for (const auto& e : host_->behaviors()) behavior_->addItem(q(e.factory.name));
-  behavior_->setToolTip("the behavior every drone runs");
+  behavior_->setToolTip("the behavior the drones (of the chosen group) run");
   form->addRow("behavior", behavior_);
   map_ = new QComboBox;
   map_->setObjectName("map");
@@ -193,7 +214,7 @@ void SandboxPage::build_controls() {
   drones_->setObjectName("drones");
   drones_->setRange(1, 1'000'000);
   drones_->setKeyboardTracking(false);
-  drones_->setToolTip("drones added at the spawn point, or the highest ids removed");
+  drones_->setToolTip("drones added at the (chosen group's) base, or its highest ids removed");
   drones_row->addRow("drones", drones_);
   live_form->addLayout(drones_row);
   live_form->addWidget(new QLabel("<b>Behavior parameters</b>"));
@@ -210,13 +231,58 @@ void SandboxPage::build_controls() {
   drone_row->addWidget(save_config);
   live_form->addLayout(drone_row);
   drone_panel_ = new ParamPanel;
-  drone_panel_->set_schema(drone_schema());
+  drone_panel_->set_schema(drone_schema(false));
   live_form->addWidget(drone_panel_);
+  // The energy model's nine properties make a long panel: folded away until a battery is wanted.
+  battery_toggle_ = new QToolButton;
+  battery_toggle_->setObjectName("battery_toggle");
+  battery_toggle_->setText("Battery and power model");
+  battery_toggle_->setToolButtonStyle(Qt::ToolButtonTextBesideIcon);
+  battery_toggle_->setArrowType(Qt::RightArrow);
+  battery_toggle_->setCheckable(true);
+  battery_toggle_->setAutoRaise(true);
+  battery_toggle_->setToolTip("battery capacity (0 Wh: no battery model), the rotary-wing power model of Zeng, Xu & Zhang (2019) "
+                              "and charging at the base");
+  live_form->addWidget(battery_toggle_);
+  battery_panel_ = new ParamPanel;
+  battery_panel_->setObjectName("battery_panel");
+  battery_panel_->set_schema(drone_schema(true));
+  // 0 means "off" for these two: say so rather than show "0.0 Wh".
+  qobject_cast<QDoubleSpinBox*>(battery_panel_->spin_box("battery_capacity"))->setSpecialValueText("none");
+  qobject_cast<QDoubleSpinBox*>(battery_panel_->spin_box("charge_power"))->setSpecialValueText("no charging");
+  battery_panel_->hide();
+  live_form->addWidget(battery_panel_);
   auto* fine = new QLabel("Sliders: click one, then the arrow keys move it one fine step; ranges over decades are logarithmic.");
   fine->setWordWrap(true);
   fine->setStyleSheet("color: palette(mid)");
   live_form->addWidget(fine);
   column->addWidget(live);
+
+  // Failures: rates for every drone of every group, and one drone failed by hand; recorded like the rest.
+  auto* failures = new QGroupBox("Failures (live, recorded)");
+  auto* failure_form = new QFormLayout(failures);
+  auto mtbf_box = [](const char* name, const QString& tip) {
+    auto* box = new QDoubleSpinBox;
+    box->setObjectName(name);
+    box->setRange(0, 1e9);  // as check_change allows
+    box->setDecimals(0);
+    box->setSingleStep(60);
+    box->setSuffix(" s");
+    box->setSpecialValueText("never");
+    box->setKeyboardTracking(false);
+    box->setToolTip(tip + " (allowed: [0, 1e9] s; 0: never)");
+    return box;
+  };
+  drone_mtbf_ = mtbf_box("drone_mtbf", "mean time to failure of a whole drone: each drone's failure time is drawn from the seed");
+  camera_mtbf_ = mtbf_box("camera_mtbf", "mean time to failure of a drone's camera: it flies on, finding nothing");
+  failure_form->addRow("drone MTBF", drone_mtbf_);
+  failure_form->addRow("camera MTBF", camera_mtbf_);
+  fail_ = new QPushButton("Fail the inspected drone");
+  fail_->setObjectName("fail_drone");
+  fail_->setToolTip("click a drone, then this: it fails now (fail.drone), stopping where it is");
+  fail_->setEnabled(false);
+  failure_form->addRow(fail_);
+  column->addWidget(failures);
 
   auto* run = new QGroupBox("Run");
   auto* run_layout = new QVBoxLayout(run);
@@ -243,6 +309,8 @@ void SandboxPage::build_controls() {
   column->insertWidget(0, run);  // first: the buttons used most stay in sight
   column->addStretch();
 
+  for (QWidget* input : panel->findChildren<QWidget*>())
+    if (qobject_cast<QAbstractSpinBox*>(input) || qobject_cast<QComboBox*>(input)) wheel_scrolls_unless_focused(input);
   auto* scroll = new QScrollArea;
   scroll->setWidget(panel);
   scroll->setWidgetResizable(true);
@@ -288,14 +356,33 @@ void SandboxPage::build_controls() {
   connect(targets_, &QSpinBox::valueChanged, this, reload);
   connect(seed_, &QLineEdit::editingFinished, this, &SandboxPage::seed_edited);
   connect(open_map_button, &QPushButton::clicked, this, &SandboxPage::ask_open_map);
+  connect(group_, &QComboBox::currentTextChanged, this, [this](const QString& name) {
+    if (updating_ || name.isEmpty()) return;
+    group_name_ = name.toStdString();
+    if (auto t = engine_.current_test()) show_test(*t);
+  });
   connect(drones_, &QSpinBox::valueChanged, this, [this](int n) {
-    if (!updating_) live_change("drones", n);
+    if (!updating_) live_change(group_key("drones"), n);
   });
   connect(behavior_panel_, &ParamPanel::changed, this, [this](const std::string& name, double v) {
-    if (!updating_) live_change("behavior.params." + name, v);
+    if (!updating_) live_change(group_key("behavior.params." + name), v);
   });
-  connect(drone_panel_, &ParamPanel::changed, this, [this](const std::string& name, double v) {
-    if (!updating_) live_change("drone." + name, v);
+  for (ParamPanel* drone : {drone_panel_, battery_panel_})
+    connect(drone, &ParamPanel::changed, this, [this](const std::string& name, double v) {
+      if (!updating_) live_change(group_key("drone." + name), v);
+    });
+  connect(battery_toggle_, &QToolButton::toggled, this, [this](bool open) {
+    battery_panel_->setVisible(open);
+    battery_toggle_->setArrowType(open ? Qt::DownArrow : Qt::RightArrow);
+  });
+  connect(drone_mtbf_, &QDoubleSpinBox::valueChanged, this, [this](double v) {
+    if (!updating_) live_change("failures.drone_mtbf", v);
+  });
+  connect(camera_mtbf_, &QDoubleSpinBox::valueChanged, this, [this](double v) {
+    if (!updating_) live_change("failures.camera_mtbf", v);
+  });
+  connect(fail_, &QPushButton::clicked, this, [this] {
+    if (fail_target_) live_change("fail.drone", *fail_target_);
   });
   connect(drone_config_, &QComboBox::activated, this, [this](int) { apply_drone_config(drone_config_->currentText()); });
   connect(save_config, &QPushButton::clicked, this, &SandboxPage::save_drone_config);
@@ -324,12 +411,22 @@ std::optional<TestSpec> SandboxPage::spec_from_controls(std::string* why) {
   json j = json::parse(resolved_json(file_base_, *host_));
   j.erase("versions");
   j.erase("changes");
-  j["behavior"] = {{"name", behavior_->currentText().toStdString()}, {"params", params_json(behavior_panel_)}};
-  DroneConfig d = loaded_ ? loaded_->groups[0].drone : file_base_.groups[0].drone;
+  // The groups as they run now (live changes kept), the chosen one as the controls say.
+  const std::optional<TestSpec> now = loaded_ ? engine_.current_test() : std::nullopt;
+  const TestSpec& groups_from = now && now->groups.size() == file_base_.groups.size() ? *now : file_base_;
+  if (file_base_.named_groups) j["groups"] = json::parse(resolved_json(groups_from, *host_))["groups"];
+  const std::size_t gi = chosen_group(groups_from);
+  json& group = file_base_.named_groups ? j["groups"][gi] : j;
+  group["behavior"] = {{"name", behavior_->currentText().toStdString()}, {"params", params_json(behavior_panel_)}};
+  DroneConfig d = groups_from.groups[gi].drone;
   d.name = drone_config_->currentText().toStdString();
-  for (const Parameter& p : drone_panel_->schema()) find_drone_property(p.name)->set(d, drone_panel_->value(p.name));
-  j["drone"] = drone_json(d);
-  j["drones"] = drones_->value();
+  for (ParamPanel* panel : {drone_panel_, battery_panel_})
+    for (const Parameter& p : panel->schema()) find_drone_property(p.name)->set(d, panel->value(p.name));
+  group["drone"] = drone_json(d);
+  group["drones"] = drones_->value();
+  j.erase("failures");
+  if (drone_mtbf_->value() > 0 || camera_mtbf_->value() > 0)
+    j["failures"] = {{"drone_mtbf", drone_mtbf_->value()}, {"camera_mtbf", camera_mtbf_->value()}};
   if (!map_file_.isEmpty()) j["map"] = {{"file", map_file_.toStdString()}};
   else j["map"] = {{"name", map_->currentText().toStdString()}, {"params", params_json(map_panel_)}};
   const bool same_kind = target_kind_->currentText().toStdString() == file_base_.target.name;
@@ -397,11 +494,28 @@ void SandboxPage::seed_edited() {
   schedule_reload();
 }
 
+std::size_t SandboxPage::chosen_group(const TestSpec& t) const {
+  return static_cast<std::size_t>(std::max(0, t.group_index(group_name_)));
+}
+
+std::string SandboxPage::group_key(const std::string& rest) const {
+  if (!loaded_ || loaded_->groups.size() < 2) return rest;
+  return "groups." + loaded_->groups[chosen_group(*loaded_)].name + "." + rest;
+}
+
 void SandboxPage::show_test(const TestSpec& t) {
   const bool was = updating_;
   updating_ = true;
-  behavior_->setCurrentText(q(t.groups[0].behavior.name));
-  behavior_panel_->set_schema(host_->behavior(t.groups[0].behavior.name).factory.parameters, t.groups[0].behavior.params);
+  // The group box: the test's groups, the chosen one kept by name (the first when it is gone).
+  group_->clear();
+  for (const GroupSpec& g : t.groups) group_->addItem(q(g.name));
+  const std::size_t gi = chosen_group(t);
+  group_name_ = t.groups[gi].name;
+  group_->setCurrentIndex(static_cast<int>(gi));
+  group_row_->setVisible(t.groups.size() > 1);
+  const GroupSpec& group = t.groups[gi];
+  behavior_->setCurrentText(q(group.behavior.name));
+  behavior_panel_->set_schema(host_->behavior(group.behavior.name).factory.parameters, group.behavior.params);
   for (int i = map_->count() - 1; i >= 0; --i)
     if (map_->itemText(i).startsWith(map_file_prefix)) map_->removeItem(i);
   if (t.map.name == "json") {
@@ -425,12 +539,16 @@ void SandboxPage::show_test(const TestSpec& t) {
   targets_->setValue(static_cast<int>(t.targets));
   seed_value_ = t.seed;
   seed_->setText(QString::number(t.seed));
-  drones_->setValue(static_cast<int>(t.groups[0].drones));
+  drones_->setValue(static_cast<int>(group.drones));
   drone_config_->clear();
   for (const DroneConfig& c : drone_configs()) drone_config_->addItem(q(c.name));
-  if (drone_config_->findText(q(t.groups[0].drone.name)) < 0) drone_config_->addItem(q(t.groups[0].drone.name));
-  drone_config_->setCurrentText(q(t.groups[0].drone.name));
-  for (const Parameter& p : drone_panel_->schema()) drone_panel_->set_value(p.name, drone_value(t.groups[0].drone, p.name));
+  if (drone_config_->findText(q(group.drone.name)) < 0) drone_config_->addItem(q(group.drone.name));
+  drone_config_->setCurrentText(q(group.drone.name));
+  for (ParamPanel* panel : {drone_panel_, battery_panel_})
+    for (const Parameter& p : panel->schema()) panel->set_value(p.name, drone_value(group.drone, p.name));
+  if (group.drone.battery_capacity > 0) battery_toggle_->setChecked(true);  // a battery in use is shown
+  drone_mtbf_->setValue(t.failures.drone_mtbf);
+  camera_mtbf_->setValue(t.failures.camera_mtbf);
   updating_ = was;
 }
 
@@ -557,8 +675,7 @@ std::vector<DroneConfig> SandboxPage::drone_configs() const {
     for (const auto& [name, v] : configs.items()) {
       DroneConfig d;
       d.name = name;
-      for (const Parameter& p : drone_schema()) find_drone_property(p.name)->set(d, v.value(p.name, drone_value(d, p.name)));
-      d.obstacle_rays = v.value("obstacle_rays", d.obstacle_rays);
+      for (const DroneProperty& p : salsa::drone_schema()) p.set(d, v.value(p.spec.name, p.get(d)));
       all.push_back(d);
     }
   } catch (const std::exception&) {
@@ -570,12 +687,18 @@ std::vector<DroneConfig> SandboxPage::drone_configs() const {
 void SandboxPage::apply_drone_config(const QString& name) {
   for (const DroneConfig& c : drone_configs()) {
     if (q(c.name) != name) continue;
-    // Each property a recorded change, as if set by hand (speed last: a larger radius may allow it).
-    for (const char* field : {"radius", "camera_range", "obstacle_range", "detection_range", "max_force", "mass", "max_speed"})
-      if (drone_panel_->value(field) != drone_value(c, field)) live_change(std::string("drone.") + field, drone_value(c, field));
+    // Each property a recorded change, as if set by hand (speed last: a larger radius may allow it),
+    // then the energy model's.
+    std::vector<std::string> fields = {"radius", "camera_range", "obstacle_range", "detection_range", "max_force", "mass", "max_speed"};
+    for (const Parameter& p : battery_panel_->schema()) fields.push_back(p.name);
+    for (const std::string& field : fields) {
+      ParamPanel* panel = battery_panel_->slider(field) ? battery_panel_ : drone_panel_;
+      if (panel->value(field) != drone_value(c, field)) live_change(group_key("drone." + field), drone_value(c, field));
+    }
     const bool was = updating_;
     updating_ = true;
-    for (const Parameter& p : drone_panel_->schema()) drone_panel_->set_value(p.name, drone_value(c, p.name));
+    for (ParamPanel* panel : {drone_panel_, battery_panel_})
+      for (const Parameter& p : panel->schema()) panel->set_value(p.name, drone_value(c, p.name));
     updating_ = was;
     return;
   }
@@ -597,6 +720,7 @@ void SandboxPage::save_drone_config() {
   } catch (const std::exception&) {
   }
   json fields = params_json(drone_panel_);
+  fields.update(params_json(battery_panel_));
   saved[name.toStdString()] = fields;
   settings.setValue("drone_configs", q(saved.dump()));
   const bool was = updating_;
@@ -749,13 +873,25 @@ void SandboxPage::refresh() {
     show_message(q(snap->error));
   }
   if (snap->state != RunState::running && run_button_->text() == "Pause") run_button_->setText("Start");
+  // The fail button names the inspected drone while it flies.
+  fail_target_.reset();
+  if (snap->selected && snap->status_of(snap->selected->id) == DroneStatus::flying) fail_target_ = snap->selected->id;
+  fail_->setEnabled(fail_target_ && snap->state != RunState::failed);
+  fail_->setText(fail_target_ ? QString("Fail drone %1").arg(*fail_target_) : QString("Fail the inspected drone"));
   if (snap->selected) {
     const Inspection& in = *snap->selected;
-    QString text = QString("drone %1\nposition (%2, %3) m\nvelocity (%4, %5) m/s, speed %6 m/s\ncommanded (%7, %8) m/s\n")
-                       .arg(in.id).arg(in.position.x, 0, 'f', 2).arg(in.position.y, 0, 'f', 2)
-                       .arg(in.velocity.x, 0, 'f', 2).arg(in.velocity.y, 0, 'f', 2).arg(in.velocity.length(), 0, 'f', 2)
-                       .arg(in.commanded.x, 0, 'f', 2).arg(in.commanded.y, 0, 'f', 2);
-    text += QString("neighbours (%1 within %2 m):").arg(in.neighbours.size()).arg(snap->drone.detection_range);
+    QString text = QString("drone %1").arg(in.id);
+    if (snap->groups.size() > 1) text += QString(" of group %1").arg(q(in.group));
+    if (in.fleet) {
+      text += QString(": %1\n").arg(q(in.status));
+      text += in.battery_left ? QString("energy used %1 Wh, battery left %2 %").arg(in.energy_used, 0, 'f', 3).arg(100 * *in.battery_left, 0, 'f', 1)
+                              : QString("no battery model");
+    }
+    text += QString("\nposition (%1, %2) m\nvelocity (%3, %4) m/s, speed %5 m/s\ncommanded (%6, %7) m/s\n")
+                .arg(in.position.x, 0, 'f', 2).arg(in.position.y, 0, 'f', 2)
+                .arg(in.velocity.x, 0, 'f', 2).arg(in.velocity.y, 0, 'f', 2).arg(in.velocity.length(), 0, 'f', 2)
+                .arg(in.commanded.x, 0, 'f', 2).arg(in.commanded.y, 0, 'f', 2);
+    text += QString("neighbours (%1 within %2 m):").arg(in.neighbours.size()).arg(snap->drone_of(in.id).detection_range);
     for (std::size_t i = 0; i < std::min<std::size_t>(in.neighbours.size(), 12); ++i) text += QString(" %1").arg(in.neighbours[i]);
     if (in.neighbours.size() > 12) text += " …";
     text += QString("\nobstacle hits: %1").arg(in.hits.size());

@@ -2,8 +2,10 @@
 // The sandbox page: the view in the middle, the set-up and live parameters (a panel the window docks
 // on the left), live plots and the inspector (docked on the right), and its figures for the status bar.
 // Every control either changes the running simulation (behavior parameters, drone count, drone
-// properties: recorded in the timeline) or loads a new start state (behavior, map, targets, seed). The
-// page owns no simulation logic: it sends commands to the Engine and shows its snapshots.
+// properties, failures: recorded in the timeline) or loads a new start state (behavior, map, targets,
+// seed). With two or more groups of drones, a group box chooses whose behavior, count and drone the
+// controls show and change. The page owns no simulation logic: it sends commands to the Engine and
+// shows its snapshots.
 #include <QTimer>
 #include <QWidget>
 #include <chrono>
@@ -19,7 +21,9 @@
 #include "view.hpp"
 
 class QComboBox;
+class QDoubleSpinBox;
 class QSpinBox;
+class QToolButton;
 class QLabel;
 class QLineEdit;
 class QPlainTextEdit;
@@ -78,6 +82,12 @@ class SandboxPage : public QWidget {
   SwarmView* view() const { return view_; }
   ParamPanel* behavior_panel() const { return behavior_panel_; }
   ParamPanel* drone_panel() const { return drone_panel_; }
+  ParamPanel* battery_panel() const { return battery_panel_; }   ///< the energy model's drone properties
+  QToolButton* battery_toggle() const { return battery_toggle_; }  ///< shows or hides the battery panel
+  QComboBox* group_box() const { return group_; }                ///< whose controls (shown with 2+ groups)
+  QDoubleSpinBox* drone_mtbf_box() const { return drone_mtbf_; }
+  QDoubleSpinBox* camera_mtbf_box() const { return camera_mtbf_; }
+  QPushButton* fail_button() const { return fail_; }             ///< fails the inspected drone
   ParamPanel* map_panel() const { return map_panel_; }
   QSpinBox* drones_box() const { return drones_; }
   QSpinBox* targets_box() const { return targets_; }
@@ -111,6 +121,11 @@ class SandboxPage : public QWidget {
   void reload_from_controls();
   void seed_edited();
   void live_change(const std::string& key, double value);
+  /// `rest` ("drones", "drone.radius", "behavior.params.k") as the chosen group's key: plain with one
+  /// group (saved tests stay in the single form), "groups.<name>.<rest>" with more.
+  std::string group_key(const std::string& rest) const;
+  /// The chosen group's index in `t` (0 when its name is not there).
+  std::size_t chosen_group(const TestSpec& t) const;
   void apply_drone_config(const QString& name);
   void save_drone_config();
   void set_pacing();
@@ -132,10 +147,19 @@ class SandboxPage : public QWidget {
   QComboBox* target_kind_ = nullptr;
   QSpinBox* targets_ = nullptr;
   QLineEdit* seed_ = nullptr;
+  QWidget* group_row_ = nullptr;
+  QComboBox* group_ = nullptr;
+  std::string group_name_;  ///< the chosen group
   QSpinBox* drones_ = nullptr;
   ParamPanel* behavior_panel_ = nullptr;
   QComboBox* drone_config_ = nullptr;
   ParamPanel* drone_panel_ = nullptr;
+  QToolButton* battery_toggle_ = nullptr;
+  ParamPanel* battery_panel_ = nullptr;
+  QDoubleSpinBox* drone_mtbf_ = nullptr;
+  QDoubleSpinBox* camera_mtbf_ = nullptr;
+  QPushButton* fail_ = nullptr;
+  std::optional<std::uint32_t> fail_target_;  ///< the inspected drone the fail button names
   QPushButton* run_button_ = nullptr;
   QComboBox* pacing_ = nullptr;
   QSpinBox* pacing_amount_ = nullptr;

@@ -7,6 +7,7 @@
 #include <QWheelEvent>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace salsa::gui {
 namespace {
@@ -17,8 +18,8 @@ const QColor obstacle_fill(0x6b, 0x6b, 0x6b);
 const QColor obstacle_line(0x3c, 0x3c, 0x3c);
 const QColor found_colour(0x2e, 0x9e, 0x48);
 const QColor unfound_colour(0x9a, 0x9a, 0x9a);
-const QColor drone_colour(0x1f, 0x3f, 0x8c);
-const QColor trail_colour(0x1f, 0x3f, 0x8c, 70);
+const QColor drone_colour(0x1f, 0x3f, 0x8c);  // one group
+const QColor spawn_colour(0x8c, 0x1f, 0x6b);
 const QColor selected_colour(0xe0, 0x3a, 0x1e);
 const QColor neighbour_colour(0xf0, 0x9a, 0x1a);
 
@@ -52,6 +53,16 @@ QImage heat_image(const HeatMap& heat) {
 
 double px_per_m(const QTransform& t) { return std::hypot(t.m11(), t.m12()); }
 
+/// A ✕ with a white rim where a drone stopped (landed or failed), as the plots draw it.
+void draw_cross(QPainter& p, QPointF at, const QColor& colour) {
+  const QPointF a(5, 5), b(5, -5);
+  for (const QPen& pen : {QPen(Qt::white, 5, Qt::SolidLine, Qt::RoundCap), QPen(colour, 2.5, Qt::SolidLine, Qt::RoundCap)}) {
+    p.setPen(pen);
+    p.drawLine(at - a, at + a);
+    p.drawLine(at - b, at + b);
+  }
+}
+
 /// An antialiased disc of `diameter` px, stamped for each target: ~10× faster than drawPoints with a
 /// round pen (50,000 targets: 3–8 ms against 50–110 ms at 1920×1080).
 QImage disc(double diameter, const QColor& colour) {
@@ -80,6 +91,64 @@ void draw_targets(QPainter& painter, const Scene& scene, const std::vector<std::
     const QPointF p = world_to_px.map(QPointF(scene.targets[i].x, scene.targets[i].y));
     if (!visible.contains(p)) continue;
     painter.drawImage(QPointF(p.x() - half, p.y() - half), sprites[i < found.size() && found[i] ? 1 : 0]);
+  }
+}
+
+}  // namespace
+
+QColor group_colour(std::size_t group, std::size_t groups) {
+  // Okabe & Ito's colour-blind-safe set in the plots' order (plots/src/figure.cpp), so a group has one
+  // colour on screen and in the figures.
+  static const QColor colours[] = {0xE69F00, 0x0072B2, 0x009E73, 0xD55E00, 0x56B4E9, 0xCC79A7, 0xF0E442};
+  return groups < 2 ? drone_colour : colours[group % std::size(colours)];
+}
+
+QStringList legend_rows(const Snapshot& snap) {
+  if (snap.groups.size() < 2) return {};
+  std::vector<std::size_t> flying(snap.groups.size()), stopped(snap.groups.size());
+  for (std::uint32_t i = 0; i < snap.positions.size(); ++i) {
+    const std::size_t g = std::min<std::size_t>(snap.group_of(i), snap.groups.size() - 1);
+    const DroneStatus status = snap.status_of(i);
+    if (status == DroneStatus::flying) ++flying[g];
+    else if (status != DroneStatus::removed) ++stopped[g];
+  }
+  QStringList rows;
+  for (std::size_t g = 0; g < snap.groups.size(); ++g)
+    rows << QString("%1: %2 flying").arg(QString::fromStdString(snap.groups[g].name)).arg(flying[g]) +
+                (stopped[g] ? QString(", %1 stopped").arg(stopped[g]) : QString());
+  if (std::any_of(stopped.begin(), stopped.end(), [](std::size_t n) { return n > 0; })) rows << "landed or failed";
+  return rows;
+}
+
+namespace {
+
+/// legend_rows in a box, top left, each beside its symbol: the group's disc, or the ✕ of a stopped drone.
+void draw_legend(QPainter& painter, const Snapshot& snap) {
+  const QStringList rows = legend_rows(snap);
+  QFont font = painter.font();
+  font.setPixelSize(12);
+  painter.setFont(font);
+  const QFontMetrics metrics(font);
+  const int line = metrics.height() + 4;
+  int width = 0;
+  for (const QString& r : rows) width = std::max(width, metrics.horizontalAdvance(r));
+  const QRectF box(8, 8, width + 38, line * static_cast<int>(rows.size()) + 8);
+  painter.setPen(QPen(QColor(0, 0, 0, 60), 1));
+  painter.setBrush(QColor(255, 255, 255, 215));
+  painter.drawRoundedRect(box, 4, 4);
+  for (int k = 0; k < static_cast<int>(rows.size()); ++k) {
+    const QPointF symbol(box.left() + 16, box.top() + 4 + line * (k + 0.5));
+    const bool group = static_cast<std::size_t>(k) < snap.groups.size();
+    const QColor colour = group ? group_colour(static_cast<std::size_t>(k), snap.groups.size()) : QColor(0x55, 0x55, 0x55);
+    if (group) {
+      painter.setPen(Qt::NoPen);
+      painter.setBrush(colour);
+      painter.drawEllipse(symbol, 5, 5);
+    } else {
+      draw_cross(painter, symbol, colour);
+    }
+    painter.setPen(Qt::black);
+    painter.drawText(QRectF(box.left() + 30, symbol.y() - line / 2.0, width + 4, line), Qt::AlignLeft | Qt::AlignVCenter, rows[k]);
   }
 }
 
@@ -131,15 +200,17 @@ void render_static(QPainter& painter, const Snapshot& snap, const ViewOptions& o
     draw_targets(painter, scene, snap.found, world_to_px, [](std::size_t) { return true; });
     painter.setTransform(world_to_px);
   }
-  if (options.spawn) {
+  if (options.spawn) {  // each group's base, in its colour when there are several
     painter.resetTransform();
-    const QPointF s = world_to_px.map(QPointF(scene.spawn.x, scene.spawn.y));
     painter.setRenderHint(QPainter::Antialiasing, true);
-    painter.setPen(QPen(QColor(0x8c, 0x1f, 0x6b), 2));
     painter.setBrush(Qt::NoBrush);
-    painter.drawEllipse(s, 7, 7);
-    painter.drawLine(s - QPointF(10, 0), s + QPointF(10, 0));
-    painter.drawLine(s - QPointF(0, 10), s + QPointF(0, 10));
+    for (std::size_t g = 0; g < scene.bases.size(); ++g) {
+      const QPointF s = world_to_px.map(QPointF(scene.bases[g].x, scene.bases[g].y));
+      painter.setPen(QPen(scene.bases.size() < 2 ? spawn_colour : group_colour(g, scene.bases.size()).darker(130), 2));
+      painter.drawEllipse(s, 7, 7);
+      painter.drawLine(s - QPointF(10, 0), s + QPointF(10, 0));
+      painter.drawLine(s - QPointF(0, 10), s + QPointF(0, 10));
+    }
   }
   painter.restore();
 }
@@ -150,73 +221,103 @@ void render_dynamic(QPainter& painter, const Snapshot& snap, const ViewOptions& 
   painter.setRenderHint(QPainter::Antialiasing, true);
   const double px = px_per_m(world_to_px);
   const std::size_t n = snap.positions.size();
+  const std::size_t groups = std::max<std::size_t>(1, snap.groups.size());
   std::vector<QPointF> at(n);
   for (std::size_t i = 0; i < n; ++i) at[i] = world_to_px.map(QPointF(snap.positions[i].x, snap.positions[i].y));
+  // Ids by group, drawn a group at a time (one brush each); removed drones are not drawn.
+  std::vector<std::vector<std::uint32_t>> members(groups);
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (snap.status_of(i) != DroneStatus::removed) members[std::min<std::size_t>(snap.group_of(i), groups - 1)].push_back(i);
+  const auto flying = [&](std::uint32_t i) { return snap.status_of(i) == DroneStatus::flying; };
+  const auto radius_of = [&](std::uint32_t i) { return std::max(3.0, snap.drone_of(i).radius * px); };
 
   if (options.trails && snap.trail_length > 1 && snap.trails.size() >= n * snap.trail_length) {
-    // One batch of lines for every trail, decimated on screen: a sample closer than 2 px to the last
-    // one drawn adds nothing visible, so the cost follows the trails' length in pixels, not in samples.
+    // One batch of lines per group, decimated on screen: a sample closer than 2 px to the last one
+    // drawn adds nothing visible, so the cost follows the trails' length in pixels, not in samples.
     std::vector<QLineF> lines;
     lines.reserve(n * 8);
     const QRectF visible = QRectF(painter.viewport()).adjusted(-50, -50, 50, 50);
-    for (std::size_t d = 0; d < n; ++d) {
-      std::optional<QPointF> last;
-      for (std::size_t k = 0; k <= snap.trail_length; ++k) {
-        const Vec2 p = k < snap.trail_length ? snap.trails[d * snap.trail_length + k] : snap.positions[d];
-        if (!std::isfinite(p.x)) {
-          last.reset();
-          continue;
+    for (std::size_t g = 0; g < groups; ++g) {
+      lines.clear();
+      for (std::uint32_t d : members[g]) {
+        std::optional<QPointF> last;
+        for (std::size_t k = 0; k <= snap.trail_length; ++k) {
+          const Vec2 p = k < snap.trail_length ? snap.trails[d * snap.trail_length + k] : snap.positions[d];
+          if (!std::isfinite(p.x)) {
+            last.reset();
+            continue;
+          }
+          const QPointF q = world_to_px.map(QPointF(p.x, p.y));
+          if (last && std::abs(q.x() - last->x()) + std::abs(q.y() - last->y()) < 2 && k < snap.trail_length) continue;
+          if (last && (visible.contains(q) || visible.contains(*last))) lines.emplace_back(*last, q);
+          last = q;
         }
-        const QPointF q = world_to_px.map(QPointF(p.x, p.y));
-        if (last && std::abs(q.x() - last->x()) + std::abs(q.y() - last->y()) < 2 && k < snap.trail_length) continue;
-        if (last && (visible.contains(q) || visible.contains(*last))) lines.emplace_back(*last, q);
-        last = q;
       }
+      QColor trail = group_colour(g, groups);
+      trail.setAlpha(70);
+      painter.setPen(QPen(trail, 1.2));
+      painter.drawLines(lines.data(), static_cast<int>(lines.size()));
     }
-    painter.setPen(QPen(trail_colour, 1.2));
-    painter.drawLines(lines.data(), static_cast<int>(lines.size()));
   }
 
   struct Range {
     bool on;
-    double metres;
+    double DroneConfig::*metres;
     QColor colour;
   };
-  for (const Range& r : {Range{options.detection_range, snap.drone.detection_range, QColor(0x1f, 0x3f, 0x8c, 60)},
-                         Range{options.obstacle_range, snap.drone.obstacle_range, QColor(0x8c, 0x4f, 0x1f, 80)},
-                         Range{options.camera_range, snap.drone.camera_range, QColor(0x2e, 0x9e, 0x48, 110)}}) {
-    if (!r.on || r.metres <= 0) continue;
+  for (const Range& r : {Range{options.detection_range, &DroneConfig::detection_range, QColor(0x1f, 0x3f, 0x8c, 60)},
+                         Range{options.obstacle_range, &DroneConfig::obstacle_range, QColor(0x8c, 0x4f, 0x1f, 80)},
+                         Range{options.camera_range, &DroneConfig::camera_range, QColor(0x2e, 0x9e, 0x48, 110)}}) {
+    if (!r.on) continue;
     painter.setPen(QPen(r.colour, 1));
     painter.setBrush(QColor(r.colour.red(), r.colour.green(), r.colour.blue(), r.colour.alpha() / 4));
-    const double radius = r.metres * px;
-    for (const QPointF& p : at) painter.drawEllipse(p, radius, radius);
+    for (std::size_t g = 0; g < groups; ++g) {
+      if (members[g].empty()) continue;
+      const double radius = snap.drone_of(members[g].front()).*r.metres * px;
+      if (radius <= 0) continue;
+      for (std::uint32_t i : members[g])
+        if (flying(i) && (r.metres != &DroneConfig::camera_range || snap.camera_works(i))) painter.drawEllipse(at[i], radius, radius);
+    }
   }
 
-  // Drones: discs with one brush (a QPainterPath of all of them is 10× slower to fill), then one batch
-  // of velocity ticks.
-  const double radius = std::max(3.0, snap.drone.radius * px);
-  painter.setPen(Qt::NoPen);
-  painter.setBrush(drone_colour);
-  for (const QPointF& p : at) painter.drawEllipse(p, radius, radius);
+  // Drones: discs with one brush per group (a QPainterPath of all of them is 10× slower to fill), a ring
+  // for a drone whose camera failed, then one batch of velocity ticks; a ✕ where a drone stopped.
   std::vector<QLineF> ticks;
   ticks.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec2 v = snap.velocities[i];
-    const double speed = v.length();
-    if (speed <= 0) continue;
-    const QPointF dir(v.x / speed, -v.y / speed);  // screen y points down
-    ticks.emplace_back(at[i], at[i] + dir * (radius + 5));
+  for (std::size_t g = 0; g < groups; ++g) {
+    if (members[g].empty()) continue;
+    const QColor colour = group_colour(g, groups);
+    const double radius = radius_of(members[g].front());
+    painter.setPen(Qt::NoPen);
+    painter.setBrush(colour);
+    for (std::uint32_t i : members[g])
+      if (flying(i) && snap.camera_works(i)) painter.drawEllipse(at[i], radius, radius);
+    painter.setPen(QPen(colour, 2));
+    painter.setBrush(Qt::NoBrush);
+    for (std::uint32_t i : members[g])
+      if (flying(i) && !snap.camera_works(i)) painter.drawEllipse(at[i], radius - 1, radius - 1);
+    ticks.clear();
+    for (std::uint32_t i : members[g]) {
+      const Vec2 v = snap.velocities[i];
+      const double speed = v.length();
+      if (speed <= 0 || !flying(i)) continue;
+      const QPointF dir(v.x / speed, -v.y / speed);  // screen y points down
+      ticks.emplace_back(at[i], at[i] + dir * (radius + 5));
+    }
+    painter.setPen(QPen(colour, 1.5));
+    painter.drawLines(ticks.data(), static_cast<int>(ticks.size()));
+    for (std::uint32_t i : members[g])
+      if (!flying(i)) draw_cross(painter, at[i], colour);
   }
-  painter.setPen(QPen(drone_colour, 1.5));
-  painter.drawLines(ticks.data(), static_cast<int>(ticks.size()));
 
   if (snap.selected && snap.selected->id < n) {
     const Inspection& in = *snap.selected;
     const QPointF me = at[in.id];
+    const double radius = radius_of(in.id);
     painter.setBrush(Qt::NoBrush);
     painter.setPen(QPen(neighbour_colour, 2));
     for (std::uint32_t j : in.neighbours)
-      if (j < n) painter.drawEllipse(at[j], radius + 3, radius + 3);
+      if (j < n) painter.drawEllipse(at[j], radius_of(j) + 3, radius_of(j) + 3);
     painter.setPen(QPen(selected_colour, 1.5, Qt::DashLine));
     for (const ObstacleHit& h : in.hits) {
       const QPointF hit = world_to_px.map(QPointF(h.point.x, h.point.y));
@@ -225,11 +326,12 @@ void render_dynamic(QPainter& painter, const Snapshot& snap, const ViewOptions& 
     }
     painter.setPen(QPen(selected_colour, 2.5));
     painter.drawEllipse(me, radius + 5, radius + 5);
-    if (snap.drone.detection_range > 0) {
+    if (const double range = snap.drone_of(in.id).detection_range; range > 0 && flying(in.id)) {  // a stopped one detects no one
       painter.setPen(QPen(selected_colour, 1, Qt::DotLine));
-      painter.drawEllipse(me, snap.drone.detection_range * px, snap.drone.detection_range * px);
+      painter.drawEllipse(me, range * px, range * px);
     }
   }
+  if (snap.groups.size() >= 2) draw_legend(painter, snap);
   painter.restore();
 }
 
@@ -362,13 +464,13 @@ void SwarmView::mouseReleaseEvent(QMouseEvent* event) {
   if (dragged_ || !snap_) return;
   // The nearest drone whose circle (at least 6 px) holds the click.
   const QTransform t = world_to_px();
-  const double radius = std::max(6.0, snap_->drone.radius * px_per_m(t));
   std::optional<std::uint32_t> best;
-  double best_d = radius;
+  double best_d = std::numeric_limits<double>::infinity();
   for (std::uint32_t i = 0; i < snap_->positions.size(); ++i) {
+    if (snap_->status_of(i) == DroneStatus::removed) continue;
     const QPointF p = t.map(QPointF(snap_->positions[i].x, snap_->positions[i].y));
     const double d = std::hypot(p.x() - event->position().x(), p.y() - event->position().y());
-    if (d <= best_d) best_d = d, best = i;
+    if (d <= std::max(6.0, snap_->drone_of(i).radius * px_per_m(t)) && d < best_d) best_d = d, best = i;
   }
   Q_EMIT drone_clicked(best);
 }

@@ -4,6 +4,7 @@
 // select. Raster only: a cached static layer (obstacles, targets, heat map, spawn) redrawn only when the
 // transform, size, options or the scene / found targets / heat map change; drones drawn in batches.
 #include <QImage>
+#include <QStringList>
 #include <QTransform>
 #include <QWidget>
 #include <memory>
@@ -23,11 +24,19 @@ struct ViewOptions {
   bool operator==(const ViewOptions&) const = default;
 };
 
+/// The colour group `group` of `groups` is drawn in: today's blue for one group; with several, Okabe &
+/// Ito's colour-blind-safe set in the order the plots use.
+QColor group_colour(std::size_t group, std::size_t groups);
+
+/// The legend's rows with two or more groups ("surveyors: 6 flying", ", 1 stopped" when some landed
+/// or failed, then a row for the ✕), else none: one group keeps the legend-free look.
+QStringList legend_rows(const Snapshot& snap);
+
 /// World → pixels for a `size` widget showing `area` (m) whole, centred, y up.
 QTransform fit_transform(const Rect& area, QSizeF size);
 
-/// Draws everything but the static layer (drones, trails, ranges, selection) over what the painter
-/// holds. `world_to_px` maps metres to pixels.
+/// Draws everything but the static layer (drones in their groups' colours, a ✕ where one stopped,
+/// trails, ranges, selection, and with two or more groups their legend) over what the painter holds. `world_to_px` maps metres to pixels.
 void render_dynamic(QPainter& painter, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px);
 /// Draws the static layer (background, heat map, obstacles, spawn, targets).
 void render_static(QPainter& painter, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px);
