@@ -8,7 +8,7 @@ salsa=${1:-build/release/bin/salsa}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mkdir -p docs/img
-for behavior in flocking pheromone_avoidance dynamic_space_partitioning random_walk; do
+for behavior in flocking pheromone_avoidance dynamic_space_partitioning dynamic_space_partitioning_paper random_walk; do
   params='{}'
   # Table I's separation distance (250 m) exceeds the detection range: a flock needs a shorter one.
   [ "$behavior" = flocking ] && params='{"separation_distance": 60}'

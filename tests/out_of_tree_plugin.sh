@@ -67,15 +67,16 @@ grep -q "pillar: must be smaller than spacing" <<<"$(tr -d '\n' <<<"$out" | tr -
   { echo "$out"; echo "FAIL: bad_map_loads failed without naming the map's error"; exit 1; }
 echo "ok: the smoke test fails bad_map"
 
-# The example plugins as installed (share/doc/salsa/examples/plugin): two behaviors, a target kind with
+# The example plugins as installed (share/doc/salsa/examples/plugin): behaviors, a target kind with
 # its contact handler, a map and a metric; their fixture tests (salsa_add_plugin_test) and smoke tests.
 examples=$prefix/share/doc/salsa/examples/plugin
 configure_build_test "$examples" "$work/example"
 out=$(ctest --test-dir "$work/example" --output-on-failure 2>&1) || { echo "$out"; echo "FAIL: ctest of examples/plugin"; exit 1; }
-for t in wander_test dwell_test rings_test return_to_base_test wander_loads dwell_loads rings_loads return_to_base_loads in_zone_loads; do
+for t in wander_test dwell_test rings_test return_to_base_test flocking_plus_test wander_loads dwell_loads rings_loads return_to_base_loads \
+         in_zone_loads flocking_plus_loads; do
   grep -q "$t .*Passed" <<<"$out" || { echo "$out"; echo "FAIL: $t did not pass"; exit 1; }
 done
-# A queue that uses all five, from a fresh folder holding only the built files.
+# A queue that uses them, from a fresh folder holding only the built files.
 mkdir -p "$work/shared-plugins" && cp "$work/example"/lib*.so "$work/shared-plugins/"
 (cd "$work" && "$salsa" run "$examples/queue.json" --plugin-dir "$work/shared-plugins" --out "$work/queue-out" -q --no-plots)
 grep -q "longest_in_zone" "$work/queue-out/wander-rings/outcome.csv" || { echo "FAIL: in_zone's column missing"; exit 1; }
@@ -115,7 +116,11 @@ grep -E "^  map +my_map " <<<"$listing"
 grep -E "^  contact handler +my_contact_handler " <<<"$listing"
 grep -E "^  metric +my_metric " <<<"$listing"
 grep -E "behavior +wander +1\.0\.0" <<<"$listing"
+grep -E "behavior +flocking_plus +1\.0\.0" <<<"$listing"
 "$salsa" describe wander --plugin-dir "$work/example" | grep turn_interval
+# The derived behavior declares the built-in's parameters and its own.
+"$salsa" describe flocking_plus --plugin-dir "$work/example" | grep separation_distance
+"$salsa" describe flocking_plus --plugin-dir "$work/example" | grep migration_weight
 # The installed salsa finds its own built-in plugins in <prefix>/lib/salsa/plugins.
 grep -E "behavior +flocking" <<<"$listing"
 # cmake --install put them in the user folder; salsa finds them there (HOME set by the test).

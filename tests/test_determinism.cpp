@@ -51,11 +51,12 @@ class TestDeterminism : public QObject {
   void initTestCase() {
     host_ = builtin_host();
     QVERIFY(host_->failures().empty());
-    for (const char* name : {"flocking", "pheromone_avoidance", "dynamic_space_partitioning", "random_walk"})
+    for (const char* name : {"flocking", "pheromone_avoidance", "dynamic_space_partitioning", "dynamic_space_partitioning_paper",
+                             "random_walk"})
       QVERIFY2(!host_->behavior(name).factory.name.empty(), name);
   }
 
-  // Every behavior the build ships, not just the four named above.
+  // Every behavior the build ships, not just the five named above.
   void same_seed_same_bytes_data() {
     QTest::addColumn<QString>("behavior");
     for (const auto& e : host_->behaviors()) QTest::newRow(e.factory.name.c_str()) << q(e.factory.name);

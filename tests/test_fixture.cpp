@@ -1,12 +1,15 @@
 // The plugin authors' stepping fixture (salsa/fixture.hpp): a real simulation a test steps, with
 // prepare(), shared state, drones' own random streams, maps, targets and metrics.
+#include <salsa/behaviors/dynamic_space_partitioning_paper.hpp>
 #include <salsa/fixture.hpp>
 #include <salsa/sdk.hpp>
 
 #include <QtTest>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "common.hpp"
 
@@ -102,6 +105,52 @@ class TestFixture : public QObject {
     QVERIFY(sim.positions()[0].x > start.x + 5);
     QCOMPARE(sim.metric("test_steps"), 120.0);
     QVERIFY(sim.behavior().parameters().items().empty());
+  }
+
+  // The paper's dynamic space partitioning, against its definition: the points spread over the map,
+  // and each drone random-walks within the disc of radius disc_fraction × √(area / drones) around its
+  // point. While the points spread (at point_speed, 8 m/s, for the first minute) they may outrun their
+  // drones; once they have slowed down (the fastest under 3 m/s, measured at 87 s), every drone that
+  // is in its disc stays there, up to one step's flight (it decided before it flew), for the rest of
+  // 5 minutes (measured: never past it). It walks: it does not hover at its point.
+  void paper_dsp_walks_within_its_disc() {
+    auto dsp = std::make_shared<salsa::behaviors::DynamicSpacePartitioningPaper>();
+    const std::size_t n = 20;
+    salsa::testing::Simulation sim(dsp, R"({"drones": 20, "map": {"name": "empty", "params": {"size": 1000}}, "seed": 4})");
+    const double dt = sim.world().dt(), slack = 10 * dt;  // the small drone's max speed × dt
+    std::vector<char> inside(n, 0);
+    std::vector<double> sum(n, 0);
+    std::vector<int> samples(n, 0);
+    std::vector<Vec2> before(n);
+    double worst = 0, radius = 0, settled = -1;
+    for (int step = 1; step <= 300 * 60; ++step) {
+      for (std::uint32_t i = 0; i < n && step > 1; ++i) before[i] = dsp->points()[i];
+      sim.step();
+      radius = dsp->disc_radius();
+      double fastest = 0;
+      for (std::uint32_t i = 0; i < n; ++i) fastest = std::max(fastest, salsa::distance(before[i], dsp->points()[i]) / dt);
+      if (settled < 0 && step > 1 && fastest < 3) settled = sim.time();
+      if (settled < 0) continue;
+      for (std::uint32_t i = 0; i < n; ++i) {
+        const double d = salsa::distance(sim.positions()[i], dsp->points()[i]);
+        if (d <= radius) inside[i] = 1;
+        if (!inside[i]) continue;
+        worst = std::max(worst, d - radius);
+        sum[i] += d, ++samples[i];
+      }
+    }
+    double nearest = 1e9;
+    for (std::uint32_t i = 0; i < n; ++i)
+      for (std::uint32_t j = 0; j < i; ++j) nearest = std::min(nearest, salsa::distance(dsp->points()[i], dsp->points()[j]));
+    qInfo("points settled at %.1f s; disc radius %.1f m; closest two points %.1f m apart; worst excursion past a disc %.3f m",
+          settled, radius, nearest, worst);
+    QCOMPARE(radius, 0.3 * std::sqrt(1000.0 * 1000.0 / n));
+    QVERIFY2(settled >= 0 && settled < 120, "the points did not slow down within two minutes");
+    QVERIFY2(nearest > 2 * radius, "discs overlap: the points did not spread");
+    QVERIFY2(std::all_of(inside.begin(), inside.end(), [](char c) { return c; }), "a drone never reached its disc");
+    QVERIFY2(worst <= slack, qPrintable(QString("a drone left its disc by %1 m").arg(worst)));
+    for (std::uint32_t i = 0; i < n; ++i)  // a walk over the disc: mean distance from the point 2/3 r if uniform
+      QVERIFY2(sum[i] / samples[i] > 0.3 * radius, qPrintable(QString("drone %1 stays near its point").arg(i)));
   }
 
   // Bad input fails the author's test with salsa's own one-line messages.

@@ -30,6 +30,36 @@ QList<QStringList> csv_rows(const QString& file) {
   return rows;
 }
 
+/// Two drones on an empty 200 m map, as a metric sees them; the test moves them and sets their status.
+class TwoDrones final : public MetricView {
+ public:
+  std::vector<Vec2> positions{{50, 100}, {150, 100}}, velocities{{}, {}};
+  std::vector<std::uint32_t> groups{0, 0};
+  std::vector<DroneStatus> status{DroneStatus::flying, DroneStatus::flying};
+  Rect bounds() const override { return {{0, 0}, {200, 200}}; }
+  double time() const override { return 0; }
+  double dt() const override { return 1.0 / 60; }
+  std::span<const Vec2> drone_positions() const override { return positions; }
+  std::span<const Vec2> drone_velocities() const override { return velocities; }
+  bool is_free(Vec2 p, double clearance) const override {
+    return p.x - clearance >= 0 && p.y - clearance >= 0 && p.x + clearance <= 200 && p.y + clearance <= 200;
+  }
+  std::optional<ObstacleHit> ray_cast(Vec2, Vec2) const override { return std::nullopt; }
+  const DroneProperties& drone(std::uint32_t) const override { return drone_; }
+  std::span<const std::uint32_t> drone_groups() const override { return groups; }
+  std::span<const DroneStatus> drone_status() const override { return status; }
+  std::size_t group_count() const override { return 1; }
+  Vec2 base(std::uint32_t) const override { return {100, 100}; }
+  const MapData& map() const override { return map_; }
+  std::span<const TargetState> targets() const override { return {}; }
+  std::size_t targets_found() const override { return 0; }
+  std::uint64_t collisions() const override { return 0; }
+
+ private:
+  MapData map_{{{0, 0}, {200, 200}}, {}, {}, {}, {100, 100}};
+  DroneProperties drone_{15, 50.2, 134, 10, 0.3, 1, 1.5};
+};
+
 /// The field of `column` in `row` of a CSV file's rows.
 QString field(const QList<QStringList>& rows, int row, const QString& column) {
   const int c = static_cast<int>(rows.at(0).indexOf(column));
@@ -104,6 +134,36 @@ class TestMetrics : public QObject {
     sim.run_steps(t.steps());
     metrics.after_step(sim);
     QCOMPARE(metrics.finish(sim)[0].second, std::string("1.000000"));
+  }
+
+  // A drone that landed or failed flies no more and sees nothing: if something moves it (a collision),
+  // neither area_coverage nor distance_flown counts it. The flying drone's moves count.
+  void metrics_skip_drones_not_flying_data() {
+    QTest::addColumn<int>("status");
+    QTest::newRow("landed") << int(DroneStatus::landed);
+    QTest::newRow("failed") << int(DroneStatus::failed);
+  }
+  void metrics_skip_drones_not_flying() {
+    QFETCH(int, status);
+    TwoDrones world;
+    auto coverage = host_->metric("area_coverage").factory.create();
+    auto distance = host_->metric("distance_flown").factory.create();
+    coverage->reset(world), distance->reset(world);
+    double before = 0, after = 0, flown = 0;
+    coverage->observe(world, {&before, 1});
+    world.status[1] = static_cast<DroneStatus>(status);
+    for (int k = 1; k <= 40; ++k) {  // both drones move 40 m up
+      world.positions = {{50, 100.0 + k}, {150, 100.0 + k}};
+      coverage->step(world), distance->step(world);
+    }
+    coverage->observe(world, {&after, 1});
+    distance->observe(world, {&flown, 1});
+    // Seen: two camera discs at the start, then one 40 m stadium; the other drone adds nothing.
+    const double r = 15, area = 200.0 * 200.0;
+    const double expected = (2 * pi * r * r + 2 * r * 40) / area, tolerance = (4 * pi * r + 2 * 40) * (r / 4) / area;
+    QVERIFY2(std::abs(before - 2 * pi * r * r / area) <= 4 * pi * r * (r / 4) / area, qPrintable(QString::number(before)));
+    QVERIFY2(std::abs(after - expected) <= tolerance, qPrintable(QString("coverage %1, expected %2 ± %3").arg(after).arg(expected).arg(tolerance)));
+    QCOMPARE(flown, 40.0 / 2);  // 40 m flown by one drone of two
   }
 
   // time_to_50/90/100 are the ⌈f × n⌉-th found_time of targets.csv; empty when not reached.

@@ -1,62 +1,6 @@
-// Random walk: each drone flies at full speed along a random heading for a random time, then picks a
-// new one. No communication. Obstacles close ahead make it turn away instead of grinding along walls.
-#include <algorithm>
-#include <cstdio>
-#include <string>
-
+// Random walk: the class is published in the SDK (salsa/behaviors/random_walk.hpp) so that a plugin
+// can derive from it; this file registers it.
+#include <salsa/behaviors/random_walk.hpp>
 #include <salsa/sdk.hpp>
 
-namespace {
-
-struct Walk {
-  double heading = 0;    // rad
-  double time_left = 0;  // s until the next heading change
-  bool started = false;
-};
-
-class RandomWalk final : public salsa::BehaviorWithMemory<Walk> {
-  using Param = salsa::Param;  // each parameter once: its declaration, and its value in decide
-  Param min_duration{this, "min_duration", 2.0, 0.1, 600.0, "s", "shortest time a heading is kept"};
-  Param max_duration{this, "max_duration", 10.0, 0.1, 600.0, "s", "longest time a heading is kept"};
-  Param turn_distance{this, "turn_distance", 0.33, 0.0, 1.0, "",
-                      "obstacle hits closer than this fraction of obstacle range make the drone turn away"};
-  Param obstacle_weight{this, "obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"};
-
- public:
-  salsa::Vec2 decide(const salsa::Perception& me, Walk& w, salsa::Rng& rng) override {
-    if (!w.started) {  // keep the spawn velocity's heading so the first step has no jolt
-      w = {me.velocity.is_zero() ? rng.angle() : me.velocity.angle(), duration(rng), true};
-    }
-    w.time_left -= me.dt;
-    if (w.time_left <= 0) w = {rng.angle(), duration(rng), true};
-
-    // Close hits: if we are heading into them, pick a new heading within ±60° of straight away.
-    salsa::Vec2 away;
-    for (const auto& h : me.obstacles)
-      if (h.distance < turn_distance * me.obstacle_range) away += (me.position - h.point).normalized();
-    if (!away.is_zero() && salsa::Vec2::polar(1, w.heading).dot(away) < 0)
-      w = {away.angle() + rng.uniform(-salsa::pi / 3, salsa::pi / 3), duration(rng), true};
-
-    return salsa::steer_towards(me, salsa::Vec2::polar(me.max_speed, w.heading)) +
-           obstacle_weight * salsa::avoid_near_obstacles(me);
-  }
-
-  salsa::Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only
-
-  std::string inspect(std::uint32_t id) const override {
-    if (id >= memory().size() || !memory()[id].started) return {};
-    const Walk& w = memory()[id];
-    char text[96];
-    std::snprintf(text, sizeof text, "heading %.0f°, %.1f s until the next", w.heading * 180 / salsa::pi, w.time_left);
-    return text;
-  }
-
- private:
-  double duration(salsa::Rng& rng) const {  // a max below the min means "exactly the min"
-    return rng.uniform(min_duration, std::max(min_duration.value(), max_duration.value()));
-  }
-};
-
-}  // namespace
-
-SALSA_BEHAVIOR(RandomWalk, "random_walk", "Random headings for random times, no communication")
+SALSA_BEHAVIOR(salsa::behaviors::RandomWalk, "random_walk", "Random headings for random times, no communication")

@@ -1,4 +1,4 @@
-// Area coverage: the fraction of the free map area that has been within some drone's camera range,
+// Area coverage: the fraction of the free map area that has been within some flying drone's camera range,
 // on a grid of cells (a cell is free when its centre is, and covered once its centre has been within
 // camera range of a drone). A drone's disc is stamped whenever it has moved half a cell since its last
 // stamp (and at every logged row), so a step costs O(drones) and a stamp O(cells per disc); cells at
@@ -80,12 +80,14 @@ class AreaCoverage final : public salsa::Metric {
       for (std::int64_t c : {c0, c0 + half}) mark_free(world, c, r, half);
   }
 
-  /// Stamps each drone that moved more than `distance` since its last stamp (new drones always).
+  /// Stamps each flying drone that moved more than `distance` since its last stamp (new drones always);
+  /// a landed or failed drone sees nothing.
   void stamp_moved(const salsa::MetricView& world, double distance) {
     const auto positions = world.drone_positions();
+    const auto status = world.drone_status();
     if (last_.size() != positions.size()) last_.resize(positions.size(), {inf, inf});
     for (std::size_t i = 0; i < positions.size(); ++i)
-      if (!((positions[i] - last_[i]).length_squared() <= distance * distance)) {
+      if (status[i] == salsa::DroneStatus::flying && !((positions[i] - last_[i]).length_squared() <= distance * distance)) {
         stamp(positions[i]);
         last_[i] = positions[i];
       }

@@ -1,5 +1,5 @@
-// Distance flown: the length of each drone's path (the sum of its moves between steps), averaged over
-// the drones.
+// Distance flown: the length of each drone's path (the sum of its moves between steps while it flies),
+// averaged over the drones.
 #include <algorithm>
 #include <cstddef>
 #include <vector>
@@ -26,8 +26,9 @@ class DistanceFlown final : public salsa::Metric {
     const auto p = world.drone_positions();
     if (last_.size() < p.size()) last_.insert(last_.end(), p.begin() + static_cast<std::ptrdiff_t>(last_.size()), p.end());
     last_.resize(p.size());  // drones added start where they are; removed ones keep what they flew
+    const auto status = world.drone_status();
     for (std::size_t i = 0; i < p.size(); ++i) {
-      total_ += (p[i] - last_[i]).length();
+      if (status[i] == salsa::DroneStatus::flying) total_ += (p[i] - last_[i]).length();  // a landed drone is not flying
       last_[i] = p[i];
     }
     drones_ = std::max(drones_, p.size());

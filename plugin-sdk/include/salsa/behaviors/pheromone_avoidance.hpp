@@ -1,0 +1,114 @@
+#pragma once
+// Pheromone avoidance: drones mark the ground they fly over in one field shared by the group's flying
+// drones (the paper's "shared list"), which evaporates, and steer towards the least-marked direction
+// ahead, so the swarm spreads over ground nobody visited lately. Derive to change the evaporation
+// (docs/plugins.md).
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "salsa/behavior.hpp"
+
+namespace salsa::behaviors {
+
+class PheromoneAvoidance : public Behavior {
+ public:
+  void prepare(const WorldView& world) override {
+    if (cells_.empty() || world.bounds() != bounds_ || cell_size != built_cell_size_) build(world.bounds());
+    const double t = world.time();
+    const auto positions = world.drone_positions();
+    for (std::uint32_t i = 0; i < positions.size(); ++i) {  // O(drones): cells evaporate lazily, never swept
+      if (!is_member(world, *this, i)) continue;
+      Cell& c = cells_[index(positions[i])];
+      c.value = evaporate(c.value, t - c.time) + deposit;
+      c.time = t;
+    }
+  }
+
+  Vec2 decide(const Perception& me, Rng& rng) override {
+    const Vec2 heading = me.velocity.is_zero() ? Vec2::polar(1, rng.angle()) : me.velocity.normalized();
+    double best_score = 0;
+    Vec2 best;
+    for (std::size_t k = 0; k < turns_.size(); ++k) {
+      const Vec2 dir{heading.x * turns_[k].x - heading.y * turns_[k].y,
+                     heading.x * turns_[k].y + heading.y * turns_[k].x};  // heading rotated by turn k
+      // Sample short of any obstacle that direction (the ground beyond is out of reach); a direction
+      // blocked right ahead, or leading out of the area, counts as maximally marked.
+      double reach = look_ahead;
+      for (const auto& h : me.obstacles)
+        if (dir.dot(h.point - me.position) > cone_ * h.distance) reach = std::min(reach, h.distance - margin_);
+      const Vec2 ahead = me.position + dir * reach;
+      // Log scale: fresh ground beats marked ground clearly, but among marked directions the turn cost
+      // wins, so drones cross trodden ground in straight lines instead of circling in it.
+      double score = reach >= margin_ && bounds_.contains(ahead) ? std::log1p(marks(ahead, me.time) / deposit) : kBlocked;
+      score += turn_cost * (1 - turns_[k].x) + rng.uniform(0, 0.1);  // jitter breaks symmetric ties
+      if (k == 0 || score < best_score) best_score = score, best = dir;
+    }
+    return steer_along(me, best) + obstacle_weight * avoid_near_obstacles(me);
+  }
+
+  Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only
+  void reset(std::size_t) override { cells_.clear(); }  // a fresh run starts with a clean field
+  void resize(std::size_t) override {}                   // the field outlives drones that come and go
+
+ protected:
+  /// What is left after `elapsed` s of `value` pheromone: exponential decay at evaporation_rate.
+  /// Cells are brought up to date lazily, so an override must compose: evaporate(evaporate(v, a), b)
+  /// equals evaporate(v, a + b) (exponential decay does, and so does a constant-rate loss to zero).
+  virtual double evaporate(double value, double elapsed) const {
+    return evaporation_rate > 0 ? value * std::exp(-evaporation_rate * elapsed) : value;
+  }
+
+  void configure() override {  // what decide derives from the parameters; an override calls this one
+    margin_ = look_ahead / 3;
+    const auto n = static_cast<int>(directions);
+    turns_.clear();  // (cos, sin) of each sampled turn, so decide needs no trigonometry
+    for (int k = 0; k < n; ++k) turns_.push_back(Vec2::polar(1, 2 * pi * k / n));
+    cone_ = std::cos(2 * pi / n);  // a hit within one sector of a direction blocks it
+  }
+
+  Param cell_size{this, "cell_size", 10.0, 1.0, 1000.0, "m", "side of one cell of the pheromone field"};
+  Param deposit{this, "deposit", 1.0, 0.001, 1000.0, "", "pheromone a drone adds to its cell each step"};
+  Param evaporation_rate{this, "evaporation_rate", 0.01, 0.0, 10.0, "1/s", "exponential decay rate of the pheromone"};
+  Param look_ahead{this, "look_ahead", 30.0, 1.0, 1000.0, "m", "how far ahead the field is sampled"};
+  Param directions{this, "directions", 8, 3, 64, "", "directions sampled around the current heading", 1};
+  Param turn_cost{this, "turn_cost", 2.0, 0.0, 20.0, "",
+                  "penalty of a 90 degree turn against log(1 + marks / deposit): higher flies straighter"};
+  Param obstacle_weight{this, "obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"};
+
+ private:
+  struct Cell {
+    double value = 0;  // pheromone at `time`
+    double time = 0;   // s, when `value` was last brought up to date
+  };
+  static constexpr double kBlocked = 1e9;
+  static constexpr double kMaxCells = 1 << 22;  // 64 MiB at most; huge maps get coarser cells
+
+  void build(const Rect& b) {
+    bounds_ = b;
+    built_cell_size_ = cell_size;
+    // At most ~kMaxCells cells, however thin the map (its long side bounds the count too).
+    cell_ = std::max({cell_size.value(), std::sqrt(b.area() / kMaxCells), std::max(b.width(), b.height()) / kMaxCells});
+    cols_ = static_cast<int>(std::ceil(b.width() / cell_)) + 1;
+    rows_ = static_cast<int>(std::ceil(b.height() / cell_)) + 1;
+    cells_.assign(static_cast<std::size_t>(cols_) * rows_, Cell{});
+  }
+  std::size_t index(Vec2 p) const {
+    const int x = std::clamp(static_cast<int>((p.x - bounds_.min.x) / cell_), 0, cols_ - 1);
+    const int y = std::clamp(static_cast<int>((p.y - bounds_.min.y) / cell_), 0, rows_ - 1);
+    return static_cast<std::size_t>(y) * cols_ + x;
+  }
+  double marks(Vec2 p, double t) const {
+    const Cell& c = cells_[index(p)];
+    return c.value > 0 ? evaporate(c.value, t - c.time) : 0.0;
+  }
+
+  double margin_ = 10, cone_ = 0;
+  std::vector<Vec2> turns_;
+  Rect bounds_;
+  double cell_ = 10, built_cell_size_ = 0;
+  int cols_ = 0, rows_ = 0;
+  std::vector<Cell> cells_;
+};
+
+}  // namespace salsa::behaviors
