@@ -79,7 +79,8 @@ int cmd_bench(int argc, char** argv) {
       "0 (default, as in test files): all phases in sequence, table1's definition; 1: Box2D overlaps sensing and deciding")(
       "floor", "also time the bare-Box2D floor of each cell and print the ratio")(
       "cpu-time", "time runs and floor by this process's CPU clock, not the wall clock (with --threads 1 on a busy machine)")(
-      "profile", "print the time spent in each step phase")("json", po::value<std::string>(), "write all figures to this JSON file");
+      "profile", "print the time spent in each step phase")(
+      "fleet", "table1: two groups of half the swarm, batteries and failure rates on (the fleet model's cost)")("json", po::value<std::string>(), "write all figures to this JSON file");
   po::positional_options_description pos;
   pos.add("workload", 1).add("file", 1);
   po::variables_map vm;
@@ -161,7 +162,7 @@ int cmd_bench(int argc, char** argv) {
   const std::size_t steps = static_cast<std::size_t>(std::llround(sim_time * 60));
   for (const Cell& cell : cells) {
     std::vector<double> walls, setups, floors, found;
-    std::array<double, 6> phases{};
+    std::array<double, phase_names.size()> phases{};
     std::size_t peak = 0;
     for (int seed = 1; seed <= seeds; ++seed) try {
       bench::Workload w = is_table1 ? bench::Workload{} : bench::scale(cell.drones, 0, 0);
@@ -170,6 +171,7 @@ int cmd_bench(int argc, char** argv) {
       w.seed = static_cast<std::uint64_t>(seed);
       w.threads = threads;
       w.behavior = behavior;
+      w.fleet = vm.count("fleet") > 0;
       bench::reset_peak_rss();
       const auto t0 = std::chrono::steady_clock::now();
       SimulationSetup setup = bench::table1(host, w);

@@ -4,6 +4,8 @@
 // and `salsa queue expand` / `salsa validate` through the CLI.
 #include "common.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <map>
 #include <set>
 
@@ -44,6 +46,17 @@ class TestQueue : public QObject {
     }
     return "(accepted)";
   }
+  /// A sweep's test objects before the test reader (expand_sweep), or a failed test when refused.
+  std::vector<std::pair<nlohmann::json, SweptTest>> swept(const QByteArray& json) {
+    std::vector<std::pair<nlohmann::json, SweptTest>> out;
+    try {
+      for (SweptTest& t : expand_sweep(file("q.json", json), *host_)) out.emplace_back(nlohmann::json::parse(t.json), std::move(t));
+    } catch (const InputError& e) {
+      QTest::qFail(e.what(), __FILE__, __LINE__);
+    }
+    return out;
+  }
+  static std::string number(double v) { return Parameter::format(v); }
   static std::map<std::string, std::uint64_t> seeds_by_name(const Queue& q) {
     std::map<std::string, std::uint64_t> out;
     for (const auto& t : q.tests) out[t.name] = t.seed;
@@ -118,6 +131,155 @@ class TestQueue : public QObject {
     QCOMPARE(got, values);  // exactly: the ends as given, the steps without float noise where it matters
   }
 
+  // ---- sweep.set: any number of the test by its dotted key, one axis per key
+
+  void queues_without_set_expand_as_before_data() {
+    QTest::addColumn<QString>("queue");
+    QTest::newRow("examples/sweep-queue.json") << "sweep-queue";
+    QTest::newRow("every other axis, tests, repeats, a prefix") << "every-axis";
+  }
+  void queues_without_set_expand_as_before() {
+    // tests/data/queue/*.expand: `salsa queue expand` of the commit before sweep.set existed, cut to
+    // name and seed. The count, every name and seed and their order must not move.
+    QFETCH(QString, queue);
+    const fs::path folder = source_dir() / "tests/data/queue";
+    const Queue got = load_queue(folder / (queue.toStdString() + ".json"), *host_, {});
+    QStringList lines{QString::number(got.tests.size()) + " tests"};
+    for (const TestSpec& t : got.tests) lines << q(t.name) + " seed=" + QString::number(t.seed);
+    const QStringList expected = non_empty_lines(read_file(q(folder / (queue.toStdString() + ".expand"))));
+    QVERIFY(expected.size() > 10);
+    QCOMPARE(lines, expected);
+  }
+
+  void set_axes_multiply_in_key_order() {
+    // Keys sorted (behavior.params..., drone.max_speed, drones), the last fastest; a named drone becomes
+    // {"base": name}, a named behavior {"name", "params"}.
+    const auto tests = swept(R"({"sweep": {"test": {"behavior": "flocking", "drone": "large", "time": 5},
+                                 "set": {"drones": {"from": 2, "to": 4, "count": 2}, "drone.max_speed": [5, 10],
+                                         "behavior.params.cohesion_weight": {"from": 1, "to": 2, "step": 0.5}}}})");
+    QCOMPARE(tests.size(), std::size_t(3 * 2 * 2));
+    std::size_t i = 0;
+    for (const double cw : {1.0, 1.5, 2.0})
+      for (const double speed : {5.0, 10.0})
+        for (const int drones : {2, 4}) {
+          const nlohmann::json& t = tests[i].first;
+          QCOMPARE(t["behavior"], (nlohmann::json{{"name", "flocking"}, {"params", {{"cohesion_weight", cw}}}}));
+          QCOMPARE(t["drone"], (nlohmann::json{{"base", "large"}, {"max_speed", speed}}));
+          QCOMPARE(t["drones"], nlohmann::json(drones));
+          QCOMPARE(t["time"], nlohmann::json(5));  // sweep.test's other keys stay
+          const std::string name = "flocking_cohesion_weight" + number(cw) + "_max_speed" + number(speed) + "_drones" + std::to_string(drones);
+          QCOMPARE(tests[i].second.name, name);
+          QCOMPARE(tests[i].second.at, "set.behavior.params.cohesion_weight[" + std::to_string(i / 4) + "], set.drone.max_speed[" +
+                                           std::to_string(i / 2 % 2) + "], set.drones[" + std::to_string(i % 2) + "]");
+          ++i;
+        }
+  }
+
+  void set_axes_reach_groups_by_name() {
+    // A group is found by its name wherever it stands in the list; the other group is left as it was.
+    const auto tests = swept(R"({"sweep": {"test": {"name": "mix", "groups": [
+                                   {"name": "scouts", "drones": 2, "drone": "small", "behavior": "random_walk"},
+                                   {"name": "lifters", "drone": {"base": "large", "radius": 3}, "behavior": {"name": "flocking", "params": {"cohesion_weight": 1}}}]},
+                                 "set": {"groups.lifters.drones": [1, 3], "groups.scouts.drone.max_speed": 4,
+                                         "groups.lifters.behavior.params.alignment_weight": [0.5, 1], "failures.drone_mtbf": [600]}}})");
+    QCOMPARE(tests.size(), std::size_t(2 * 2));
+    std::size_t i = 0;
+    for (const double aw : {0.5, 1.0})
+      for (const int drones : {1, 3}) {
+        const nlohmann::json& t = tests[i++].first;
+        QCOMPARE(t["failures"], (nlohmann::json{{"drone_mtbf", 600}}));
+        QCOMPARE(t["groups"][0], (nlohmann::json{{"name", "scouts"}, {"drones", 2}, {"drone", {{"base", "small"}, {"max_speed", 4}}}, {"behavior", "random_walk"}}));
+        QCOMPARE(t["groups"][1], (nlohmann::json{{"name", "lifters"}, {"drones", drones}, {"drone", {{"base", "large"}, {"radius", 3}}},
+                                                 {"behavior", {{"name", "flocking"}, {"params", {{"cohesion_weight", 1}, {"alignment_weight", aw}}}}}}));
+        QCOMPARE(t.size(), std::size_t(3));  // name, groups, failures: no top-level drone, drones or behavior appears
+      }
+    QCOMPARE(tests[1].second.name, std::string("mix_random_walk_flocking_drone_mtbf600_alignment_weight0.5_drones3_max_speed4"));
+  }
+
+  void set_keys_that_end_alike_are_told_apart_in_names() {
+    const auto tests = swept(R"({"sweep": {"test": {"groups": [{"name": "a", "behavior": "flocking"}, {"name": "b", "behavior": "random_walk"}]},
+                                 "set": {"groups.b.drones": [3], "groups.a.drones": [1, 2]}}})");
+    QCOMPARE(tests.size(), std::size_t(2));
+    QCOMPARE(tests[0].second.name, std::string("flocking_random_walk_a.drones1_b.drones3"));
+    QCOMPARE(tests[1].second.name, std::string("flocking_random_walk_a.drones2_b.drones3"));
+    QCOMPARE(tests[1].first["groups"][0]["drones"], nlohmann::json(2));
+    QCOMPARE(tests[1].first["groups"][1]["drones"], nlohmann::json(3));
+  }
+
+  void set_axes_through_the_test_reader() {
+    // Keys the reader knows: drone.<property> of a named drone, a behavior's and a map's parameters, a
+    // metric's parameter (a list entered by name), crossed with the other axes and repeated.
+    const Queue q = load(R"({"repeats": 2, "sweep": {"test": {"drone": "medium", "map": "forest", "time": 5, "metrics": ["collisions", "area_coverage"]},
+                             "behaviors": ["random_walk", "flocking"],
+                             "set": {"drone.max_speed": [6, 12], "map.params.clusters": {"from": 2, "to": 4, "step": 2},
+                                     "metrics.area_coverage.params.cell_size": [2.5]}}})");
+    QCOMPARE(q.tests.size(), std::size_t(2 * 2 * 2 * 2));
+    const DroneConfig medium = builtin_drone_configs()[1];
+    QCOMPARE(medium.name, std::string("medium"));
+    std::map<std::pair<std::string, std::size_t>, std::set<std::uint64_t>> seeds;  // (world, repeat) -> seeds
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < q.tests.size(); ++i) {
+      const TestSpec& t = q.tests[i];
+      const nlohmann::json config = nlohmann::json::parse(resolved_json(t, *host_));  // the test as read, as config.json holds it
+      const double speed = i / 4 % 2 ? 12 : 6, clusters = i / 2 % 2 ? 4 : 2;
+      QCOMPARE(t.repeat, i / 8);
+      QCOMPARE(config.at("behavior").at("name"), nlohmann::json(i % 2 ? "flocking" : "random_walk"));
+      QCOMPARE(config.at("drone").at("max_speed").get<double>(), speed);
+      QCOMPARE(config.at("drone").at("radius").get<double>(), medium.radius);  // the rest of the named configuration
+      QCOMPARE(config.at("drone").at("detection_range").get<double>(), medium.detection_range);
+      QCOMPARE(config.at("map").at("name"), nlohmann::json("forest"));
+      QCOMPARE(config.at("map").at("params").at("clusters").get<double>(), clusters);
+      QCOMPARE(config.at("metrics").size(), std::size_t(2));
+      QCOMPARE(config.at("metrics")[0].at("name"), nlohmann::json("collisions"));
+      QCOMPARE(config.at("metrics")[1].at("params").at("cell_size").get<double>(), 2.5);
+      QCOMPARE(config.at("time").get<double>(), 5.0);
+      QCOMPARE(t.name, std::string(i % 2 ? "flocking" : "random_walk") + "_max_speed" + number(speed) + "_clusters" +
+                           number(clusters) + "_cell_size2.5_r" + std::to_string(t.repeat));
+      QVERIFY(names.insert(t.name).second);
+      seeds[{world_key(t), t.repeat}].insert(t.seed);
+    }
+    // Both behaviors of a world and repeat share its seed; the drone's speed and the map's clusters are the world.
+    QCOMPARE(seeds.size(), std::size_t(2 * 2 * 2));
+    for (const auto& [world, one] : seeds) QCOMPARE(one.size(), std::size_t(1));
+  }
+
+  void set_axes_of_groups_through_the_test_reader() {
+    const QByteArray queue = R"({"sweep": {"test": {"time": 5, "groups": [
+                                  {"name": "scouts", "drones": 3, "drone": "small", "behavior": "random_walk"},
+                                  {"name": "lifters", "drone": "large", "behavior": "flocking"}]},
+                                "set": {"groups.lifters.drones": [2, 4], "groups.scouts.drone.max_speed": [6],
+                                        "groups.lifters.behavior.params.cohesion_weight": [1, 3], "failures.camera_mtbf": [900]}}})";
+    const Queue q = load(queue);
+    QCOMPARE(q.tests.size(), std::size_t(2 * 2));
+    for (std::size_t i = 0; i < q.tests.size(); ++i) {
+      const nlohmann::json config = nlohmann::json::parse(resolved_json(q.tests[i], *host_));  // config.json writes the groups back
+      const nlohmann::json& groups = config.at("groups");
+      QCOMPARE(groups.size(), std::size_t(2));
+      QCOMPARE(groups[0].at("name"), nlohmann::json("scouts"));
+      QCOMPARE(groups[0].at("drones"), nlohmann::json(3));
+      QCOMPARE(groups[0].at("drone").at("max_speed").get<double>(), 6.0);
+      QCOMPARE(groups[1].at("drones").get<int>(), i % 2 ? 4 : 2);
+      QCOMPARE(groups[1].at("drone").at("radius").get<double>(), builtin_drone_configs()[2].radius);  // the rest of "large"
+      QCOMPARE(groups[1].at("behavior").at("params").at("cohesion_weight").get<double>(), i / 2 ? 3.0 : 1.0);
+      QCOMPARE(config.at("failures").at("camera_mtbf").get<double>(), 900.0);
+    }
+    QCOMPARE(q.tests[0].seed, q.tests[2].seed);  // a behavior parameter is not the world
+    QVERIFY(q.tests[0].seed != q.tests[1].seed);  // a group's drone count is
+  }
+
+  void set_axes_give_each_behavior_parameter_value_the_same_world() {
+    const Queue q = load(R"({"sweep": {"test": {"behavior": "pheromone_avoidance"},
+                             "set": {"behavior.params.directions": [4, 8, 16], "drones": [4, 6]}}})");
+    QCOMPARE(q.tests.size(), std::size_t(6));
+    for (std::size_t i = 0; i < q.tests.size(); ++i) {
+      const nlohmann::json config = nlohmann::json::parse(resolved_json(q.tests[i], *host_));
+      QCOMPARE(config.at("behavior").at("params").at("directions").get<double>(), double(4 << (i / 2)));
+      QCOMPARE(config.at("drones").get<int>(), i % 2 ? 6 : 4);
+      QCOMPARE(q.tests[i].seed, q.tests[i % 2].seed);  // the parameter is not the world: paired
+    }
+    QVERIFY(q.tests[0].seed != q.tests[1].seed);
+  }
+
   // ---- Bad input: one line naming the file, the position, the value and what is allowed.
 
   void errors_data() {
@@ -177,7 +339,7 @@ class TestQueue : public QObject {
                                           << QStringList{"q.json: sweep.behaviors[0].params.cohesion_weight: [] is an empty list (allowed: values in [0, 10]"};
     QTest::newRow("empty tests") << QByteArray(R"({"tests": []})") << QStringList{"q.json: tests holds no tests"};
     QTest::newRow("unknown sweep key") << QByteArray(R"({"sweep": {"behaviours": ["flocking"]}})")
-                                       << QStringList{"q.json: sweep.behaviours: unknown key (allowed: test, behaviors, maps, drones, targets, drone)"};
+                                       << QStringList{"q.json: sweep.behaviours: unknown key (allowed: test, behaviors, maps, drones, targets, drone, set)"};
     QTest::newRow("unknown queue key") << QByteArray(R"({"sweep": {"behaviors": ["flocking"]}, "repeat": 3})")
                                        << QStringList{"q.json: repeat: unknown key (allowed: seed, repeats, tests, sweep)"};
     QTest::newRow("unknown range key") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": {"from": 1, "to": 5, "by": 1}}})")
@@ -222,6 +384,50 @@ class TestQueue : public QObject {
                                   << QStringList{"q.json: repeats: 0 is out of range (allowed: whole number in [1, 1000000])"};
     QTest::newRow("queue seed") << QByteArray(R"({"seed": -1, "tests": [{"behavior": "flocking"}]})")
                                 << QStringList{"q.json: seed: -1 is out of range (allowed: whole number in [0, 9007199254740992])"};
+    // sweep.set
+    const QByteArray groups = R"("groups": [{"name": "scouts", "behavior": "flocking"}, {"name": "lifters", "behavior": "random_walk"}])";
+    QTest::newRow("set: a key an axis sweeps") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": [1, 2], "set": {"drones": [3]}}})")
+                                               << QStringList{"q.json: sweep.set.drones: also swept by sweep.drones (allowed: one or the other)"};
+    QTest::newRow("set: a key inside an axis")
+        << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "set": {"behavior.params.cohesion_weight": [1]}}})")
+        << QStringList{"q.json: sweep.set.behavior.params.cohesion_weight: also swept by sweep.behaviors (allowed: one or the other)"};
+    QTest::newRow("set: a key sweep.test gives")
+        << QByteArray(R"({"sweep": {"test": {"behavior": {"name": "flocking", "params": {"cohesion_weight": 2}}}, "set": {"behavior.params.cohesion_weight": [1, 3]}}})")
+        << QStringList{"q.json: sweep.test.behavior.params.cohesion_weight: also swept by sweep.set.behavior.params.cohesion_weight (allowed: one or the other)"};
+    QTest::newRow("set: a key inside another") << QByteArray(R"({"sweep": {"test": {"behavior": "flocking"}, "set": {"drone.max_speed": [2], "drone": [1]}}})")
+                                               << QStringList{"q.json: sweep.set.drone.max_speed: inside sweep.set.drone, also swept (allowed: one or the other)"};
+    QTest::newRow("set: an unknown group") << QByteArray(R"({"sweep": {"test": {)" + groups + R"(}, "set": {"groups.scout.drones": [1, 2]}}})")
+                                           << QStringList{"q.json: sweep.set.groups.scout.drones: no 'scout' in sweep.test.groups (allowed: scouts, lifters)"};
+    QTest::newRow("set: a group without groups") << QByteArray(R"({"sweep": {"test": {"behavior": "flocking"}, "set": {"groups.scouts.drones": [1, 2]}}})")
+                                                 << QStringList{"q.json: sweep.set.groups.scouts.drones: sweep.test has no \"groups\" (allowed: groups.<name>.<key>"};
+    QTest::newRow("set: a single-form key with groups")
+        << QByteArray(R"({"sweep": {"test": {)" + groups + R"(}, "set": {"drone.max_speed": [5]}}})")
+        << QStringList{"q.json: sweep.set.drone.max_speed: sweep.test has \"groups\", each with its own (allowed: groups.<name>.drone.max_speed, <name> one of: scouts, lifters)"};
+    QTest::newRow("set: not a number") << QByteArray(R"({"sweep": {"test": {"behavior": "flocking"}, "set": {"drone.max_speed": "fast"}}})")
+                                       << QStringList{"q.json: sweep.set.drone.max_speed: \"fast\" is not a number, a list of numbers or a range {\"from\", \"to\", \"step\" or \"count\"} (allowed: numbers)"};
+    QTest::newRow("set: a list item not a number") << QByteArray(R"({"sweep": {"test": {"behavior": "flocking"}, "set": {"drone.max_speed": [5, "6"]}}})")
+                                                   << QStringList{"q.json: sweep.set.drone.max_speed[1]: \"6\" is not a number (allowed: numbers)"};
+    QTest::newRow("set: an empty list") << QByteArray(R"({"sweep": {"test": {"behavior": "flocking"}, "set": {"drones": []}}})")
+                                        << QStringList{"q.json: sweep.set.drones: [] is an empty list (allowed: at least one number; or leave the key out)"};
+    QTest::newRow("set: a range without step") << QByteArray(R"({"sweep": {"test": {"behavior": "flocking"}, "set": {"drones": {"from": 1, "to": 5}}}})")
+                                               << QStringList{"q.json: sweep.set.drones: {\"from\":1,\"to\":5} needs \"from\", \"to\" and either \"step\" or \"count\""};
+    QTest::newRow("set: a value twice") << QByteArray(R"({"sweep": {"test": {"behavior": "flocking"}, "set": {"drones": [1, 2, 1]}}})")
+                                        << QStringList{"q.json: sweep.set.drones[2]: 1 is already in the list (allowed: each value once)"};
+    QTest::newRow("set: not a dotted key") << QByteArray(R"({"sweep": {"test": {"behavior": "flocking"}, "set": {"drone..max_speed": [1]}}})")
+                                           << QStringList{"q.json: sweep.set.drone..max_speed: not a dotted key of letters, digits, '_' and '-' (allowed: a dotted path to a number of the test: drones, drone.<property>, behavior.params.<p>, groups.<name>.drones"};
+    QTest::newRow("set: a key naming no number") << QByteArray(R"({"sweep": {"test": {"behavior": "flocking"}, "set": {"behavior": [1]}}})")
+                                                 << QStringList{"q.json: sweep.set.behavior: sweep.test.behavior is \"flocking\", not a number (allowed: a dotted path to a number"};
+    QTest::newRow("set: a path through a number") << QByteArray(R"({"sweep": {"test": {"behavior": "flocking", "time": 5}, "set": {"time.x": [1]}}})")
+                                                  << QStringList{"q.json: sweep.set.time.x: sweep.test.time is 5, which holds no x (allowed: a dotted path to a number"};
+    QTest::newRow("set: not an object") << QByteArray(R"({"sweep": {"test": {"behavior": "flocking"}, "set": ["drones"]}})")
+                                        << QStringList{"q.json: sweep.set: [\"drones\"] must be an object of keys and their values, e.g. {\"drone.max_speed\": [5, 10]"};
+    QTest::newRow("set: a value out of the key's range")
+        << QByteArray(R"({"repeats": 2, "sweep": {"test": {"behavior": "flocking"}, "set": {"drone.max_speed": [5, 2000]}}})")
+        << QStringList{"q.json: sweep (set.drone.max_speed[1]): drone.max_speed: 2000 is out of range (allowed: [0.001, 1000] m/s)"};
+    QTest::newRow("set: a count out of range") << QByteArray(R"({"sweep": {"behaviors": ["flocking", "random_walk"], "set": {"drones": [0]}}})")
+                                               << QStringList{"q.json: sweep (behaviors[0], set.drones[0]): drones: 0 is out of range (allowed: whole number in [1, 1000000])"};
+    QTest::newRow("set: a key the test does not have") << QByteArray(R"({"sweep": {"test": {"behavior": "flocking"}, "set": {"drone.speed": [3]}}})")
+                                                       << QStringList{"q.json: sweep (set.drone.speed[0]): drone.speed: unknown key (allowed: name, base, camera_range"};
   }
   void errors() {
     QFETCH(QByteArray, queue);

@@ -26,7 +26,8 @@ class AreaCoverage final : public salsa::Metric {
 
   void reset(const salsa::MetricView& world) override {
     const salsa::Rect b = world.bounds();
-    range_ = world.drone().camera_range;
+    range_ = world.drone().camera_range;  // the cells fit the shortest camera of any group
+    for (std::uint32_t g = 1; g < world.group_count(); ++g) range_ = std::min(range_, world.drone(g).camera_range);
     const double side = std::max(b.width(), b.height());
     cell_ = cell_size > 0 ? cell_size.value() : range_ > 0 ? range_ / 4 : side / 1000;
     // A byte per cell: at most 16 MB (the long side too, for a thin map whose area is small).
@@ -85,16 +86,17 @@ class AreaCoverage final : public salsa::Metric {
   void stamp_moved(const salsa::MetricView& world, double distance) {
     const auto positions = world.drone_positions();
     const auto status = world.drone_status();
+    const auto groups = world.drone_groups();
     if (last_.size() != positions.size()) last_.resize(positions.size(), {inf, inf});
     for (std::size_t i = 0; i < positions.size(); ++i)
       if (status[i] == salsa::DroneStatus::flying && !((positions[i] - last_[i]).length_squared() <= distance * distance)) {
-        stamp(positions[i]);
+        stamp(positions[i], world.drone(groups[i]).camera_range);
         last_[i] = positions[i];
       }
   }
 
-  /// Marks the cells whose centre is within camera range of `p`, row by row.
-  void stamp(salsa::Vec2 p) {
+  /// Marks the cells whose centre is within `range` (the drone's camera range) of `p`, row by row.
+  void stamp(salsa::Vec2 p, double range) {
     // The first and last cell index whose centre lies in [from, to] (m from the origin), clamped.
     auto span = [&](double from, double to, std::int64_t cells) {
       return std::pair{std::max<double>(0, std::ceil(from / cell_ - 0.5)),
@@ -102,9 +104,9 @@ class AreaCoverage final : public salsa::Metric {
     };
     const salsa::Vec2 q = p - origin_;
     if (!std::isfinite(q.x) || !std::isfinite(q.y)) return;
-    const auto [r0, r1] = span(q.y - range_, q.y + range_, rows_);
+    const auto [r0, r1] = span(q.y - range, q.y + range, rows_);
     for (double r = r0; r <= r1; ++r) {
-      const double dy = (r + 0.5) * cell_ - q.y, w2 = range_ * range_ - dy * dy;
+      const double dy = (r + 0.5) * cell_ - q.y, w2 = range * range - dy * dy;
       if (w2 < 0) continue;
       const double w = std::sqrt(w2);
       const auto [c0, c1] = span(q.x - w, q.x + w, cols_);

@@ -158,32 +158,44 @@ std::vector<double> range_values(const json& v, const std::string& field, const 
   return out;
 }
 
-/// The values a sweep gives one parameter: a number, a list of numbers or a range, each checked
-/// against the declared range (and whole numbers).
-std::vector<double> param_values(const json& v, const std::string& field, const Parameter& p, const Reader& r) {
+/// What a swept number allows, for messages: one value ("[0, 10]"), and the axis when it is empty.
+struct Allowed {
+  std::string value, empty;
+};
+
+/// The values of one swept number: a number, a list of numbers or a range, each once and each passing
+/// `check` ("" or why it is not allowed).
+template <class Check>
+std::vector<double> swept_numbers(const json& v, const std::string& field, const Reader& r, const Allowed& allowed, Check check) {
   std::vector<double> out;
   std::unordered_set<double> seen;  // a list or range may hold 10^6 values: no scan per value
   auto add = [&](double x, const std::string& at, const std::string& shown) {
-    if (const std::string why = p.check(x); !why.empty()) r.fail(at, shown + " " + why);
+    if (const std::string why = check(x); !why.empty()) r.fail(at, shown + " " + why);
     if (!seen.insert(x == 0 ? 0.0 : x).second) r.fail(at, shown + " is already in the list (allowed: each value once)");
     out.push_back(x);
   };
   if (v.is_number()) {
     add(v.get<double>(), field, show(v));
   } else if (v.is_array()) {
-    if (v.empty()) r.fail(field, "[] is an empty list (allowed: values in " + p.range() + "; or leave the parameter out)");
+    if (v.empty()) r.fail(field, "[] is an empty list (allowed: " + allowed.empty + ")");
     for (std::size_t i = 0; i < v.size(); ++i) {
       const std::string at = field + "[" + std::to_string(i) + "]";
-      if (!v[i].is_number()) r.fail(at, show(v[i]) + " is not a number (allowed: " + p.range() + ")");
+      if (!v[i].is_number()) r.fail(at, show(v[i]) + " is not a number (allowed: " + allowed.value + ")");
       add(v[i].get<double>(), at, show(v[i]));
     }
   } else if (v.is_object()) {
     for (const double x : range_values(v, field, r)) add(x, field, show(v) + " gives " + num(x) + ", which");
   } else {
     r.fail(field, show(v) + " is not a number, a list of numbers or a range {\"from\", \"to\", \"step\" or \"count\"} (allowed: " +
-                      p.range() + ")");
+                      allowed.value + ")");
   }
   return out;
+}
+
+/// The values a sweep gives one parameter, each checked against the declared range (and whole numbers).
+std::vector<double> param_values(const json& v, const std::string& field, const Parameter& p, const Reader& r) {
+  return swept_numbers(v, field, r, {p.range(), "values in " + p.range() + "; or leave the parameter out"},
+                       [&](double x) { return p.check(x); });
 }
 
 /// Test names hold letters, digits, '_', '-' and '.'; anything else in user text becomes '_'.
@@ -265,6 +277,7 @@ struct Sweep {
   json base = json::object();  // sweep.test
   std::vector<SweptPlugin> behaviors, maps;
   std::vector<Point> drones, targets, drone;
+  std::vector<std::vector<Point>> set;  // one axis per key of sweep.set, in key order; each point sets {key: value}
 
   /// Tests per repeat (a double: the product can be far too large, and is refused then).
   double size() const {
@@ -274,9 +287,132 @@ struct Sweep {
       return entries.empty() ? 1.0 : n;
     };
     auto count = [](const std::vector<Point>& points) { return points.empty() ? 1.0 : static_cast<double>(points.size()); };
-    return sum(behaviors) * sum(maps) * count(drones) * count(targets) * count(drone);
+    double n = sum(behaviors) * sum(maps) * count(drones) * count(targets) * count(drone);
+    for (const auto& axis : set) n *= count(axis);
+    return n;
   }
 };
+
+// ---- sweep.set: any number of the test, by the dotted key timed changes use
+
+const char* const set_key_forms =
+    "a dotted path to a number of the test: drones, drone.<property>, behavior.params.<p>, groups.<name>.drones, "
+    "groups.<name>.drone.<property>, groups.<name>.behavior.params.<p>, failures.drone_mtbf, failures.camera_mtbf, ...";
+
+/// A whole number as a JSON integer (messages and config.json show 20, not 20.0).
+json as_json(double x) {
+  if (x == std::floor(x) && std::fabs(x) < 9007199254740992.0) return static_cast<std::int64_t>(x);
+  return x;
+}
+
+std::vector<std::string> key_parts(const std::string& key) {
+  std::vector<std::string> out;
+  for (std::size_t start = 0;;) {
+    const std::size_t dot = key.find('.', start);
+    out.push_back(key.substr(start, dot - start));
+    if (dot == std::string::npos) return out;
+    start = dot + 1;
+  }
+}
+
+/// The name of a list entry: a string, or an object's "name"; "" for anything else.
+std::string entry_name(const json& e) {
+  if (e.is_string()) return e.get<std::string>();
+  if (e.is_object() && e.contains("name") && e["name"].is_string()) return e["name"].get<std::string>();
+  return "";
+}
+
+std::string entry_names(const json& list) {
+  std::string out;
+  for (const json& e : list) out += (out.empty() ? "" : ", ") + entry_name(e);
+  return out.empty() ? "none" : out;
+}
+
+/// Where `key` points in `test`, made to exist: a missing object is added, a list is entered by an
+/// entry's name (groups.scouts: the group named "scouts"), and a choice given by name becomes the object
+/// that can hold the number ("large" → {"base": "large"} for a drone, "flocking" → {"name": "flocking"},
+/// a map file → {"file": ...}). Fails, naming sweep.set.<key>, where the path cannot go on.
+json& place(json& test, const std::string& key, const Reader& r) {
+  const std::string field = Reader::join("sweep.set", key);
+  const std::vector<std::string> parts = key_parts(key);
+  json* at = &test;
+  std::string walked;  // "groups.scouts", for messages
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const std::string& part = parts[i];
+    if (at->is_string()) {
+      const std::string name = at->get<std::string>();
+      const std::string& owner = parts[i - 1];
+      *at = owner == "drone" ? json{{"base", name}} : owner == "map" && name.ends_with(".json") ? json{{"file", name}} : json{{"name", name}};
+    }
+    if (i == 1 && parts[0] == "groups" && !at->is_array())
+      r.fail(field, "sweep.test has no \"groups\" (allowed: groups.<name>.<key> with the groups given in sweep.test)");
+    if (at->is_null()) *at = json::object();
+    if (at->is_array()) {
+      const auto it = std::find_if(at->begin(), at->end(), [&](const json& e) { return entry_name(e) == part; });
+      if (it == at->end()) r.fail(field, "no '" + part + "' in sweep.test." + walked + " (allowed: " + entry_names(*at) + ")");
+      at = &*it;
+    } else if (at->is_object()) {
+      at = &(*at)[part];
+    } else {
+      r.fail(field, "sweep.test." + walked + " is " + show(*at) + ", which holds no " + part + " (allowed: " + set_key_forms + ")");
+    }
+    walked += (walked.empty() ? "" : ".") + part;
+  }
+  return *at;
+}
+
+/// sweep.set, checked against sweep.test and the other axes: one axis per key, in key order.
+std::vector<std::vector<Point>> set_axes(const json& set, const json& s, const json& base, const Reader& r) {
+  if (!set.is_object() || set.empty())
+    r.fail("sweep.set", show(set) + " must be an object of keys and their values, e.g. {\"drone.max_speed\": [5, 10], "
+                                    "\"groups.scouts.drones\": {\"from\": 2, \"to\": 8, \"step\": 2}}");
+  std::vector<std::string> keys;
+  for (const auto& item : set.items()) keys.push_back(item.key());
+  std::sort(keys.begin(), keys.end());  // names and order do not depend on how the file orders the keys
+  auto within = [](const std::string& key, const std::string& outer) { return key == outer || key.starts_with(outer + "."); };
+
+  // A key is swept once, and its path must lead to a number of the test.
+  const std::pair<const char*, const char*> axes[] = {{"behaviors", "behavior"}, {"maps", "map"}, {"drones", "drones"}, {"targets", "targets"}, {"drone", "drone"}};
+  json trial = base;
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const std::string& key = keys[k];
+    const std::string field = Reader::join("sweep.set", key);
+    for (const std::string& part : key_parts(key))
+      if (part.empty() || !std::all_of(part.begin(), part.end(), [](unsigned char c) { return std::isalnum(c) || c == '_' || c == '-'; }))
+        r.fail(field, "not a dotted key of letters, digits, '_' and '-' (allowed: " + std::string(set_key_forms) + ")");
+    for (const auto& [axis, owns] : axes)
+      if (s.contains(axis) && within(key, owns)) r.fail(field, std::string("also swept by sweep.") + axis + " (allowed: one or the other)");
+    for (std::size_t o = 0; o < k; ++o)  // sorted: an enclosing key comes first
+      if (within(key, keys[o])) r.fail(field, "inside sweep.set." + keys[o] + ", also swept (allowed: one or the other)");
+    static const char* const single_form[] = {"behavior", "drone", "drones", "spawn"};
+    if (base.contains("groups") && base["groups"].is_array() && std::ranges::count(single_form, key_parts(key)[0]))
+      r.fail(field, "sweep.test has \"groups\", each with its own (allowed: groups.<name>." + key + ", <name> one of: " + entry_names(base["groups"]) + ")");
+    json& leaf = place(trial, key, r);
+    if (leaf.is_number()) r.fail(Reader::join("sweep.test", key), "also swept by " + field + " (allowed: one or the other)");
+    if (!leaf.is_null()) r.fail(field, "sweep.test." + key + " is " + show(leaf) + ", not a number (allowed: " + set_key_forms + ")");
+  }
+
+  // How a key shows in names: its last part ("max_speed15"), or as many more as tell it from the others ("scouts.drones10").
+  auto suffix = [](const std::string& key, std::size_t n) {
+    const std::vector<std::string> parts = key_parts(key);
+    std::string out;
+    for (std::size_t i = parts.size() > n ? parts.size() - n : 0; i < parts.size(); ++i) out += (out.empty() ? "" : ".") + parts[i];
+    return out;
+  };
+  std::vector<std::vector<Point>> out;
+  for (const std::string& key : keys) {
+    std::size_t n = 1;
+    while (std::ranges::any_of(keys, [&](const std::string& other) { return other != key && suffix(other, n) == suffix(key, n); })) ++n;
+    const std::string label = name_safe(suffix(key, n));
+    const std::vector<double> values = swept_numbers(set[key], Reader::join("sweep.set", key), r,
+                                                     {"numbers", "at least one number; or leave the key out"},
+                                                     [](double) { return std::string(); });  // ranges: the test reader's
+    std::vector<Point>& axis = out.emplace_back();
+    for (std::size_t i = 0; i < values.size(); ++i)
+      axis.push_back({{{key, as_json(values[i])}}, label + number_token(values[i]), "set." + key + "[" + std::to_string(i) + "]"});
+  }
+  return out;
+}
 
 const json& list_axis(const json& v, const std::string& field, const Reader& r, const char* example) {
   if (!v.is_array()) r.fail(field, show(v) + " must be a list, e.g. " + example);
@@ -342,7 +478,7 @@ std::vector<SweptPlugin> plugin_axis(const json& axis, const std::string& field,
 }
 
 Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host) {
-  r.only_keys(s, "sweep", {"test", "behaviors", "maps", "drones", "targets", "drone"});
+  r.only_keys(s, "sweep", {"test", "behaviors", "maps", "drones", "targets", "drone", "set"});
   Sweep sweep;
   if (s.contains("test")) {
     sweep.base = s["test"];
@@ -443,6 +579,7 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host) {
       sweep.drone.push_back({{{"drone", item}}, name_safe(d.name), "drone[" + std::to_string(i++) + "]"});
     }
   }
+  if (s.contains("set")) sweep.set = set_axes(s["set"], s, base, r);
   return sweep;
 }
 
@@ -469,6 +606,84 @@ struct Config {
   std::string name;   // without the repeat suffix; empty: keep test.name
   std::string at;     // a sweep's test: the axis values it was made of ("behaviors[1], drones[0]")
 };
+
+/// One test of a sweep before it is read: sweep.test with one value of each axis set.
+struct Swept {
+  json test;
+  std::string name;  // without the repeat suffix, not yet fitted
+  std::string at;    // the axis values it was made of: "behaviors[1], set.drones[0]"
+};
+
+/// Appends `part` to a name or a list, after `separator` unless either is empty.
+void join(std::string& to, const std::string& part, const char* separator) {
+  if (!part.empty()) to += (to.empty() ? "" : separator) + part;
+}
+
+/// How a test object's behavior shows in its name: "flocking"; with groups, theirs joined by '+' ("flocking+random_walk",
+/// which name_safe makes "flocking_random_walk").
+std::string behavior_name(const json& test) {
+  if (test.contains("behavior")) return entry_name(test["behavior"]);
+  std::string out;
+  if (test.contains("groups") && test["groups"].is_array())
+    for (const json& group : test["groups"])
+      if (group.is_object() && group.contains("behavior")) out += (out.empty() ? "" : "+") + entry_name(group["behavior"]);
+  return out;
+}
+
+/// Visits the sweep's tests in the order they run within a repeat, one at a time (a million test objects
+/// at once would take gigabytes): maps outer, then drone configurations, drone counts, targets,
+/// sweep.set's keys (the last faster), and behaviors fastest, so that the tests of one world are neighbours.
+template <class Visit>
+void multiply(const Sweep& sweep, const Reader& r, Visit visit) {
+  auto points = [](const std::vector<SweptPlugin>& entries, const char* key) {
+    std::vector<Point> out;
+    for (const auto& e : entries)
+      for (auto& p : e.points(key)) out.push_back(std::move(p));
+    return out;
+  };
+  const std::vector<Point> none{Point{json::object(), "", ""}};
+  const std::vector<Point> behaviors = sweep.behaviors.empty() ? none : points(sweep.behaviors, "behavior");
+  const std::vector<Point> maps = sweep.maps.empty() ? none : points(sweep.maps, "map");
+  const std::vector<Point>& drone = sweep.drone.empty() ? none : sweep.drone;
+  const std::vector<Point>& drones = sweep.drones.empty() ? none : sweep.drones;
+  const std::vector<Point>& targets = sweep.targets.empty() ? none : sweep.targets;
+  std::vector<Point> sets = none;  // sweep.set's axes as one: their product
+  for (const std::vector<Point>& axis : sweep.set) {
+    std::vector<Point> product;
+    product.reserve(sets.size() * axis.size());
+    for (const Point& outer : sets)
+      for (const Point& p : axis) {
+        Point both = outer;
+        both.set.update(p.set);
+        join(both.token, p.token, "_");
+        join(both.at, p.at, ", ");
+        product.push_back(std::move(both));
+      }
+    sets = std::move(product);
+  }
+  const std::string prefix = sweep.base.contains("name") && sweep.base["name"].is_string() ? sweep.base["name"].get<std::string>() : "";
+  for (const Point& m : maps)
+    for (const Point& dc : drone)
+      for (const Point& n : drones)
+        for (const Point& tg : targets)
+          for (const Point& st : sets)
+            for (const Point& b : behaviors) {
+              Swept t{sweep.base, prefix, ""};
+              for (const Point* p : {&b, &n, &tg, &m, &dc}) {
+                for (const auto& [key, value] : p->set.items()) {
+                  if (key == "targets" && value.size() == 1 && value.contains("count") && t.test.contains("targets") && t.test["targets"].is_object())
+                    t.test["targets"]["count"] = value["count"];  // a count: kind and parameters from sweep.test
+                  else
+                    t.test[key] = value;
+                }
+              }
+              for (const auto& [key, value] : st.set.items()) place(t.test, key, r) = value;
+              join(t.name, b.token.empty() ? behavior_name(t.test) : b.token, "_");
+              for (const Point* p : {&n, &tg, &m, &dc, &st}) join(t.name, p->token, "_");
+              for (const Point* p : {&b, &n, &tg, &m, &dc, &st}) join(t.at, p->at, ", ");
+              visit(std::move(t));
+            }
+}
 
 }  // namespace
 
@@ -532,50 +747,16 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
     throw InputError(shown_file + ": " + count + "allowed: " + grouped(static_cast<double>(options.max_tests)) +
                      " without --yes): check the sweep, or pass --yes to run them all");
 
-  // ---- The sweep multiplied out: worlds outer, behaviors fastest.
+  // ---- The sweep multiplied out, each test read: with sweep.set, a test's messages name the values it was made of.
   if (sweep) {
     const std::string base_where = shown_file + ": sweep.test";
     const Reader base_reader(base_where, file.parent_path());
-    auto points = [](const std::vector<SweptPlugin>& entries, const char* key) {
-      std::vector<Point> out;
-      for (const auto& e : entries)
-        for (auto& p : e.points(key)) out.push_back(std::move(p));
-      return out;
-    };
-    const std::vector<Point> none{Point{json::object(), "", ""}};
-    const std::vector<Point> behaviors = sweep->behaviors.empty() ? none : points(sweep->behaviors, "behavior");
-    const std::vector<Point> maps = sweep->maps.empty() ? none : points(sweep->maps, "map");
-    const std::vector<Point>& drone = sweep->drone.empty() ? none : sweep->drone;
-    const std::vector<Point>& drones = sweep->drones.empty() ? none : sweep->drones;
-    const std::vector<Point>& targets = sweep->targets.empty() ? none : sweep->targets;
-    const std::string prefix = sweep->base.contains("name") && sweep->base["name"].is_string() ? sweep->base["name"].get<std::string>() + "_" : "";
-    for (const Point& m : maps)
-      for (const Point& dc : drone)
-        for (const Point& n : drones)
-          for (const Point& tg : targets)
-            for (const Point& b : behaviors) {
-              json test = sweep->base;
-              std::string at;
-              for (const Point* p : {&b, &n, &tg, &m, &dc}) {
-                for (const auto& [key, value] : p->set.items()) {
-                  if (key == "targets" && value.size() == 1 && value.contains("count") && test.contains("targets") && test["targets"].is_object())
-                    test["targets"]["count"] = value["count"];  // a count: kind and parameters from sweep.test
-                  else
-                    test[key] = value;
-                }
-                if (!p->at.empty()) at += (at.empty() ? "" : ", ") + p->at;
-              }
-              Config c{detail::parse_test(test, base_reader, host), base_where, "", ""};
-              c.test.source = shown_file + ": sweep" + (at.empty() ? "" : " (" + at + ")");
-              c.at = at;
-              std::string behaviors;  // the groups' behaviors, "flocking+random_walk" with groups
-              for (const GroupSpec& g : c.test.groups) behaviors += (behaviors.empty() ? "" : "+") + g.behavior.name;
-              std::string name = prefix + (b.token.empty() ? behaviors : b.token);
-              for (const Point* p : {&n, &tg, &m, &dc})
-                if (!p->token.empty()) name += "_" + p->token;
-              c.name = name;
-              configs.push_back(std::move(c));
-            }
+    multiply(*sweep, r, [&](Swept&& s) {
+      const Reader reader = sweep->set.empty() ? base_reader : Reader(shown_file + ": sweep (" + s.at + ")", file.parent_path());
+      Config c{detail::parse_test(s.test, reader, host), base_where, std::move(s.name), s.at};
+      c.test.source = shown_file + ": sweep" + (s.at.empty() ? "" : " (" + s.at + ")");
+      configs.push_back(std::move(c));
+    });
   }
 
   // ---- Seeds: the paired seed unless the test gives its own (--seed overrides those too).
@@ -633,6 +814,18 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
                        " (each test writes to a folder of its name)");
   }
   return queue;
+}
+
+std::vector<SweptTest> expand_sweep(const fs::path& file, const PluginHost& host) {
+  const json j = detail::read_json_file(file, "a queue {\"sweep\": {...}}");
+  const Reader r(strict_json::printable(file.string(), 200), file.parent_path());
+  if (!j.is_object() || !j.contains("sweep")) r.fail("sweep", "missing (a queue with a \"sweep\")");
+  const Sweep sweep = read_sweep(j["sweep"], r, host);
+  if (sweep.size() > static_cast<double>(max_queue_tests))
+    r.fail("sweep", "expands to " + grouped(sweep.size()) + " tests (allowed: at most " + grouped(max_queue_tests) + ")");
+  std::vector<SweptTest> out;
+  multiply(sweep, r, [&](Swept&& s) { out.push_back({s.test.dump(), name_safe(s.name), s.at}); });
+  return out;
 }
 
 std::vector<TestSpec> load_tests(const fs::path& file, const PluginHost& host) { return load_queue(file, host, {}).tests; }

@@ -542,16 +542,12 @@ void Simulation::set_drone_count(std::size_t n, std::uint32_t group) {
   for (std::uint32_t g = 0; g < setup_.groups.size(); ++g)
     plugin_call(behavior_kind, g, [&] { setup_.groups[g].behavior->resize(next.positions.size()); });
   // Handlers see the drones as they will be (removed ones stay in the spans, with their status).
-  {
-    std::swap(drones_, next);
-    struct Restore {
-      Simulation& sim;
-      Drones& old;
-      bool done = false;
-      ~Restore() { if (!done) std::swap(sim.drones_, old); }
-    } restore{*this, next};
+  std::swap(drones_, next);
+  try {
     reset_handlers(*this);
-    restore.done = true;
+  } catch (...) {
+    std::swap(drones_, next);
+    throw;
   }
   // Nothing below throws.
   const std::size_t before = physics_->bodies.size();
@@ -751,10 +747,15 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   if (senses.neighbours) {
     s.hits.clear();
     drone_grid_.gather(p, cfg.detection_range, s.hits);
-    const bool everyone = flying_ == drones_.positions.size();  // no status to check, the common case
-    for (const auto& [j, d2] : s.hits)
-      if (j != id && (everyone || drones_.status[j] == DroneStatus::flying))
-        s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j, drones_.groups[j]});
+    // The common case, every drone flying in one group, reads neither status nor group per neighbour.
+    if (flying_ == drones_.positions.size() && groups_.size() == 1) {
+      for (const auto& [j, d2] : s.hits)
+        if (j != id) s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j, 0});
+    } else {
+      for (const auto& [j, d2] : s.hits)
+        if (j != id && drones_.status[j] == DroneStatus::flying)
+          s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j, drones_.groups[j]});
+    }
   }
   s.targets.clear();
   if (senses.targets)
@@ -839,6 +840,9 @@ void Simulation::read_back() {
 void Simulation::fleet() {
   const double dt = setup_.dt;
   const FailureSetup& f = setup_.failures;
+  bool batteries = false;
+  for (const GroupSetup& g : setup_.groups) batteries = batteries || g.drone.battery_capacity > 0;
+  if (!batteries && f.drone_mtbf <= 0 && f.camera_mtbf <= 0) return;
   for (std::uint32_t i = 0; i < drones_.positions.size(); ++i) {
     if (drones_.status[i] != DroneStatus::flying) continue;
     const GroupSetup& g = setup_.groups[drones_.groups[i]];

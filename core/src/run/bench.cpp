@@ -30,8 +30,11 @@ SimulationSetup table1(const PluginHost& host, const Workload& w) {
   g.behavior = PluginHost::create(behavior, params);
   if (w.fleet) {
     // Two groups of half the swarm each, batteries that last the run and failures at a rate that takes
-    // a few drones: all of the fleet model's per-step work, with the same drones flying.
+    // a few drones: all of the fleet model's per-step work. Both groups draw from the spawn disc of the
+    // whole swarm, in turn from the one spawn stream, so the drones start exactly where the one-group
+    // cell's do.
     g.drone.battery_capacity = 100;
+    g.spawn_radius = static_cast<double>(w.drones) * g.drone.radius;
     s.failures = {3600, 3600};
     GroupSetup second = g;
     second.name = "second";

@@ -35,6 +35,18 @@ struct Queue {
 /// value, what is allowed).
 Queue load_queue(const std::filesystem::path& file, const PluginHost& host, const QueueOptions& options);
 
+/// One test of a sweep before the test reader sees it.
+struct SweptTest {
+  std::string json;  ///< the test object: sweep.test with one value of each axis set
+  std::string name;  ///< its name before the repeat suffix (and the cut past 128 characters)
+  std::string at;    ///< the axis values it was made of: "behaviors[1], set.drone.max_speed[0]"
+};
+
+/// The tests of a queue file's sweep in their order within a repeat, as test objects: the sweep is
+/// checked (as load_queue does), the tests are not read (their values' ranges are the test reader's).
+/// Throws InputError.
+std::vector<SweptTest> expand_sweep(const std::filesystem::path& file, const PluginHost& host);
+
 /// The seed of a test without its own: the same for every behavior facing the same world in the same
 /// repeat, whatever else the queue holds. In [0, 2^53), so that JSON holds it exactly:
 ///   splitmix64(fnv1a64(world_key) ^ splitmix64(queue_seed ^ splitmix64(repeat))) & (2^53 - 1)
