@@ -67,20 +67,23 @@ grep -q "pillar: must be smaller than spacing" <<<"$(tr -d '\n' <<<"$out" | tr -
   { echo "$out"; echo "FAIL: bad_map_loads failed without naming the map's error"; exit 1; }
 echo "ok: the smoke test fails bad_map"
 
-# The example plugins as installed (share/doc/salsa/examples/plugin): a behavior, a target kind with
+# The example plugins as installed (share/doc/salsa/examples/plugin): behaviors, a target kind with
 # its contact handler, a map and a metric; their fixture tests (salsa_add_plugin_test) and smoke tests.
 examples=$prefix/share/doc/salsa/examples/plugin
 configure_build_test "$examples" "$work/example"
 out=$(ctest --test-dir "$work/example" --output-on-failure 2>&1) || { echo "$out"; echo "FAIL: ctest of examples/plugin"; exit 1; }
-for t in wander_test dwell_test rings_test flocking_plus_test wander_loads dwell_loads rings_loads in_zone_loads flocking_plus_loads; do
+for t in wander_test dwell_test rings_test return_to_base_test flocking_plus_test wander_loads dwell_loads rings_loads return_to_base_loads \
+         in_zone_loads flocking_plus_loads; do
   grep -q "$t .*Passed" <<<"$out" || { echo "$out"; echo "FAIL: $t did not pass"; exit 1; }
 done
-# A queue that uses all four, from a fresh folder holding only the built files.
+# A queue that uses them, from a fresh folder holding only the built files.
 mkdir -p "$work/shared-plugins" && cp "$work/example"/lib*.so "$work/shared-plugins/"
 (cd "$work" && "$salsa" run "$examples/queue.json" --plugin-dir "$work/shared-plugins" --out "$work/queue-out" -q --no-plots)
 grep -q "longest_in_zone" "$work/queue-out/wander-rings/outcome.csv" || { echo "FAIL: in_zone's column missing"; exit 1; }
 grep -q '"dwell_detect"' "$work/queue-out/wander-rings/config.json" && grep -q '"dwell": *2' "$work/queue-out/wander-rings/config.json" ||
   { cat "$work/queue-out/wander-rings/config.json"; echo "FAIL: config.json lacks dwell_detect's parameter"; exit 1; }
+grep -q "^id,group,status,since,energy_used_Wh,battery_left$" "$work/queue-out/return-home/fleet.csv" ||
+  { echo "FAIL: return-home has no fleet.csv"; exit 1; }
 echo "ok: the installed example plugins build, pass their tests and run a queue"
 
 # Every C++ block of the installed plugins.md is one of these example files, verbatim (its first line
