@@ -445,6 +445,7 @@ void write_queue_summary(const fs::path& out, const PluginHost* host) {
           if (g.is_object() && g.contains("behavior") && g["behavior"].is_object())
             row.behavior += (row.behavior.empty() ? "" : " / ") + (groups.size() > 1 ? cell_text(g.value("name", json())) + "=" : "") +
                             cell_text(g["behavior"].value("name", json()));
+        row.cells["behavior"] = row.behavior;
       }
       if (const auto outcome = read_text(folder / "outcome.csv")) {
         std::istringstream lines(*outcome);

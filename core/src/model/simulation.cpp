@@ -720,7 +720,7 @@ void Simulation::sense() {
   const TargetKind* kind = targets_.states.empty() ? nullptr : setup_.target_kind.get();
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
     seen_[i].clear();
-    if (drones_.status[i] != DroneStatus::flying) return;
+    if (drones_.status[i] != DroneStatus::flying) return void(drones_.hit_counts[i] = 0);  // a stopped drone sees nothing
     const Group& group = groups_[drones_.groups[i]];
     const DroneProperties& cfg = group.properties;
     const Vec2 p = drones_.positions[i];
