@@ -39,14 +39,16 @@ std::string header(std::string columns, const std::vector<std::string>& more) {
   return columns;
 }
 
-/// The fleet's values (fleet_values) as CSV fields: counts whole, energy in Wh to 4 decimals.
-void fleet_fields(CsvWriter& csv, const std::vector<double>& values) {
+/// The fleet's values (fleet_values) as text, for summary.csv and outcome.csv alike: counts whole,
+/// energy in Wh to 4 decimals. After alive and energy come, per group, found, alive and energy.
+std::vector<std::string> fleet_texts(const std::vector<double>& values) {
+  std::vector<std::string> out(values.size());
   for (std::size_t k = 0; k < values.size(); ++k) {
-    // Per group (after the first two): found, alive, energy; the first two: alive, energy.
     const bool energy = k < 2 ? k == 1 : (k - 2) % 3 == 2;
-    if (energy) csv.field(values[k], 4);
-    else csv.field(static_cast<std::uint64_t>(values[k]));
+    if (energy) append_number(out[k], values[k] == 0 ? 0.0 : values[k], 4);
+    else out[k] = std::to_string(static_cast<std::uint64_t>(values[k]));
   }
+  return out;
 }
 
 // summary.csv: one row per logged step, salsa's columns, the metrics', then the fleet's (TestSpec::fleet).
@@ -63,7 +65,8 @@ class SummaryObserver final : public Observer {
     else csv_.empty_field();
     csv_.field(row.collisions);
     metrics_.row(sim, csv_);
-    if (fleet_) fleet_fields(csv_, fleet_values(sim, per_group_));
+    if (fleet_)
+      for (const std::string& text : fleet_texts(fleet_values(sim, per_group_))) csv_.text(text);
     csv_.end_row();
   }
   void close() { csv_.close(); }
@@ -233,14 +236,8 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
       if (test.fleet()) {
         write_fleet(work / "fleet.csv", sim);
         const std::vector<std::string> columns = fleet_columns(test);
-        const std::vector<double> values = fleet_values(sim, test.groups.size() > 1);
-        for (std::size_t k = 0; k < columns.size(); ++k) {
-          const bool energy = k < 2 ? k == 1 : (k - 2) % 3 == 2;
-          std::string text;
-          if (energy) append_number(text, values[k], 4);
-          else text = std::to_string(static_cast<std::uint64_t>(values[k]));
-          finals.emplace_back(columns[k], text);
-        }
+        const std::vector<std::string> texts = fleet_texts(fleet_values(sim, test.groups.size() > 1));
+        for (std::size_t k = 0; k < columns.size(); ++k) finals.emplace_back(columns[k], texts[k]);
       }
       write_file(work / "outcome.csv", outcome_csv(sim, finals));
     } catch (const WriteError& e) {
