@@ -94,15 +94,15 @@ int cmd_describe(int argc, char** argv) {
   if (name == "drone") {  // not a plugin: the drone properties every test has (drone_schema)
     std::cout << "drone: the properties of a test's \"drone\" (or a group's; defaults: the \"small\" drone); timed changes\n"
                  "set them as drone.<property> (groups.<name>.drone.<property>). The battery and power model (Zeng, Xu &\n"
-                 "Zhang 2019) are off while battery_capacity is 0.\n\n";
+                 "Zhang 2019) are off while battery_capacity is 0; sensor noise is off while its five properties are 0.\n\n";
     Parameters parameters;
     for (const DroneProperty& p : drone_schema()) parameters.push_back(p.spec);
     table(parameters);
     std::cout << "\n  named configurations (\"drone\": \"NAME\", or {\"base\": \"NAME\", ...}):\n";
     for (const DroneConfig& c : builtin_drone_configs()) {
       std::cout << "  " << std::setw(8) << c.name;
-      for (const DroneProperty& p : drone_schema())  // the energy model's only where a configuration sets them
-        if (p.shapes_world || p.get(c) != p.spec.value) std::cout << " " << p.spec.name << "=" << Parameter::format(p.get(c));
+      for (const DroneProperty& p : drone_schema())  // the energy model's and noise only where a configuration sets them
+        if (p.section == DroneSection::body || p.get(c) != p.spec.value) std::cout << " " << p.spec.name << "=" << Parameter::format(p.get(c));
       std::cout << "\n";
     }
     return 0;

@@ -2,7 +2,7 @@
 // group in its colour with a legend naming both (one group keeps today's look); the group box chooses
 // whose controls, so group B's drone count changes B alone; a saved test keeps its groups; failure
 // rates and "fail a drone" are recorded changes, and the inspector says a drone's group, status and
-// energy; the energy properties sit in their own folded section with their units.
+// energy; the energy properties sit in their own folded section with their units, and so does sensor noise.
 #include "common.hpp"
 
 #include <QComboBox>
@@ -259,6 +259,29 @@ class GuiGroups : public QObject {
     QVERIFY(snap->selected && snap->selected->battery_left && *snap->selected->battery_left < 1);
     QVERIFY(snap->selected->energy_used > 0);
     QVERIFY(sandbox().inspector_text().startsWith("drone 0: flying\nenergy used "));
+  }
+
+  // Sensor noise is a section of its own, folded like the battery's: its five properties there and
+  // nowhere else; a change is recorded; a test with noise opens with the section shown.
+  void noise_properties_fold_away() {
+    QVERIFY(sandbox().open_test_spec(parse_test(one_group, "one", *host_)).empty());
+    ParamPanel* noise = sandbox().noise_panel();
+    QVERIFY(!noise->isVisibleTo(window_.get()));
+    for (const char* name : {"position_noise", "neighbour_noise", "obstacle_noise", "miss_probability", "false_detection_rate"}) {
+      QVERIFY2(noise->spin_box(name), name);
+      QVERIFY2(!sandbox().drone_panel()->spin_box(name) && !sandbox().battery_panel()->spin_box(name), name);
+    }
+    std::string noisy = one_group;  // a test with noise opens with the section shown
+    noisy.insert(noisy.find("\"drones\""), R"("drone": {"position_noise": 2}, )");
+    QVERIFY(sandbox().open_test_spec(parse_test(noisy, "noisy", *host_)).empty());
+    QVERIFY(noise->isVisibleTo(window_.get()));
+    QCOMPARE(noise->value("position_noise"), 2.0);
+    qobject_cast<QDoubleSpinBox*>(noise->spin_box("miss_probability"))->setValue(0.2);
+    settle();
+    QVERIFY(has_change(live_changes(), "drone.miss_probability", 0.2));
+    QCOMPARE(sandbox().engine().current_test()->groups[0].drone.miss_probability, 0.2);
+    QTest::mouseClick(sandbox().noise_toggle(), Qt::LeftButton);  // folds away again
+    QVERIFY(!noise->isVisibleTo(window_.get()));
   }
 };
 

@@ -237,10 +237,10 @@ QAbstractSpinBox* ParamPanel::spin_box(const std::string& name) const {
   return nullptr;
 }
 
-Parameters drone_schema(bool energy) {
+Parameters drone_schema(DroneSection section) {
   Parameters out;  // the core's declaration: the panel allows exactly what a test file allows
   for (const DroneProperty& p : salsa::drone_schema())
-    if (p.shapes_world != energy) out.push_back(p.spec);
+    if (p.section == section) out.push_back(p.spec);
   return out;
 }
 

@@ -60,9 +60,9 @@ class ParamPanel : public QWidget {
 /// passes over. ParamPanel's rows have this; call it for other inputs of a scrolled panel.
 void wheel_scrolls_unless_focused(QWidget* w);
 
-/// The drone properties as the panels edit them: the core's salsa::drone_schema() (the ranges a test
-/// file allows; check_drone still has the last word on the combination with dt). `energy`: the battery
-/// and power model's properties (those that do not shape the world); else the others.
-Parameters drone_schema(bool energy);
+/// The drone properties of one section (the body, the battery and power model, sensor noise) as the
+/// panels edit them: the core's salsa::drone_schema() (the ranges a test file allows; check_drone still
+/// has the last word on the combination with dt).
+Parameters drone_schema(DroneSection section);
 
 }  // namespace salsa::gui

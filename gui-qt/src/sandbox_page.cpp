@@ -231,7 +231,7 @@ void SandboxPage::build_controls() {
   drone_row->addWidget(save_config);
   live_form->addLayout(drone_row);
   drone_panel_ = new ParamPanel;
-  drone_panel_->set_schema(drone_schema(false));
+  drone_panel_->set_schema(drone_schema(DroneSection::body));
   live_form->addWidget(drone_panel_);
   // The energy model's nine properties make a long panel: folded away until a battery is wanted.
   battery_toggle_ = new QToolButton;
@@ -246,12 +246,28 @@ void SandboxPage::build_controls() {
   live_form->addWidget(battery_toggle_);
   battery_panel_ = new ParamPanel;
   battery_panel_->setObjectName("battery_panel");
-  battery_panel_->set_schema(drone_schema(true));
+  battery_panel_->set_schema(drone_schema(DroneSection::energy));
   // 0 means "off" for these two: say so rather than show "0.0 Wh".
   qobject_cast<QDoubleSpinBox*>(battery_panel_->spin_box("battery_capacity"))->setSpecialValueText("none");
   qobject_cast<QDoubleSpinBox*>(battery_panel_->spin_box("charge_power"))->setSpecialValueText("no charging");
   battery_panel_->hide();
   live_form->addWidget(battery_panel_);
+  // Sensor noise, off (all 0) by default: folded away likewise.
+  noise_toggle_ = new QToolButton;
+  noise_toggle_->setObjectName("noise_toggle");
+  noise_toggle_->setText("Sensor noise");
+  noise_toggle_->setToolButtonStyle(Qt::ToolButtonTextBesideIcon);
+  noise_toggle_->setArrowType(Qt::RightArrow);
+  noise_toggle_->setCheckable(true);
+  noise_toggle_->setAutoRaise(true);
+  noise_toggle_->setToolTip("noise on the drone's own position, its neighbours and obstacle rays; missed targets and false "
+                            "detections (all 0: perfect sensors)");
+  live_form->addWidget(noise_toggle_);
+  noise_panel_ = new ParamPanel;
+  noise_panel_->setObjectName("noise_panel");
+  noise_panel_->set_schema(drone_schema(DroneSection::noise));
+  noise_panel_->hide();
+  live_form->addWidget(noise_panel_);
   auto* fine = new QLabel("Sliders: click one, then the arrow keys move it one fine step; ranges over decades are logarithmic.");
   fine->setWordWrap(true);
   fine->setStyleSheet("color: palette(mid)");
@@ -367,13 +383,17 @@ void SandboxPage::build_controls() {
   connect(behavior_panel_, &ParamPanel::changed, this, [this](const std::string& name, double v) {
     if (!updating_) live_change(group_key("behavior.params." + name), v);
   });
-  for (ParamPanel* drone : {drone_panel_, battery_panel_})
+  for (ParamPanel* drone : drone_panels())
     connect(drone, &ParamPanel::changed, this, [this](const std::string& name, double v) {
       if (!updating_) live_change(group_key("drone." + name), v);
     });
   connect(battery_toggle_, &QToolButton::toggled, this, [this](bool open) {
     battery_panel_->setVisible(open);
     battery_toggle_->setArrowType(open ? Qt::DownArrow : Qt::RightArrow);
+  });
+  connect(noise_toggle_, &QToolButton::toggled, this, [this](bool open) {
+    noise_panel_->setVisible(open);
+    noise_toggle_->setArrowType(open ? Qt::DownArrow : Qt::RightArrow);
   });
   connect(drone_mtbf_, &QDoubleSpinBox::valueChanged, this, [this](double v) {
     if (!updating_) live_change("failures.drone_mtbf", v);
@@ -420,7 +440,7 @@ std::optional<TestSpec> SandboxPage::spec_from_controls(std::string* why) {
   group["behavior"] = {{"name", behavior_->currentText().toStdString()}, {"params", params_json(behavior_panel_)}};
   DroneConfig d = groups_from.groups[gi].drone;
   d.name = drone_config_->currentText().toStdString();
-  for (ParamPanel* panel : {drone_panel_, battery_panel_})
+  for (ParamPanel* panel : drone_panels())
     for (const Parameter& p : panel->schema()) find_drone_property(p.name)->set(d, panel->value(p.name));
   group["drone"] = drone_json(d);
   group["drones"] = drones_->value();
@@ -544,9 +564,10 @@ void SandboxPage::show_test(const TestSpec& t) {
   for (const DroneConfig& c : drone_configs()) drone_config_->addItem(q(c.name));
   if (drone_config_->findText(q(group.drone.name)) < 0) drone_config_->addItem(q(group.drone.name));
   drone_config_->setCurrentText(q(group.drone.name));
-  for (ParamPanel* panel : {drone_panel_, battery_panel_})
+  for (ParamPanel* panel : drone_panels())
     for (const Parameter& p : panel->schema()) panel->set_value(p.name, drone_value(group.drone, p.name));
   if (group.drone.battery_capacity > 0) battery_toggle_->setChecked(true);  // a battery in use is shown
+  if (section_in_use(group.drone, DroneSection::noise)) noise_toggle_->setChecked(true);  // so is noise
   drone_mtbf_->setValue(t.failures.drone_mtbf);
   camera_mtbf_->setValue(t.failures.camera_mtbf);
   updating_ = was;
@@ -688,16 +709,17 @@ void SandboxPage::apply_drone_config(const QString& name) {
   for (const DroneConfig& c : drone_configs()) {
     if (q(c.name) != name) continue;
     // Each property a recorded change, as if set by hand (speed last: a larger radius may allow it),
-    // then the energy model's.
+    // then the energy model's and the noise's.
     std::vector<std::string> fields = {"radius", "camera_range", "obstacle_range", "detection_range", "max_force", "mass", "max_speed"};
-    for (const Parameter& p : battery_panel_->schema()) fields.push_back(p.name);
+    for (ParamPanel* section : {battery_panel_, noise_panel_})
+      for (const Parameter& p : section->schema()) fields.push_back(p.name);
     for (const std::string& field : fields) {
-      ParamPanel* panel = battery_panel_->slider(field) ? battery_panel_ : drone_panel_;
+      ParamPanel* panel = battery_panel_->slider(field) ? battery_panel_ : noise_panel_->slider(field) ? noise_panel_ : drone_panel_;
       if (panel->value(field) != drone_value(c, field)) live_change(group_key("drone." + field), drone_value(c, field));
     }
     const bool was = updating_;
     updating_ = true;
-    for (ParamPanel* panel : {drone_panel_, battery_panel_})
+    for (ParamPanel* panel : drone_panels())
       for (const Parameter& p : panel->schema()) panel->set_value(p.name, drone_value(c, p.name));
     updating_ = was;
     return;
@@ -721,6 +743,7 @@ void SandboxPage::save_drone_config() {
   }
   json fields = params_json(drone_panel_);
   fields.update(params_json(battery_panel_));
+  fields.update(params_json(noise_panel_));
   saved[name.toStdString()] = fields;
   settings.setValue("drone_configs", q(saved.dump()));
   const bool was = updating_;

@@ -8,6 +8,7 @@
 // shows its snapshots.
 #include <QTimer>
 #include <QWidget>
+#include <array>
 #include <chrono>
 #include <filesystem>
 #include <functional>
@@ -84,6 +85,8 @@ class SandboxPage : public QWidget {
   ParamPanel* drone_panel() const { return drone_panel_; }
   ParamPanel* battery_panel() const { return battery_panel_; }   ///< the energy model's drone properties
   QToolButton* battery_toggle() const { return battery_toggle_; }  ///< shows or hides the battery panel
+  ParamPanel* noise_panel() const { return noise_panel_; }       ///< the sensor noise drone properties
+  QToolButton* noise_toggle() const { return noise_toggle_; }    ///< shows or hides the noise panel
   QComboBox* group_box() const { return group_; }                ///< whose controls (shown with 2+ groups)
   QDoubleSpinBox* drone_mtbf_box() const { return drone_mtbf_; }
   QDoubleSpinBox* camera_mtbf_box() const { return camera_mtbf_; }
@@ -156,6 +159,10 @@ class SandboxPage : public QWidget {
   ParamPanel* drone_panel_ = nullptr;
   QToolButton* battery_toggle_ = nullptr;
   ParamPanel* battery_panel_ = nullptr;
+  QToolButton* noise_toggle_ = nullptr;
+  ParamPanel* noise_panel_ = nullptr;
+  /// The panels of the drone properties, one per section of drone_schema().
+  std::array<ParamPanel*, 3> drone_panels() const { return {drone_panel_, battery_panel_, noise_panel_}; }
   QDoubleSpinBox* drone_mtbf_ = nullptr;
   QDoubleSpinBox* camera_mtbf_ = nullptr;
   QPushButton* fail_ = nullptr;

@@ -363,9 +363,10 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   auto group_json = [](const GroupSpec& g, json& out) {
     out["behavior"] = {{"name", g.behavior.name}, {"params", params_json(g.behavior.params)}};
     out["drone"] = {{"name", g.drone.name}};
-    // The energy model's properties matter only with a battery: written then (config.json stays as it was without).
+    // The energy model's properties matter only with a battery, sensor noise's only when some is not 0:
+    // written then (config.json stays as it was without).
     for (const DroneProperty& p : drone_schema())
-      if (p.shapes_world || g.drone.battery_capacity > 0)
+      if (section_in_use(g.drone, p.section))
         out["drone"][p.spec.name] = p.spec.is_integer() ? json(static_cast<std::int64_t>(p.get(g.drone))) : json(p.get(g.drone));
     out["drones"] = g.drones;
   };

@@ -16,16 +16,33 @@ const std::vector<DroneProperty>& drone_schema() {
       {{"radius", 1, 1e-2, 100, "m", "the drone's body, a circle", 0.01}, &DroneConfig::radius},
       {{"mass", 1.5, 1e-3, 1e6, "kg", "mass of the body (collisions)", 1e-3}, &DroneConfig::mass},
       {{"obstacle_rays", 8, 0, 64, "", "obstacle rays, evenly spread over 360°", 1}, nullptr, &DroneConfig::obstacle_rays},
-      {{"battery_capacity", 0, 0, 1e6, "Wh", "battery energy; 0: no battery model (never runs flat)", 0.1}, &DroneConfig::battery_capacity, nullptr, false},
-      {{"blade_power", 79.86, 0, 1e6, "W", "P0: blade profile power in hover (Zeng et al. 2019)", 0.01}, &DroneConfig::blade_power, nullptr, false},
-      {{"induced_power", 88.63, 0, 1e6, "W", "Pi: induced power in hover", 0.01}, &DroneConfig::induced_power, nullptr, false},
-      {{"tip_speed", 120, 1, 1e3, "m/s", "U: rotor blade tip speed", 0.1}, &DroneConfig::tip_speed, nullptr, false},
-      {{"induced_velocity", 4.03, 0.01, 100, "m/s", "v0: mean rotor induced velocity in hover", 0.01}, &DroneConfig::induced_velocity, nullptr, false},
-      {{"parasite_drag", 0.0092, 0, 100, "kg/m", "k = d0 rho s A / 2: fuselage drag term, k V^3 W", 1e-4}, &DroneConfig::parasite_drag, nullptr, false},
-      {{"charge_power", 0, 0, 1e6, "W", "charging power at the group's base; 0: bases do not recharge", 0.1}, &DroneConfig::charge_power, nullptr, false},
-      {{"charge_radius", 5, 0, 1e4, "m", "a drone slower than 1 m/s this close to its base charges", 0.1}, &DroneConfig::charge_radius, nullptr, false},
+      {{"battery_capacity", 0, 0, 1e6, "Wh", "battery energy; 0: no battery model (never runs flat)", 0.1}, &DroneConfig::battery_capacity, nullptr, false, DroneSection::energy},
+      {{"blade_power", 79.86, 0, 1e6, "W", "P0: blade profile power in hover (Zeng et al. 2019)", 0.01}, &DroneConfig::blade_power, nullptr, false, DroneSection::energy},
+      {{"induced_power", 88.63, 0, 1e6, "W", "Pi: induced power in hover", 0.01}, &DroneConfig::induced_power, nullptr, false, DroneSection::energy},
+      {{"tip_speed", 120, 1, 1e3, "m/s", "U: rotor blade tip speed", 0.1}, &DroneConfig::tip_speed, nullptr, false, DroneSection::energy},
+      {{"induced_velocity", 4.03, 0.01, 100, "m/s", "v0: mean rotor induced velocity in hover", 0.01}, &DroneConfig::induced_velocity, nullptr, false, DroneSection::energy},
+      {{"parasite_drag", 0.0092, 0, 100, "kg/m", "k = d0 rho s A / 2: fuselage drag term, k V^3 W", 1e-4}, &DroneConfig::parasite_drag, nullptr, false, DroneSection::energy},
+      {{"charge_power", 0, 0, 1e6, "W", "charging power at the group's base; 0: bases do not recharge", 0.1}, &DroneConfig::charge_power, nullptr, false, DroneSection::energy},
+      {{"charge_radius", 5, 0, 1e4, "m", "a drone slower than 1 m/s this close to its base charges", 0.1}, &DroneConfig::charge_radius, nullptr, false, DroneSection::energy},
+      // Sensor noise: not part of the world key, so tests that differ only in noise fly in the same world.
+      {{"position_noise", 0, 0, 1e3, "m", "sd of the noise on each axis of the drone's own perceived position", 0.01}, &DroneConfig::position_noise, nullptr, false, DroneSection::noise},
+      {{"neighbour_noise", 0, 0, 1e3, "m", "sd of the noise on each axis of a neighbour's perceived offset", 0.01}, &DroneConfig::neighbour_noise, nullptr, false, DroneSection::noise},
+      {{"obstacle_noise", 0, 0, 1e3, "m", "sd of the noise on each obstacle ray's hit distance", 0.01}, &DroneConfig::obstacle_noise, nullptr, false, DroneSection::noise},
+      {{"miss_probability", 0, 0, 1, "", "chance that a target in view goes undetected in a step", 0.001}, &DroneConfig::miss_probability, nullptr, false, DroneSection::noise},
+      {{"false_detection_rate", 0, 0, 100, "1/s", "false detections (phantom targets) per drone and second", 0.01}, &DroneConfig::false_detection_rate, nullptr, false, DroneSection::noise},
   };
   return schema;
+}
+
+bool section_in_use(const DroneConfig& d, DroneSection section) {
+  switch (section) {
+    case DroneSection::body: return true;
+    case DroneSection::energy: return d.battery_capacity > 0;
+    case DroneSection::noise:
+      return d.position_noise > 0 || d.neighbour_noise > 0 || d.obstacle_noise > 0 || d.miss_probability > 0 ||
+             d.false_detection_rate > 0;
+  }
+  return true;
 }
 
 double flight_power(const DroneConfig& d, double v) {

@@ -249,6 +249,7 @@ struct Simulation::Scratch {
   std::vector<PointGrid::Hit> hits;
   std::vector<Neighbour> neighbours;
   std::vector<TargetSeen> targets;
+  std::vector<ObstacleHit> obstacles;  ///< the noisy copy of a drone's hits (obstacle or position noise)
   std::vector<std::uint32_t> segment_ids;
 };
 
@@ -384,6 +385,35 @@ std::vector<Vec2> ray_directions(int rays) {
 
 /// A drone's failure draws: Exp(1) for the whole drone, then for its camera, from its own stream.
 constexpr std::uint64_t first_failure_stream = std::uint64_t{1} << 40;
+
+/// Sensor noise draws from counter-based streams, one per (purpose, step, drone), never the behavior's:
+/// any thread count, any order of the drones and every behavior of a repeat draw the same noise, and
+/// one purpose's draws never shift another's. Bit 63 sets the family apart from the streams above;
+/// bits 61-62 hold the purpose, 32-60 the step (the same draws come back after 2^29 steps, 103 days of
+/// simulated time at 60 steps a second), 0-31 the drone id.
+enum class NoiseStream : std::uint64_t { position_and_rays = 0, neighbours = 1, misses = 2, phantoms = 3 };
+Rng noise_rng(std::uint64_t seed, NoiseStream purpose, std::uint64_t step, std::uint32_t id) {
+  constexpr std::uint64_t first_noise_stream = std::uint64_t{1} << 63, step_mask = (std::uint64_t{1} << 29) - 1;
+  return Rng(seed, first_noise_stream | static_cast<std::uint64_t>(purpose) << 61 | (step & step_mask) << 32 | id);
+}
+/// Two independent N(0, sd²) draws: both halves of one Box–Muller pair.
+Vec2 gaussian(Rng& rng, double sd) {
+  const double u1 = 1.0 - rng.uniform();  // (0, 1]: the log is finite
+  const double u2 = rng.uniform();
+  const double r = sd * std::sqrt(-2.0 * std::log(u1)), a = 2 * pi * u2;
+  return {r * std::cos(a), r * std::sin(a)};
+}
+/// A Poisson(mean) count: Knuth's product of uniforms, in parts of mean ≤ 8 so that exp(−part) stays
+/// far from underflow (a sum of Poisson counts is Poisson).
+std::size_t poisson(Rng& rng, double mean) {
+  std::size_t count = 0;
+  while (mean > 0) {
+    const double part = std::min(mean, 8.0), limit = std::exp(-part);
+    mean -= part;
+    for (double product = rng.uniform(); product >= limit; product *= rng.uniform()) ++count;
+  }
+  return count;
+}
 std::pair<double, double> failure_draws(std::uint64_t seed, std::uint32_t id) {
   Rng rng(seed, first_failure_stream + id);
   const double drone = -std::log1p(-rng.uniform());
@@ -397,6 +427,8 @@ Simulation::Group Simulation::make_group(const GroupSetup& g, Vec2 base, const T
   out.properties = drone_properties(g.drone);
   out.base = base;
   out.rays = ray_directions(g.drone.obstacle_rays);
+  out.noise = {g.drone.position_noise, g.drone.neighbour_noise, g.drone.obstacle_noise, g.drone.miss_probability,
+               g.drone.false_detection_rate};
   if (kind && with_targets) {
     if (auto p = check_view_range(*kind, g.drone)) throw std::invalid_argument(p.text());
     out.reach = plugin_call(target_kind, 0, [&] { return kind->view_range(g.drone.camera_range); });
@@ -713,13 +745,19 @@ void Simulation::step() {
 
 // Sense: index the drones for neighbour queries, cast each flying drone's obstacle rays against static
 // geometry and find the targets in its camera view. Neighbours are gathered per drone in `decide`,
-// where they stay in cache.
+// where they stay in cache. With detection noise a target in view may be missed (then neither the
+// behavior nor the contact handlers hear of it this step) and false detections appear (the behavior
+// alone sees them); the other noise is added where the perception is built (add_noise).
 void Simulation::sense() {
   drone_grid_.build(drones_.positions, grid_range_ / 2);  // 5×5 cells of R/2 cover less than 3×3 of R
   seen_.resize(drones_.positions.size());
   const TargetKind* kind = targets_.states.empty() ? nullptr : setup_.target_kind.get();
+  bool false_detections = false;
+  for (const Group& g : groups_) false_detections = false_detections || g.noise.false_rate > 0;
+  if (false_detections) phantoms_.resize(drones_.positions.size());
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
     seen_[i].clear();
+    if (false_detections) phantoms_[i].clear();
     if (drones_.status[i] != DroneStatus::flying) return void(drones_.hit_counts[i] = 0);  // a stopped drone sees nothing
     const Group& group = groups_[drones_.groups[i]];
     const DroneProperties& cfg = group.properties;
@@ -731,12 +769,79 @@ void Simulation::sense() {
         if (auto hit = geometry_.ray_cast(p, direction, cfg.obstacle_range, s.segment_ids))
           drones_.hits[i * ray_slots_ + count++] = *hit;
     drones_.hit_counts[i] = count;
-    if (kind && drones_.camera[i])
+    const Group::Noise& noise = group.noise;
+    if (kind && drones_.camera[i] && noise.miss > 0) {
+      Rng rng = noise_rng(setup_.seed, NoiseStream::misses, steps_, i);  // one draw per target in view, in grid order
+      targets_.grid.query(p, group.reach, [&](std::uint32_t t, Vec2, double d2) {
+        const double d = std::sqrt(d2);
+        if (plugin_call(target_kind, 0, [&] { return kind->in_view(d, cfg.camera_range); }) && !rng.chance(noise.miss))
+          seen_[i].emplace_back(t, d);
+      });
+    } else if (kind && drones_.camera[i])
       targets_.grid.query(p, group.reach, [&](std::uint32_t t, Vec2, double d2) {
         const double d = std::sqrt(d2);
         if (plugin_call(target_kind, 0, [&] { return kind->in_view(d, cfg.camera_range); })) seen_[i].emplace_back(t, d);
       });
+    if (noise.false_rate > 0 && drones_.camera[i]) {  // anywhere in the camera's disc, with or without targets
+      Rng rng = noise_rng(setup_.seed, NoiseStream::phantoms, steps_, i);
+      for (std::size_t k = poisson(rng, noise.false_rate * setup_.dt); k > 0; --k) {
+        const double angle = rng.angle();  // drawn first, in its own statement: the order is not the compiler's
+        phantoms_[i].push_back(Vec2::polar(cfg.camera_range * std::sqrt(rng.uniform()), angle));
+      }
+    }
   });
+  if (false_detections)
+    for (const auto& phantoms : phantoms_) false_detections_ += phantoms.size();
+}
+
+Vec2 Simulation::perceived_position(std::uint32_t id) const {
+  const Vec2 p = drones_.positions[id];
+  const double sd = groups_[drones_.groups[id]].noise.position;
+  if (!(sd > 0)) return p;
+  Rng rng = noise_rng(setup_.seed, NoiseStream::position_and_rays, steps_, id);
+  return p + gaussian(rng, sd);
+}
+
+// What noisy sensors make of the truth. Everything is measured from where the drone is and placed
+// around where it believes it is: its own position error moves the whole picture (neighbours, hits,
+// targets) with it, so every distance stays |point − position| as without noise, and neighbour and
+// ray noise are the errors of those relative measurements.
+void Simulation::add_noise(Perception& me, Senses senses, Scratch& s) const {
+  const Group::Noise& noise = groups_[me.group].noise;
+  const Vec2 p = me.position;
+  // The position error first (drawn whatever its sd), then one draw per ray hit, in ray order.
+  Rng rng = noise_rng(setup_.seed, NoiseStream::position_and_rays, steps_, me.id);
+  const Vec2 error = gaussian(rng, noise.position);
+  me.position = p + error;
+  if (noise.position > 0 || noise.obstacles > 0) {
+    s.obstacles.assign(me.obstacles.begin(), me.obstacles.end());
+    for (ObstacleHit& h : s.obstacles) {
+      Vec2 offset = h.point - p;
+      double d = h.distance;
+      if (noise.obstacles > 0) {  // along the ray, within what a ray can report
+        d = std::clamp(d + rng.normal(0, noise.obstacles), 0.0, me.obstacle_range);
+        if (h.distance > 0) offset = offset * (d / h.distance);
+      }
+      h = {me.position + offset, d};
+    }
+    me.obstacles = s.obstacles;
+  }
+  if (noise.neighbours > 0) {
+    Rng neighbours = noise_rng(setup_.seed, NoiseStream::neighbours, steps_, me.id);  // in neighbour order
+    for (Neighbour& n : s.neighbours) {
+      const Vec2 offset = n.position - p + gaussian(neighbours, noise.neighbours);
+      n.position = me.position + offset;
+      n.distance = offset.length();
+    }
+  } else if (noise.position > 0)
+    for (Neighbour& n : s.neighbours) n.position += error;
+  if (senses.targets) {
+    if (noise.position > 0)
+      for (TargetSeen& t : s.targets) t.position += error;
+    if (noise.false_rate > 0)
+      for (Vec2 offset : phantoms_[me.id]) s.targets.push_back({me.position + offset, offset.length(), TargetSeen::phantom, false});
+    me.targets = s.targets;
+  }
 }
 
 Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) const {
@@ -782,6 +887,7 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   me.obstacles = {drones_.hits.data() + id * ray_slots_, drones_.hit_counts[id]};
   me.targets = s.targets;
   me.world = this;
+  if (const Group::Noise& noise = groups_[g].noise; noise.perceived() || noise.false_rate > 0) add_noise(me, senses, s);
   return me;
 }
 

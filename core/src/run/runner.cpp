@@ -51,12 +51,21 @@ std::vector<std::string> fleet_texts(const std::vector<double>& values) {
   return out;
 }
 
-// summary.csv: one row per logged step, salsa's columns, the metrics', then the fleet's (TestSpec::fleet).
+/// The columns after the metrics': the fleet's (TestSpec::fleet), then false_detections
+/// (counts_false_detections).
+std::vector<std::string> last_columns(const TestSpec& test) {
+  std::vector<std::string> out = test.fleet() ? fleet_columns(test) : std::vector<std::string>{};
+  if (counts_false_detections(test)) out.emplace_back("false_detections");
+  return out;
+}
+
+// summary.csv: one row per logged step, salsa's columns, the metrics', then the fleet's (TestSpec::fleet)
+// and the false detections.
 class SummaryObserver final : public Observer {
  public:
   SummaryObserver(const fs::path& file, MetricSet& metrics, const TestSpec& test)
-      : csv_(file, header(header(summary_columns, metrics.step_columns()), test.fleet() ? fleet_columns(test) : std::vector<std::string>{})),
-        metrics_(metrics), fleet_(test.fleet()), per_group_(test.groups.size() > 1) {}
+      : csv_(file, header(header(summary_columns, metrics.step_columns()), last_columns(test))),
+        metrics_(metrics), fleet_(test.fleet()), per_group_(test.groups.size() > 1), false_detections_(counts_false_detections(test)) {}
   void observe(const Simulation& sim) override {
     const SummaryRow row = summary_row(sim);
     csv_.field(row.time, 4).field(static_cast<std::uint64_t>(row.targets_found)).field(row.fraction_found, 6);
@@ -67,6 +76,7 @@ class SummaryObserver final : public Observer {
     metrics_.row(sim, csv_);
     if (fleet_)
       for (const std::string& text : fleet_texts(fleet_values(sim, per_group_))) csv_.text(text);
+    if (false_detections_) csv_.field(sim.false_detections());
     csv_.end_row();
   }
   void close() { csv_.close(); }
@@ -74,7 +84,7 @@ class SummaryObserver final : public Observer {
  private:
   CsvWriter csv_;
   MetricSet& metrics_;
-  bool fleet_, per_group_;
+  bool fleet_, per_group_, false_detections_;
 };
 
 // drones.csv: one row per logged step and drone not removed; with the fleet, its group, status and
@@ -239,6 +249,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
         const std::vector<std::string> texts = fleet_texts(fleet_values(sim, test.groups.size() > 1));
         for (std::size_t k = 0; k < columns.size(); ++k) finals.emplace_back(columns[k], texts[k]);
       }
+      if (counts_false_detections(test)) finals.emplace_back("false_detections", std::to_string(sim.false_detections()));
       write_file(work / "outcome.csv", outcome_csv(sim, finals));
     } catch (const WriteError& e) {
       throw write_failed(e);

@@ -90,6 +90,14 @@ std::vector<double> fleet_values(const Simulation& sim, bool per_group) {
   return out;
 }
 
+bool counts_false_detections(const TestSpec& test) {
+  for (const GroupSpec& g : test.groups)
+    if (g.drone.false_detection_rate > 0) return true;
+  for (const Change& c : test.changes)
+    if (c.key.ends_with("drone.false_detection_rate") && c.value > 0) return true;
+  return false;
+}
+
 const char* status_name(const Simulation& sim, std::uint32_t id) {
   switch (sim.drone_status()[id]) {
     case DroneStatus::flying: return sim.camera_works(id) ? "flying" : "camera_failed";

@@ -34,12 +34,15 @@ struct ObstacleHit {
   double distance;   ///< m from the drone's centre
 };
 
-/// A target within camera range (as the target kind defines "in view").
+/// A target within camera range (as the target kind defines "in view"), or a false detection.
 struct TargetSeen {
+  /// The id of a false detection (the drone configuration's false_detection_rate): a target that is not
+  /// there, never found and never handed to a contact handler. Check for it before indexing by id.
+  static constexpr std::uint32_t phantom = 0xFFFFFFFF;
   Vec2 position;     ///< m
   double distance;   ///< m, centre to centre
-  std::uint32_t id;
-  bool found;        ///< already found by any drone
+  std::uint32_t id;  ///< the target's id, or `phantom`
+  bool found;        ///< already found by any drone (false for a phantom)
 };
 
 /// The properties every drone of a group shares (its drone configuration).

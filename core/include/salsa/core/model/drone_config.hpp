@@ -32,8 +32,21 @@ struct DroneConfig {
   double parasite_drag = 0.0092;  ///< kg/m: k = ½ d0 ρ s A (fuselage drag ratio, air density, rotor solidity, disc area)
   double charge_power = 0;        ///< W a drone charges with at its base; 0: bases do not recharge
   double charge_radius = 5;       ///< m from the base within which a drone slower than 1 m/s charges
+  // Sensor noise (off while all are 0; simulation.cpp, sense and perceive): what a drone perceives
+  // departs from the truth; the world, the contact handlers and the outputs keep the truth.
+  double position_noise = 0;      ///< m: sd of Gaussian noise on each axis of the drone's own perceived position
+  double neighbour_noise = 0;     ///< m: sd of Gaussian noise on each axis of a neighbour's offset from the drone
+  double obstacle_noise = 0;      ///< m: sd of Gaussian noise on each obstacle ray's hit distance
+  double miss_probability = 0;    ///< chance that a target in view goes undetected in a step
+  double false_detection_rate = 0;  ///< 1/s: false detections (phantom targets) per drone, a Poisson process
   bool operator==(const DroneConfig&) const = default;
 };
+
+/// Where a property belongs: the body and sensors every drone has, the energy model (in use while
+/// battery_capacity > 0) or sensor noise (in use while any of its properties is not 0). A section not in
+/// use is left out of config.json, so a test without it is written as before it existed; the desktop
+/// folds each optional section away.
+enum class DroneSection { body, energy, noise };
 
 /// One property of DroneConfig: its declaration (name, default = the "small" drone, range, unit,
 /// meaning; step 1 for a whole number) and where it lives.
@@ -44,12 +57,16 @@ struct DroneProperty {
   /// Part of the world key that pairs seeds (queue.hpp): the properties that shape the world a test
   /// starts in. The energy model's are not, so tests that differ only in batteries share their worlds.
   bool shapes_world = true;
+  DroneSection section = DroneSection::body;
   double get(const DroneConfig& d) const { return real ? d.*real : static_cast<double>(d.*whole); }
   void set(DroneConfig& d, double v) const {
     if (real) d.*real = v;
     else d.*whole = static_cast<int>(v);
   }
 };
+
+/// Whether `section` is in use for `d` (always, for the body).
+bool section_in_use(const DroneConfig& d, DroneSection section);
 
 /// Power drawn in flight at speed `v` (m/s), W: the model above.
 double flight_power(const DroneConfig& d, double v);

@@ -183,6 +183,13 @@ class Simulation final : public WorldView {
   const std::vector<TargetState>& targets() const { return targets_.states; }
   std::size_t targets_found() const { return targets_.found; }
   std::uint64_t collisions() const { return collisions_; }  ///< contacts begun, drone–drone and drone–obstacle
+  /// False detections so far (the drone configuration's false_detection_rate): phantom targets the
+  /// drones perceived, never found and never seen by a contact handler.
+  std::uint64_t false_detections() const { return false_detections_; }
+  /// Where drone `id` will perceive itself at the next step's decision: its position plus its
+  /// position_noise draw for that step (the position itself without noise). For the desktop's
+  /// inspector: true against perceived.
+  Vec2 perceived_position(std::uint32_t id) const;
   const StaticGeometry& geometry() const { return geometry_; }
   /// Nearest other drone's distance for each drone (m); +inf when alone. About O(N) through a grid sized
   /// to the drones' spread, whatever the detection range.
@@ -245,6 +252,12 @@ class Simulation final : public WorldView {
     Vec2 base;                   ///< spawn point
     std::vector<Vec2> rays;      ///< unit vectors of its obstacle rays
     double reach = 0;            ///< m: the target kind's view_range for its camera
+    /// Its drone configuration's sensor noise (all 0: off, and the perception is built as without it).
+    struct Noise {
+      double position = 0, neighbours = 0, obstacles = 0, miss = 0, false_rate = 0;
+      bool perceived() const { return position > 0 || neighbours > 0 || obstacles > 0; }  ///< perceive changes
+      bool detection() const { return miss > 0 || false_rate > 0; }                       ///< sense changes
+    } noise;
   };
   struct Targets {
     std::vector<TargetState> states;
@@ -267,6 +280,8 @@ class Simulation final : public WorldView {
   void add_bodies();                 ///< every drone's body, in id order; disabled unless flying
   void ground(std::uint32_t id, DroneStatus status);  ///< stops a flying drone for good
   Perception perceive(std::uint32_t id, Senses senses, Scratch& scratch) const;
+  /// `me` (built from the truth) as the drone's noisy sensors perceive it (Group::Noise).
+  void add_noise(Perception& me, Senses senses, Scratch& scratch) const;
   void read_back();
   void timed(Phase phase, const auto& fn);
   /// The time after `steps` steps: steps × dt, counted from the last set_dt.
@@ -285,6 +300,9 @@ class Simulation final : public WorldView {
   PointGrid drone_grid_;
   Targets targets_;
   std::vector<std::vector<std::pair<std::uint32_t, double>>> seen_;  ///< per drone: (target, distance) in view
+  /// Per drone: its false detections of this step, as offsets from its true position (sized only once a
+  /// group has a false detection rate).
+  std::vector<std::vector<Vec2>> phantoms_;
 
   std::vector<Observer*> observers_;
   Rng spawn_rng_;
@@ -293,6 +311,7 @@ class Simulation final : public WorldView {
   std::uint64_t dt_base_steps_ = 0;  ///< step count and time at the last set_dt (0 and 0 without one)
   double dt_base_time_ = 0;
   std::uint64_t collisions_ = 0;
+  std::uint64_t false_detections_ = 0;
   std::array<double, 7> profile_{};
 };
 

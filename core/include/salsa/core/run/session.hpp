@@ -45,6 +45,9 @@ SummaryRow summary_row(const Simulation& sim);
 /// group in order. fleet_values gives their values now, in that order; counts are whole numbers.
 std::vector<std::string> fleet_columns(const TestSpec& test);
 std::vector<double> fleet_values(const Simulation& sim, bool per_group);
+/// Whether summary.csv and outcome.csv carry the false_detections column: some group has a false
+/// detection rate, from the start or by a timed change.
+bool counts_false_detections(const TestSpec& test);
 /// A drone's status as the outputs write it: flying, camera_failed, landed, failed or removed.
 const char* status_name(const Simulation& sim, std::uint32_t id);
 
