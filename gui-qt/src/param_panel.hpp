@@ -7,6 +7,7 @@
 #include <QWidget>
 #include <vector>
 
+#include "salsa/core/model/drone_config.hpp"
 #include "salsa/parameters.hpp"
 
 class QSlider;

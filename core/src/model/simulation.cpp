@@ -808,6 +808,7 @@ Vec2 Simulation::perceived_position(std::uint32_t id) const {
 // ray noise are the errors of those relative measurements.
 void Simulation::add_noise(Perception& me, Senses senses, Scratch& s) const {
   const Group::Noise& noise = groups_[me.group].noise;
+  if (!noise.perceived() && !(noise.false_rate > 0)) return;  // another group's noise
   const Vec2 p = me.position;
   // The position error first (drawn whatever its sd), then one draw per ray hit, in ray order.
   Rng rng = noise_rng(setup_.seed, NoiseStream::position_and_rays, steps_, me.id);
@@ -887,7 +888,6 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   me.obstacles = {drones_.hits.data() + id * ray_slots_, drones_.hit_counts[id]};
   me.targets = s.targets;
   me.world = this;
-  if (const Group::Noise& noise = groups_[g].noise; noise.perceived() || noise.false_rate > 0) add_noise(me, senses, s);
   return me;
 }
 
@@ -904,11 +904,15 @@ void Simulation::decide() {
     plugin_call(behavior_kind, g, [&] { behavior.prepare(*this); });
     senses[g] = plugin_call(behavior_kind, g, [&] { return behavior.senses(); });
   }
+  // Asked once per step, so that without noise a drone's perception costs one test of a local more.
+  bool noise = false;
+  for (const Group& g : groups_) noise = noise || g.noise.perceived() || g.noise.false_rate > 0;
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
     if (drones_.status[i] != DroneStatus::flying) return;
     const std::uint32_t g = drones_.groups[i];
     Behavior& behavior = *setup_.groups[g].behavior;
-    const Perception me = perceive(i, senses[g], s);
+    Perception me = perceive(i, senses[g], s);
+    if (noise) add_noise(me, senses[g], s);
     drones_.steering[i] = plugin_call(behavior_kind, g, [&] { return behavior.decide(me, drones_.rngs[i]); });
   });
 }
