@@ -80,7 +80,8 @@ int cmd_bench(int argc, char** argv) {
       "floor", "also time the bare-Box2D floor of each cell and print the ratio")(
       "cpu-time", "time runs and floor by this process's CPU clock, not the wall clock (with --threads 1 on a busy machine)")(
       "profile", "print the time spent in each step phase")(
-      "fleet", "table1: two groups of half the swarm, batteries and failure rates on (the fleet model's cost)")("json", po::value<std::string>(), "write all figures to this JSON file");
+      "fleet", "table1: two groups of half the swarm, batteries and failure rates on (the fleet model's cost)")(
+      "wind", "table1: a 3 m/s wind with gusts of 1 m/s (the wind model's cost)")("json", po::value<std::string>(), "write all figures to this JSON file");
   po::positional_options_description pos;
   pos.add("workload", 1).add("file", 1);
   po::variables_map vm;
@@ -172,6 +173,7 @@ int cmd_bench(int argc, char** argv) {
       w.threads = threads;
       w.behavior = behavior;
       w.fleet = vm.count("fleet") > 0;
+      w.wind = vm.count("wind") > 0;
       bench::reset_peak_rss();
       const auto t0 = std::chrono::steady_clock::now();
       SimulationSetup setup = bench::table1(host, w);

@@ -25,7 +25,7 @@ commands:
                      the drone properties
   bench WORKLOAD     measure speed (table1, scale)
   plot FOLDER|FILE   redraw the plots of a results or test folder; chart a bench JSON or summary.csv
-  new-plugin KIND NAME  write NAME/: a plugin (behavior, target, map, contact-handler, metric), its test and CMakeLists.txt
+  new-plugin KIND NAME  write NAME/: a plugin (behavior, target, map, contact-handler, metric, wind), its test and CMakeLists.txt
 
 'salsa <command> --help' shows the options of a command.
 )";

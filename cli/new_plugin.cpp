@@ -33,12 +33,13 @@ struct Kind {
   std::string_view example_class;  // and its class (MyBehavior), replaced by the class made from NAME
 };
 
-const std::array<Kind, 5> kinds{{
+const std::array<Kind, 6> kinds{{
     {"behavior", "behavior", "Own heading drifting at random, avoids drones and obstacles", "my_behavior", "MyBehavior"},
     {"target", "target kind", "Small targets, seen within part of the camera range", "my_target", "MyTarget"},
     {"map", "map", "Square with a grid of pillars, clear around the centre", "my_map", "MyMap"},
     {"contact-handler", "contact handler", "A target is found once several drones have seen it", "my_contact_handler", "MyContactHandler"},
     {"metric", "metric", "Polarisation of the swarm: 1 when all fly the same way", "my_metric", "MyMetric"},
+    {"wind", "wind field", "A sea breeze: wind that strengthens towards the coast", "my_wind", "MyWind"},
 }};
 
 std::string replace_all(std::string text, std::string_view from, std::string_view to) {
@@ -134,7 +135,7 @@ int cmd_new_plugin(int argc, char** argv) {
   hidden.add_options()("args", po::value<std::vector<std::string>>(), "");
   po::variables_map vm;
   if (!salsa::cli::parse(argc, argv, "new-plugin",
-                         "behavior|target|map|contact-handler|metric NAME [--dir D]\n\n"
+                         "behavior|target|map|contact-handler|metric|wind NAME [--dir D]\n\n"
                          "Writes D/NAME/: NAME.cpp (a small working plugin of that kind), NAME_test.cpp (a short real\n"
                          "simulation with it: salsa/fixture.hpp) and a CMakeLists.txt that builds it against the\n"
                          "installed salsa, tests it (ctest) and installs it into ~/.local/share/salsa/plugins\n"
@@ -142,7 +143,7 @@ int cmd_new_plugin(int argc, char** argv) {
                          o, vm, salsa::cli::help_only, salsa::cli::positional("args"), hidden))
     return 0;
   const auto args = vm.count("args") ? vm["args"].as<std::vector<std::string>>() : std::vector<std::string>{};
-  const std::string allowed_kinds = "behavior, target, map, contact-handler, metric";
+  const std::string allowed_kinds = "behavior, target, map, contact-handler, metric, wind";
   if (args.empty()) throw salsa::InputError("new-plugin: missing KIND (allowed: " + allowed_kinds + ")");
   const Kind* kind = nullptr;
   for (const Kind& k : kinds)

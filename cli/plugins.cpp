@@ -36,6 +36,7 @@ int cmd_plugins(int argc, char** argv) {
   add("map", host.maps());
   add("contact handler", host.contact_handlers());
   add("metric", host.metrics());
+  add("wind", host.winds());
   std::array<std::size_t, 5> width{};
   for (const auto& r : rows)
     for (std::size_t c = 0; c < r.size(); ++c) width[c] = std::max(width[c], r[c].size());
@@ -78,7 +79,7 @@ void describe_columns(const Entry<Metric>& e) {
 
 int cmd_describe(int argc, char** argv) {
   po::options_description o("describe options");
-  o.add_options()("name", po::value<std::string>(), "plugin name (behavior, target kind, map, contact handler or metric), or drone");
+  o.add_options()("name", po::value<std::string>(), "plugin name (behavior, target kind, map, contact handler, metric or wind), or drone");
   po::variables_map vm;
   if (!parse(argc, argv, "describe", "NAME [options]", o, vm, plugin_options, positional("name"))) return 0;
   if (!vm.count("name")) throw InputError("describe: missing NAME (see 'salsa plugins' for the names)");
@@ -129,6 +130,7 @@ int cmd_describe(int argc, char** argv) {
   describe("map", host.maps());
   describe("contact handler", host.contact_handlers());
   describe("metric", host.metrics());
+  describe("wind", host.winds());
   if (!found) throw InputError("describe: no plugin named '" + name + "' (see 'salsa plugins')");
   return 0;
 }

@@ -35,7 +35,7 @@ configure_build_test() {
   cmake --build "$2" -j2 >>"$2.log" 2>&1 || { cat "$2.log"; echo "FAIL: build $1"; exit 1; }
 }
 
-kinds=(behavior target map contact-handler metric)
+kinds=(behavior target map contact-handler metric wind)
 dirs=()
 for kind in "${kinds[@]}"; do
   name=my_${kind//-/_}
@@ -72,8 +72,8 @@ echo "ok: the smoke test fails bad_map"
 examples=$prefix/share/doc/salsa/examples/plugin
 configure_build_test "$examples" "$work/example"
 out=$(ctest --test-dir "$work/example" --output-on-failure 2>&1) || { echo "$out"; echo "FAIL: ctest of examples/plugin"; exit 1; }
-for t in wander_test dwell_test rings_test return_to_base_test flocking_plus_test wander_loads dwell_loads rings_loads return_to_base_loads \
-         in_zone_loads flocking_plus_loads; do
+for t in wander_test dwell_test rings_test return_to_base_test flocking_plus_test vortex_test wander_loads dwell_loads rings_loads \
+         return_to_base_loads in_zone_loads flocking_plus_loads vortex_loads; do
   grep -q "$t .*Passed" <<<"$out" || { echo "$out"; echo "FAIL: $t did not pass"; exit 1; }
 done
 # A queue that uses them, from a fresh folder holding only the built files.
@@ -115,6 +115,9 @@ grep -E "^  target +my_target " <<<"$listing"
 grep -E "^  map +my_map " <<<"$listing"
 grep -E "^  contact handler +my_contact_handler " <<<"$listing"
 grep -E "^  metric +my_metric " <<<"$listing"
+grep -E "^  wind +my_wind " <<<"$listing"
+grep -E "^  wind +vortex +1\.0\.0" <<<"$listing"
+"$salsa" describe vortex --plugin-dir "$work/example" | grep centre_x
 grep -E "behavior +wander +1\.0\.0" <<<"$listing"
 grep -E "behavior +flocking_plus +1\.0\.0" <<<"$listing"
 "$salsa" describe wander --plugin-dir "$work/example" | grep turn_interval

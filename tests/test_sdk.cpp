@@ -111,6 +111,13 @@ class SdkMetric final : public salsa::Metric {
   void finish(const salsa::MetricView&, std::span<double> values) override { values[0] = param("scale"); }
 };
 
+class SdkWind final : public salsa::WindField {
+  salsa::Param speed{this, "speed", 3.0, 0.0, 10.0, "m/s", "wind speed"};
+
+ public:
+  salsa::Vec2 velocity(salsa::Vec2 p, double t) const override { return {speed, p.y + t}; }
+};
+
 }  // namespace
 
 SALSA_BEHAVIOR(SdkBehavior, "sdk_behavior", "behavior brief")
@@ -118,6 +125,7 @@ SALSA_TARGET(SdkTarget, "sdk_target", "target brief")
 SALSA_MAP(SdkMap, "sdk_map", "map brief")
 SALSA_CONTACT_HANDLER(SdkHandler, "sdk_handler", "handler brief")
 SALSA_METRIC(SdkMetric, "sdk_metric", "metric brief")
+SALSA_WIND(SdkWind, "sdk_wind", "wind brief")
 
 namespace {
 
@@ -127,11 +135,13 @@ struct Collector final : salsa::Registrar {
   std::vector<salsa::Factory<salsa::MapGenerator>> maps;
   std::vector<salsa::Factory<salsa::ContactHandler>> handlers;
   std::vector<salsa::Factory<salsa::Metric>> metrics;
+  std::vector<salsa::Factory<salsa::WindField>> winds;
   void add(salsa::Factory<salsa::Behavior> f) override { behaviors.push_back(std::move(f)); }
   void add(salsa::Factory<salsa::TargetKind> f) override { targets.push_back(std::move(f)); }
   void add(salsa::Factory<salsa::MapGenerator> f) override { maps.push_back(std::move(f)); }
   void add(salsa::Factory<salsa::ContactHandler> f) override { handlers.push_back(std::move(f)); }
   void add(salsa::Factory<salsa::Metric> f) override { metrics.push_back(std::move(f)); }
+  void add(salsa::Factory<salsa::WindField> f) override { winds.push_back(std::move(f)); }
 };
 
 salsa::Perception perception(Vec2 velocity, double max_force) {
@@ -549,7 +559,7 @@ class TestSdk : public QObject {
 
   // ---------------------------------------------------------------- Registration macros
   void registration_macros_register_everything() {
-    QCOMPARE(salsa::detail::registrations().size(), std::size_t(5));
+    QCOMPARE(salsa::detail::registrations().size(), std::size_t(6));
     const salsa::PluginDescriptor* d = salsa_plugin_descriptor();
     QVERIFY(d);
     QCOMPARE(d->abi_version, salsa::abi_version);
@@ -566,6 +576,7 @@ class TestSdk : public QObject {
     QCOMPARE(c.maps.size(), std::size_t(1));
     QCOMPARE(c.handlers.size(), std::size_t(1));
     QCOMPARE(c.metrics.size(), std::size_t(1));
+    QCOMPARE(c.winds.size(), std::size_t(1));
 
     const auto& b = c.behaviors[0];
     QCOMPARE(b.name, std::string("sdk_behavior"));
@@ -600,6 +611,10 @@ class TestSdk : public QObject {
     const auto metric = c.metrics[0].create();
     QCOMPARE(metric->final_columns().at(0).unit, std::string("m"));
     QVERIFY(metric->step_columns().empty());  // the default: no summary.csv columns
+    QCOMPARE(c.winds[0].name, std::string("sdk_wind"));
+    QCOMPARE(c.winds[0].brief, std::string("wind brief"));
+    QCOMPARE(c.winds[0].parameters.at(0).name, std::string("speed"));
+    QCOMPARE(c.winds[0].create()->velocity({5, 2}, 1), Vec2(3, 3));  // made with the declared default
   }
 
   // ---------------------------------------------------------------- Steering helpers

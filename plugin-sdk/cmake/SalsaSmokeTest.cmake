@@ -3,7 +3,8 @@
 # 1. `salsa plugins --plugin-dir <folder of PLUGIN>` lists at least one registration from PLUGIN and
 #    refuses nothing of it;
 # 2. (RUN) each registration flies in a 1 s test of 5 drones on a small empty map: a behavior as the
-#    behavior, a target kind as the targets, a map as the map, a contact handler or metric as the only one.
+#    behavior, a target kind as the targets, a map as the map, a contact handler or metric as the only one,
+#    a wind field as the test's wind.
 cmake_minimum_required(VERSION 3.25)  # this script's policies
 foreach(v SALSA PLUGIN WORK)
   if(NOT ${v})
@@ -44,7 +45,7 @@ foreach(line IN LISTS lines)
   endif()
   if(section STREQUAL "Refused:" AND NOT refused_at EQUAL -1)
     list(APPEND refusals "${line}")
-  elseif(section STREQUAL "Plugins:" AND ending STREQUAL "/${file_name}" AND line MATCHES "^  (behavior|target|map|contact handler|metric) +([A-Za-z][A-Za-z0-9_-]*) ")
+  elseif(section STREQUAL "Plugins:" AND ending STREQUAL "/${file_name}" AND line MATCHES "^  (behavior|target|map|contact handler|metric|wind) +([A-Za-z][A-Za-z0-9_-]*) ")
     list(APPEND registrations "${CMAKE_MATCH_1}|${CMAKE_MATCH_2}")
   endif()
 endforeach()
@@ -84,6 +85,8 @@ foreach(r IN LISTS registrations)
     set(kind "contact-handler")
   elseif(kind STREQUAL "metric")
     set(extra ", \"metrics\": [\"${name}\"]")
+  elseif(kind STREQUAL "wind")
+    set(extra ", \"wind\": {\"field\": \"${name}\"}")
   endif()
   list(APPEND tests "  {\"name\": \"smoke-${kind}-${name}\", \"behavior\": \"${behavior}\", \"drones\": 5, \"map\": ${map}, \"targets\": ${targets}, \"time\": 1${extra}}")
 endforeach()

@@ -16,6 +16,8 @@ namespace {
 constexpr std::string_view groups_prefix = "groups.";
 constexpr std::string_view params_prefix = "behavior.params.";
 constexpr std::string_view drone_prefix = "drone.";
+constexpr std::string_view wind_prefix = "wind.";
+constexpr std::string_view wind_params_prefix = "wind.field.params.";
 constexpr double max_drones = 1'000'000;  // as "drones" in a test file
 constexpr double max_id = 4294967294.0;   // ids are 32-bit
 
@@ -97,6 +99,34 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
     DroneConfig d = g.drone;
     property->set(d, c.value);
     if (const Problem p = check_drone(d, test.dt)) return p.what;
+    if (const Problem p = check_wind(test.wind, d, test.dt)) return p.field + ": " + p.what;
+    return {};
+  }
+  if (key.starts_with(wind_params_prefix)) {
+    if (test.wind_field.name.empty()) return "the test has no wind field (allowed: wind.field.params.<name> with a \"wind\": {\"field\": ...})";
+    const std::string_view name = key.substr(wind_params_prefix.size());
+    const Parameters& schema = host.wind(test.wind_field.name).factory.parameters;
+    for (const Parameter& p : schema)
+      if (p.name == name) {
+        const std::string why = p.check(c.value);
+        return why.empty() ? "" : value + " " + why;
+      }
+    std::string declared;
+    for (const Parameter& p : schema) declared += (declared.empty() ? "" : ", ") + p.name;
+    return "unknown parameter of wind '" + test.wind_field.name + "' (declared: " + (declared.empty() ? "none" : declared) + ")";
+  }
+  if (key.starts_with(wind_prefix)) {
+    const WindProperty* property = find_wind_property(key.substr(wind_prefix.size()));
+    if (!property) {
+      std::string keys;
+      for (const WindProperty& p : wind_schema()) keys += "wind." + p.spec.name + ", ";
+      return "unknown key (allowed: " + keys + "wind.field.params.<name>)";
+    }
+    if (const std::string why = property->spec.check(c.value); !why.empty()) return value + " " + why;
+    Wind w = test.wind;
+    property->set(w, c.value);
+    for (const GroupSpec& g : test.groups)
+      if (const Problem p = check_wind(w, g.drone, test.dt)) return p.what + (test.groups.size() > 1 ? " (group " + g.name + ")" : "");
     return {};
   }
   if (key == "failures.drone_mtbf" || key == "failures.camera_mtbf") {
@@ -113,7 +143,8 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
     return {};
   }
   return "unknown key (allowed: behavior.params.<name>, drones, drone.<property>, groups.<name>.<any of those>, "
-         "failures.drone_mtbf, failures.camera_mtbf, fail.drone, fail.camera, fail.fraction, fail.camera_fraction)";
+         "failures.drone_mtbf, failures.camera_mtbf, fail.drone, fail.camera, fail.fraction, fail.camera_fraction, "
+         "wind.<velocity.x, velocity.y, gusts.strength, gusts.time_scale>, wind.field.params.<name>)";
 }
 
 void apply_to_test(TestSpec& test, const Change& c) {
@@ -128,6 +159,10 @@ void apply_to_test(TestSpec& test, const Change& c) {
     test.failures.drone_mtbf = c.value;
   } else if (key == "failures.camera_mtbf") {
     test.failures.camera_mtbf = c.value;
+  } else if (key.starts_with(wind_params_prefix)) {
+    test.wind_field.params.set(key.substr(wind_params_prefix.size()), c.value);
+  } else if (key.starts_with(wind_prefix)) {
+    find_wind_property(key.substr(wind_prefix.size()))->set(test.wind, c.value);
   }  // fail.*: events, nothing the test holds
 }
 
@@ -156,6 +191,20 @@ void apply_change(Simulation& sim, TestSpec& test, const Change& c, const Plugin
     sim.set_drone_config(changed.groups[g].drone, g);
   } else if (key.starts_with("failures.")) {
     sim.set_failures(changed.failures);
+  } else if (key.starts_with(wind_params_prefix)) {
+    WindField& field = *sim.wind_field_ptr();
+    const ParameterValues old = field.parameters();
+    try {
+      field.set_parameters(changed.wind_field.params);
+    } catch (const std::exception& e) {
+      field.set_parameters(old);  // configure() refused the combination: back to what ran
+      throw PluginFailure("wind", 0, e.what());
+    } catch (...) {
+      field.set_parameters(old);
+      throw PluginFailure("wind", 0, "an exception that is not a std::exception");
+    }
+  } else if (key.starts_with(wind_prefix)) {
+    sim.set_wind(changed.wind, sim.wind_field_ptr());
   } else if (key == "fail.drone" || key == "fail.camera") {
     try {
       sim.fail(static_cast<std::uint32_t>(c.value), key == "fail.camera");
@@ -170,28 +219,41 @@ void apply_change(Simulation& sim, TestSpec& test, const Change& c, const Plugin
 
 std::string refused_change(const TestSpec& test, const PluginHost& host) {
   std::vector<std::shared_ptr<Behavior>> behaviors(test.groups.size());  // each made at its group's first parameter change
-  TestSpec state = test;
-  for (const Change& c : test.changes) {
-    apply_to_test(state, c);
-    const Target to = target(test, c.key);
-    if (to.group < 0 || !to.rest.starts_with(params_prefix)) continue;
-    const auto g = static_cast<std::size_t>(to.group);
-    const Entry<Behavior>& entry = host.behavior(test.groups[g].behavior.name);
-    if (!behaviors[g]) behaviors[g] = PluginHost::create(entry, test.groups[g].behavior.params);  // throws naming the plugin
+  std::shared_ptr<WindField> field;                                      // made at the field's first
+  auto refusal = [](Configurable& plugin, const ParameterValues& values) {
     std::string why;
     try {
-      behaviors[g]->set_parameters(state.groups[g].behavior.params);
+      plugin.set_parameters(values);
     } catch (const std::exception& e) {
       why = e.what();
     } catch (...) {
       why = "an exception that is not a std::exception";
     }
-    if (why.empty()) continue;
     for (char& ch : why)
       if (ch == '\n' || ch == '\r') ch = ' ';
-    std::string time = Parameter::format(c.time);
-    return "changes at t = " + time + " s: " + c.key + " = " + Parameter::format(c.value) + ": behavior '" +
-           test.groups[g].behavior.name + "' (" + entry.plugin().file.string() + ") refused it: " + why;
+    return why;
+  };
+  auto line = [](const Change& c, const std::string& plugin, const fs::path& file, const std::string& why) {
+    return "changes at t = " + Parameter::format(c.time) + " s: " + c.key + " = " + Parameter::format(c.value) + ": " + plugin + " (" +
+           file.string() + ") refused it: " + why;
+  };
+  TestSpec state = test;
+  for (const Change& c : test.changes) {
+    apply_to_test(state, c);
+    if (c.key.starts_with(wind_params_prefix)) {
+      const Entry<WindField>& entry = host.wind(test.wind_field.name);
+      if (!field) field = PluginHost::create(entry, test.wind_field.params);  // throws naming the plugin
+      if (std::string why = refusal(*field, state.wind_field.params); !why.empty())
+        return line(c, "wind '" + test.wind_field.name + "'", entry.plugin().file, why);
+      continue;
+    }
+    const Target to = target(test, c.key);
+    if (to.group < 0 || !to.rest.starts_with(params_prefix)) continue;
+    const auto g = static_cast<std::size_t>(to.group);
+    const Entry<Behavior>& entry = host.behavior(test.groups[g].behavior.name);
+    if (!behaviors[g]) behaviors[g] = PluginHost::create(entry, test.groups[g].behavior.params);  // throws naming the plugin
+    if (std::string why = refusal(*behaviors[g], state.groups[g].behavior.params); !why.empty())
+      return line(c, "behavior '" + test.groups[g].behavior.name + "'", entry.plugin().file, why);
   }
   return {};
 }

@@ -122,6 +122,46 @@ std::pair<std::string, json> name_and_params(const json& v, const Reader& r, con
 
 namespace {
 
+/// "wind": {"velocity": [x, y], "gusts": {"strength", "time_scale"}, "field": "name" | {"name", "params"}},
+/// each number as wind_schema() declares it. "velocity" may also be {"x": ..., "y": ...} (either left
+/// out: 0): the form sweep.set's wind.velocity.x fills in.
+void parse_wind(TestSpec& t, const json& w, const Reader& r, const PluginHost& host) {
+  r.only_keys(w, "wind", {"velocity", "gusts", "field"});
+  auto set = [&](const json& v, const std::string& name) {
+    const WindProperty& p = *find_wind_property(name);
+    p.set(t.wind, r.number(v, "wind." + name, p.spec.min, p.spec.max, p.spec.unit.c_str()));
+  };
+  if (w.contains("velocity")) {
+    const json& v = w["velocity"];
+    if (v.is_object()) {
+      r.only_keys(v, "wind.velocity", {"x", "y"});
+      for (const char* axis : {"x", "y"})
+        if (v.contains(axis)) set(v[axis], std::string("velocity.") + axis);
+    } else if (v.is_array() && v.size() == 2) {
+      set(v[0], "velocity.x");
+      set(v[1], "velocity.y");
+    } else {
+      r.fail("wind.velocity", show(v) + " must be a velocity [x, y] in m/s (or {\"x\": ..., \"y\": ...})");
+    }
+  }
+  if (w.contains("gusts")) {
+    const json& g = w["gusts"];
+    r.only_keys(g, "wind.gusts", {"strength", "time_scale"});
+    for (const char* key : {"strength", "time_scale"})
+      if (g.contains(key)) set(g[key], std::string("gusts.") + key);
+  }
+  if (w.contains("field")) {
+    json params;
+    std::tie(t.wind_field.name, params) = name_and_params(w["field"], r, "wind.field");
+    try {
+      t.wind_field.params = r.params(params, "wind.field.params", host.wind(t.wind_field.name).factory.parameters,
+                                     "wind '" + t.wind_field.name + "'");
+    } catch (const UnknownPlugin& e) {
+      r.fail("wind.field", e.what());
+    }
+  }
+}
+
 SpawnMode spawn_mode(const json& v, const Reader& r, const std::string& field) {
   const std::string mode = r.string(v, field);
   if (mode == "disc") return SpawnMode::disc;
@@ -158,7 +198,7 @@ void parse_group(GroupSpec& g, const json& j, const Reader& r, const PluginHost&
 }  // namespace
 
 TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
-  r.only_keys(j, "", {"name", "behavior", "drone", "drone_configs", "drones", "groups", "failures", "map", "spawn", "targets",
+  r.only_keys(j, "", {"name", "behavior", "drone", "drone_configs", "drones", "groups", "failures", "wind", "map", "spawn", "targets",
                       "contact_handlers", "metrics", "time", "dt", "log_interval", "velocity_iterations",
                       "position_iterations", "decision_lag", "seed", "repeat", "changes", "versions"});
   TestSpec t;
@@ -200,6 +240,7 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
     if (f.contains("drone_mtbf")) t.failures.drone_mtbf = r.number(f["drone_mtbf"], "failures.drone_mtbf", 0, 1e9, "s");
     if (f.contains("camera_mtbf")) t.failures.camera_mtbf = r.number(f["camera_mtbf"], "failures.camera_mtbf", 0, 1e9, "s");
   }
+  if (j.contains("wind")) parse_wind(t, j["wind"], r, host);
 
   // map: "name" | "file.json" | {"name", "params", "file"}
   {
@@ -387,6 +428,11 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
     group_json(t.groups[0], j);
   }
   if (t.failures != FailureSetup{}) j["failures"] = {{"drone_mtbf", t.failures.drone_mtbf}, {"camera_mtbf", t.failures.camera_mtbf}};
+  if (t.has_wind()) {  // only then: a test without wind keeps its config.json bytes
+    j["wind"] = {{"velocity", {t.wind.velocity.x, t.wind.velocity.y}},
+                 {"gusts", {{"strength", t.wind.gust_strength}, {"time_scale", t.wind.gust_time_scale}}}};
+    if (!t.wind_field.name.empty()) j["wind"]["field"] = {{"name", t.wind_field.name}, {"params", params_json(t.wind_field.params)}};
+  }
   j["map"] = {{"name", t.map.name}, {"params", params_json(t.map.params)}};
   if (!t.map_file.empty()) j["map"]["file"] = t.map_file;
   if (!t.named_groups) j["spawn"] = spawn_json(t.groups[0]);
@@ -427,6 +473,7 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   json metrics = json::array();
   for (const auto& m : t.metrics) metrics.push_back(plugin_json(host.metric(m.name)));
   versions["metrics"] = metrics;
+  if (!t.wind_field.name.empty()) versions["wind"] = plugin_json(host.wind(t.wind_field.name));
   j["versions"] = versions;
   return j.dump(2) + "\n";
 }
@@ -453,12 +500,14 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
     if (t.targets > 0) s.target_kind = PluginHost::create(host.target_kind(t.target.name), t.target.params);
     for (const auto& h : t.contact_handlers)
       s.contact_handlers.push_back(PluginHost::create(host.contact_handler(h.name), handler_params(h, host)));
+    if (!t.wind_field.name.empty()) s.wind_field = PluginHost::create(host.wind(t.wind_field.name), t.wind_field.params);
   } catch (const std::exception& e) {
     throw InputError(t.source + ": " + e.what());
   }
   // A change the behavior's configure() refuses would end the run at its time: refuse it now.
   if (const std::string why = refused_change(t, host); !why.empty()) throw InputError(t.source + ": " + why);
   s.failures = t.failures;
+  s.wind = t.wind;
   s.targets = t.targets;
   s.dt = t.dt;
   s.velocity_iterations = t.velocity_iterations;
@@ -471,6 +520,8 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   auto in = [&](const GroupSpec& g) { return t.named_groups ? "groups." + g.name + "." : std::string(); };
   for (const GroupSpec& g : t.groups)
     if (const Problem p = check_drone(g.drone, t.dt)) throw InputError(t.source + ": " + in(g) + p.text());
+  for (const GroupSpec& g : t.groups)
+    if (const Problem p = check_wind(t.wind, g.drone, t.dt)) throw InputError(t.source + ": " + p.text() + (t.named_groups ? " (group " + g.name + ")" : ""));
 
   // The map: what the plugin made is input too, checked like a map file (DESIGN §4).
   try {

@@ -117,6 +117,7 @@ class EventView final : public WorldView {
 constexpr const char* behavior_kind = "behavior";
 constexpr const char* target_kind = "target kind";
 constexpr const char* handler_kind = "contact handler";
+constexpr const char* wind_kind = "wind";
 
 /// Calls plugin code: whatever it throws comes back as a PluginFailure naming the plugin (a failure
 /// already named, from a nested call, passes through; so does a thread's cancellation).
@@ -175,6 +176,24 @@ Problem check_drone(const DroneConfig& d, double dt) {
   return {"drone.max_speed", num(d.max_speed) + " m/s × dt " + num(dt) + " s = " + short_num(step) + " m per step, " + why +
                                  " (allowed: max_speed ≤ " + num(quoted_limit(limit / dt)) + " m/s at this dt, or dt ≤ " +
                                  num(quoted_limit(limit / d.max_speed)) + " s at this max_speed)"};
+}
+
+Problem check_wind(const Wind& w, const DroneConfig& d, double dt) {
+  for (const WindProperty& p : wind_schema())
+    if (const double v = p.get(w); !p.spec.check(v).empty()) return {"wind." + p.spec.name, num(v) + " " + p.spec.unit + " " + p.spec.check(v)};
+  // The gusts are clamped to gust_clamp standard deviations, so this is the most the drones meet
+  // without a field (a field's own speed is checked as the run asks it).
+  const double strongest = w.velocity.length() + gust_clamp * w.gust_strength;
+  const double limit = wind_limit(d, dt);
+  if (strongest == 0 || strongest <= limit * (1 + 1e-9)) return {};
+  return {w.gust_strength > 0 ? "wind.gusts.strength" : "wind.velocity",
+          "|velocity| " + num(w.velocity.length()) + " m/s + " + num(gust_clamp) + " × gusts.strength " + num(w.gust_strength) +
+              " m/s = " + short_num(strongest) + " m/s of wind; a drone at max_speed " + num(d.max_speed) + " m/s carried by it moves " +
+              short_num((d.max_speed + strongest) * dt) + " m per step (dt " + num(dt) + " s), more than " +
+              (d.radius <= box2d_max_step ? "its radius " + num(d.radius) + " m, so it could pass through a wall"
+                                          : "the " + num(box2d_max_step) + " m Box2D moves a body per step") +
+              " (allowed: |velocity| + " + num(gust_clamp) + " × gusts.strength ≤ " + (limit > 0 ? num(quoted_limit(limit)) : "0") +
+              " m/s with this drone and dt; or a smaller dt)"};
 }
 
 Problem check_map(const MapData& map) {
@@ -347,6 +366,11 @@ Simulation::Simulation(SimulationSetup setup)
     plugin_call(behavior_kind, g, [&] { b.reset(world.drones.positions.size()); });
   }
   install(std::move(world));
+  gusts_ = Gusts(setup_.seed, setup_.wind.gust_strength);
+  if (setup_.wind != Wind{} || setup_.wind_field) {
+    wind_active_ = true;
+    track_air();
+  }
   reset_handlers(*this);
 }
 
@@ -449,6 +473,7 @@ Simulation::World Simulation::build_world(const SimulationSetup& s) {
     const std::string in = s.groups.size() > 1 ? "groups." + g.name + "." : "";
     if (auto p = check_drone(g.drone, s.dt)) throw std::invalid_argument(in + p.text());
     if (auto p = check_resolution(s.map.bounds, g.drone, s.dt)) throw std::invalid_argument(in + "map: " + p.text());
+    if (auto p = check_wind(s.wind, g.drone, s.dt)) throw std::invalid_argument(in + p.text());
     check_drone_count(g.drones);
     obstacle_range = std::max(obstacle_range, g.drone.obstacle_range);
   }
@@ -536,6 +561,14 @@ void Simulation::install(World&& w) noexcept {
   flying_ = static_cast<std::size_t>(std::count(drones_.status.begin(), drones_.status.end(), DroneStatus::flying));
   physics_->remove_drones_from(0);
   add_bodies();
+  if (wind_active_) track_air();  // the new drones' air velocities: their velocities as spawned
+}
+
+void Simulation::track_air() {
+  for (std::size_t i = drones_.air.size(); i < drones_.velocities.size(); ++i) {
+    drones_.air.push_back(drones_.velocities[i]);
+    drones_.wind.push_back({});
+  }
 }
 
 void Simulation::add_bodies() {
@@ -550,6 +583,7 @@ void Simulation::ground(std::uint32_t id, DroneStatus status) {
   drones_.status[id] = status;
   drones_.since[id] = time();
   drones_.velocities[id] = drones_.commanded[id] = drones_.steering[id] = {};
+  if (wind_active_) drones_.air[id] = drones_.wind[id] = {};
   physics_->bodies[id]->SetLinearVelocity({0, 0});
   physics_->bodies[id]->SetEnabled(false);  // no longer collides or is collided with
   --flying_;
@@ -591,6 +625,7 @@ void Simulation::set_drone_count(std::size_t n, std::uint32_t group) {
     }
   }
   flying_ = static_cast<std::size_t>(std::count(drones_.status.begin(), drones_.status.end(), DroneStatus::flying));
+  if (wind_active_) track_air();
   spawn_rng_ = rng;
   setup_.groups[group].drones = n;
 }
@@ -599,6 +634,7 @@ void Simulation::set_drone_config(const DroneConfig& config, std::uint32_t group
   if (group >= setup_.groups.size()) throw std::invalid_argument("group " + std::to_string(group) + " does not exist");
   if (auto p = check_drone(config, setup_.dt)) throw std::invalid_argument(p.text());
   if (auto p = check_resolution(setup_.map.bounds, config, setup_.dt)) throw std::invalid_argument("map: " + p.text());
+  if (auto p = check_wind(setup_.wind, config, setup_.dt)) throw std::invalid_argument(p.text());
   SimulationSetup next_setup = setup_;
   next_setup.groups[group].drone = config;
   std::vector<Group> next_groups = groups_;
@@ -612,7 +648,9 @@ void Simulation::set_drone_config(const DroneConfig& config, std::uint32_t group
   const double old_capacity = setup_.groups[group].drone.battery_capacity * 3600, capacity = config.battery_capacity * 3600;
   for (std::uint32_t i = 0; i < drones_.positions.size(); ++i) {
     if (drones_.groups[i] != group) continue;
-    drones_.velocities[i] = drones_.velocities[i].clamped(config.max_speed);
+    // Max speed bounds the air velocity: with wind the ground velocity may exceed it.
+    if (wind_active_) drones_.air[i] = drones_.air[i].clamped(config.max_speed);
+    else drones_.velocities[i] = drones_.velocities[i].clamped(config.max_speed);
     if (capacity != old_capacity)
       drones_.charge[i] = capacity <= 0 ? inf : old_capacity <= 0 ? capacity : drones_.charge[i] / old_capacity * capacity;
   }
@@ -631,10 +669,23 @@ void Simulation::set_dt(double dt) {
   for (const GroupSetup& g : setup_.groups) {
     if (auto p = check_drone(g.drone, dt)) throw std::invalid_argument(p.text());
     if (auto p = check_resolution(setup_.map.bounds, g.drone, dt)) throw std::invalid_argument("map: " + p.text());
+    if (auto p = check_wind(setup_.wind, g.drone, dt)) throw std::invalid_argument(p.text());
   }
   dt_base_time_ = time();
   dt_base_steps_ = steps_;
   setup_.dt = dt;
+}
+
+void Simulation::set_wind(const Wind& wind, std::shared_ptr<WindField> field) {
+  for (const GroupSetup& g : setup_.groups)
+    if (auto p = check_wind(wind, g.drone, setup_.dt))
+      throw std::invalid_argument((setup_.groups.size() > 1 ? "groups." + g.name + ": " : "") + p.text());
+  setup_.wind = wind;
+  setup_.wind_field = std::move(field);
+  if (!wind_active_ && (wind != Wind{} || setup_.wind_field)) {
+    wind_active_ = true;  // for good: air velocities are kept from now on, even if the wind drops to zero
+    track_air();          // the velocities now are relative to still air
+  }
 }
 
 void Simulation::set_behavior(std::shared_ptr<Behavior> behavior, std::uint32_t group) {
@@ -871,6 +922,7 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   me.id = id;
   me.position = p;
   me.velocity = drones_.velocities[id];
+  me.air_velocity = wind_active_ ? drones_.air[id] : drones_.velocities[id];
   me.max_speed = cfg.max_speed;
   me.max_force = cfg.max_force;
   me.radius = cfg.radius;
@@ -921,6 +973,7 @@ void Simulation::decide() {
 // Box2D. Max force bounds each steering term (the SDK's helpers clamp to it), not a behavior's weighted
 // sum of terms: table1's flocking applies 1.6 + 3 + 1 + 4 = 9.6 × max force at most.
 void Simulation::act() {
+  if (wind_active_) return act_in_wind();
   for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
     if (drones_.status[i] != DroneStatus::flying) continue;
     const std::uint32_t g = drones_.groups[i];
@@ -933,6 +986,48 @@ void Simulation::act() {
   }
 }
 
+Vec2 Simulation::wind_at(Vec2 p, double t) const {
+  Vec2 w = setup_.wind.velocity + gusts_.value();
+  if (const WindField* field = setup_.wind_field.get()) w += plugin_call(wind_kind, 0, [&] { return field->velocity(p, t); });
+  return w;
+}
+
+// Act in wind: the steering changes the air velocity, clamped to max speed; Box2D gets the ground
+// velocity, air + the wind at the drone's position now. A field that would carry a drone through a
+// wall in one step (or returns no number) stops the run, naming the plugin.
+void Simulation::act_in_wind() {
+  const double t = time(), dt = setup_.dt;
+  const bool field = setup_.wind_field != nullptr;
+  for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
+    if (drones_.status[i] != DroneStatus::flying) continue;
+    const std::uint32_t g = drones_.groups[i];
+    const Vec2 a = drones_.steering[i];
+    if (!std::isfinite(a.x) || !std::isfinite(a.y))
+      throw PluginFailure(behavior_kind, g, "decide returned a non-finite steering " + point(a) + " for drone " + std::to_string(i));
+    const Vec2 p = drones_.positions[i];
+    const Vec2 w = wind_at(p, t);
+    if (field) {
+      const DroneConfig& d = setup_.groups[g].drone;
+      const double limit = wind_limit(d, dt), speed = w.length();
+      if (!finite(w))
+        throw PluginFailure(wind_kind, 0, "velocity at " + point(p) + ", t = " + num(t) + " s gave a wind of " + point(w) +
+                                              " m/s (allowed: finite numbers)");
+      if (speed > limit * (1 + 1e-9))
+        throw PluginFailure(wind_kind, 0, "velocity at " + point(p) + ", t = " + num(t) + " s gave a wind of " + short_num(speed) +
+                                              " m/s with the test's constant wind and gusts; a drone at max_speed " + num(d.max_speed) +
+                                              " m/s carried by it moves more than min(radius " + num(d.radius) + " m, " +
+                                              num(box2d_max_step) + " m) per step (dt " + num(dt) +
+                                              " s) and could pass through a wall (allowed: at most " +
+                                              (limit > 0 ? num(quoted_limit(limit)) : "0") + " m/s here)");
+    }
+    const Vec2 air = (drones_.air[i] + a).clamped(groups_[g].properties.max_speed);
+    drones_.air[i] = air;
+    drones_.wind[i] = w;
+    drones_.commanded[i] = air + w;
+    physics_->bodies[i]->SetLinearVelocity(to_b2(air + w));
+  }
+}
+
 void Simulation::physics() {
   physics_->step(setup_.dt, setup_.velocity_iterations, setup_.position_iterations);
 }
@@ -942,6 +1037,11 @@ void Simulation::read_back() {
     drones_.positions[i] = from_b2(physics_->bodies[i]->GetPosition());
     drones_.velocities[i] = from_b2(physics_->bodies[i]->GetLinearVelocity());
   }
+  if (!wind_active_) return;
+  // What the physics left of the ground velocity (a collision changes it) less the wind flown in.
+  for (std::size_t i = 0; i < drones_.positions.size(); ++i)
+    if (drones_.status[i] == DroneStatus::flying) drones_.air[i] = drones_.velocities[i] - drones_.wind[i];
+  gusts_.advance(setup_.wind.gust_strength, setup_.wind.gust_time_scale, setup_.dt);
 }
 
 // Fleet: each flying drone's battery drains by the power its speed over the step takes (or charges on
@@ -963,7 +1063,8 @@ void Simulation::fleet() {
       if (on_base) {
         drones_.charge[i] = std::min(drones_.charge[i] + g.drone.charge_power * dt, g.drone.battery_capacity * 3600);
       } else {
-        const double energy = flight_power(g.drone, speed) * dt;
+        // Power is drawn for the speed through the air (the ground speed without wind).
+        const double energy = flight_power(g.drone, wind_active_ ? drones_.air[i].length() : speed) * dt;
         drones_.used[i] += energy;
         drones_.charge[i] -= energy;
         if (drones_.charge[i] <= 0) {

@@ -46,6 +46,7 @@ template struct Entry<TargetKind>;
 template struct Entry<MapGenerator>;
 template struct Entry<ContactHandler>;
 template struct Entry<Metric>;
+template struct Entry<WindField>;
 
 namespace {
 
@@ -515,11 +516,13 @@ class PluginHost::Collector final : public Registrar {
   std::vector<Factory<MapGenerator>> maps;
   std::vector<Factory<ContactHandler>> handlers;
   std::vector<Factory<Metric>> metrics;
+  std::vector<Factory<WindField>> winds;
   void add(Factory<Behavior> f) override { behaviors.push_back(std::move(f)); }
   void add(Factory<TargetKind> f) override { targets.push_back(std::move(f)); }
   void add(Factory<MapGenerator> f) override { maps.push_back(std::move(f)); }
   void add(Factory<ContactHandler> f) override { handlers.push_back(std::move(f)); }
   void add(Factory<Metric> f) override { metrics.push_back(std::move(f)); }
+  void add(Factory<WindField> f) override { winds.push_back(std::move(f)); }
 };
 
 PluginHost::PluginHost() = default;
@@ -531,6 +534,7 @@ PluginHost::~PluginHost() {
   maps_.clear();
   handlers_.clear();
   metrics_.clear();
+  winds_.clear();
 }
 
 std::vector<SearchDir> PluginHost::default_search_path(const std::vector<fs::path>& extra) {
@@ -648,13 +652,14 @@ bool PluginHost::load_file(const fs::path& file) {
   // Phase 4: each registration on its own: valid, and its name not yet taken.
   const std::shared_ptr<const Library> shared = lib;
   const std::size_t offered = found.behaviors.size() + found.targets.size() + found.maps.size() + found.handlers.size() +
-                              found.metrics.size();
+                              found.metrics.size() + found.winds.size();
   std::size_t admitted = 0;
   admit(behaviors_, found.behaviors, PluginKind::behavior, shared, admitted);
   admit(targets_, found.targets, PluginKind::target, shared, admitted);
   admit(maps_, found.maps, PluginKind::map, shared, admitted);
   admit(handlers_, found.handlers, PluginKind::contact_handler, shared, admitted);
   admit(metrics_, found.metrics, PluginKind::metric, shared, admitted);
+  admit(winds_, found.winds, PluginKind::wind, shared, admitted);
   if (offered > 0 && admitted == 0) return false;  // every registration refused and reported: unload it
   libraries_.push_back(shared);
   return true;
@@ -706,6 +711,7 @@ const Entry<ContactHandler>& PluginHost::contact_handler(const std::string& name
   return find(handlers_, name, PluginKind::contact_handler);
 }
 const Entry<Metric>& PluginHost::metric(const std::string& name) const { return find(metrics_, name, PluginKind::metric); }
+const Entry<WindField>& PluginHost::wind(const std::string& name) const { return find(winds_, name, PluginKind::wind); }
 
 template <class Base>
 std::shared_ptr<Base> PluginHost::create(const Entry<Base>& entry, const ParameterValues& values) {
@@ -725,5 +731,6 @@ template std::shared_ptr<TargetKind> PluginHost::create(const Entry<TargetKind>&
 template std::shared_ptr<MapGenerator> PluginHost::create(const Entry<MapGenerator>&, const ParameterValues&);
 template std::shared_ptr<ContactHandler> PluginHost::create(const Entry<ContactHandler>&, const ParameterValues&);
 template std::shared_ptr<Metric> PluginHost::create(const Entry<Metric>&, const ParameterValues&);
+template std::shared_ptr<WindField> PluginHost::create(const Entry<WindField>&, const ParameterValues&);
 
 }  // namespace salsa

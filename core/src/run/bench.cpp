@@ -43,6 +43,7 @@ SimulationSetup table1(const PluginHost& host, const Workload& w) {
     second.behavior = PluginHost::create(behavior, params);
     s.groups.push_back(std::move(second));
   }
+  if (w.wind) s.wind = {Vec2::polar(3, pi / 6), 1, 10};  // act in wind, air velocities and gusts every step
   const auto& tree = host.target_kind("tree");
   ParameterValues tree_params(tree.factory.parameters);
   tree_params.set("radius", 5);

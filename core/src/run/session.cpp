@@ -23,6 +23,9 @@ std::string failed_plugin(const PluginFailure& failure, const TestSpec& test, co
     } else if (failure.kind == "map") {
       name = test.map.name;
       file = host.map(name).plugin().file;
+    } else if (failure.kind == "wind" && !test.wind_field.name.empty()) {
+      name = test.wind_field.name;
+      file = host.wind(name).plugin().file;
     } else if (failure.kind == "metric" && failure.index < test.metrics.size()) {
       name = test.metrics[failure.index].name;
       file = host.metric(name).plugin().file;

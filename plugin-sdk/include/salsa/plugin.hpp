@@ -1,6 +1,6 @@
 #pragma once
 // Plugin registration. A plugin library registers any number of behaviors, target kinds, maps, contact
-// handlers and metrics with one macro each; the library exports one C symbol, `salsa_plugin_descriptor`,
+// handlers, metrics and wind fields with one macro each; the library exports one C symbol, `salsa_plugin_descriptor`,
 // that the loader reads and checks before it calls anything else.
 #include <type_traits>
 
@@ -99,3 +99,5 @@ salsa_plugin_descriptor() {
   SALSA_DETAIL_REGISTER(::salsa::ContactHandler, Class, name, brief)
 /// Register a metric (derived from salsa::Metric).
 #define SALSA_METRIC(Class, name, brief) SALSA_DETAIL_REGISTER(::salsa::Metric, Class, name, brief)
+/// Register a wind field (derived from salsa::WindField).
+#define SALSA_WIND(Class, name, brief) SALSA_DETAIL_REGISTER(::salsa::WindField, Class, name, brief)

@@ -14,11 +14,12 @@
 #include "salsa/map.hpp"
 #include "salsa/metric.hpp"
 #include "salsa/target.hpp"
+#include "salsa/wind.hpp"
 
 namespace salsa {
 
 /// Bumped whenever a type a plugin sees changes layout or meaning.
-inline constexpr std::uint32_t abi_version = 5;  // 2: metrics, Behavior::senses; 3: Behavior::inspect; 4: Param members, plugin authors' kit; 5: groups, drone status, battery, Behavior::resize (docs/plugins.md#abi-policy)
+inline constexpr std::uint32_t abi_version = 6;  // 2: metrics, Behavior::senses; 3: Behavior::inspect; 4: Param members, plugin authors' kit; 5: groups, drone status, battery, Behavior::resize; 6: wind fields, Perception::air_velocity (docs/plugins.md#abi-policy)
 
 /// Types cross the library boundary (std::string, std::function, vectors), so plugin and host must
 /// agree on the C++ library ABI as well; this tag folds the relevant facts into one number. The loader
@@ -34,7 +35,7 @@ constexpr std::uint32_t toolchain_tag() {
   );
 }
 
-enum class PluginKind : std::uint8_t { behavior, target, map, contact_handler, metric };
+enum class PluginKind : std::uint8_t { behavior, target, map, contact_handler, metric, wind };
 
 inline const char* to_string(PluginKind k) {
   switch (k) {
@@ -43,6 +44,7 @@ inline const char* to_string(PluginKind k) {
     case PluginKind::map: return "map";
     case PluginKind::contact_handler: return "contact handler";
     case PluginKind::metric: return "metric";
+    case PluginKind::wind: return "wind";
   }
   return "?";
 }
@@ -63,6 +65,7 @@ class Registrar {
   virtual void add(Factory<MapGenerator> f) = 0;
   virtual void add(Factory<ContactHandler> f) = 0;
   virtual void add(Factory<Metric> f) = 0;
+  virtual void add(Factory<WindField> f) = 0;
 };
 
 /// The handshake. The first four fields keep their place in every ABI version, so any loader can read

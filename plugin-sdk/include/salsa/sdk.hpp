@@ -10,4 +10,5 @@
 #include "salsa/rng.hpp"
 #include "salsa/target.hpp"
 #include "salsa/vec2.hpp"
+#include "salsa/wind.hpp"
 #include "salsa/world.hpp"

@@ -29,7 +29,7 @@ class Scene {
   Perception& me() { return me_; }
   Scene& at(Vec2 position, Vec2 velocity = {}) {
     me_.position = position;
-    me_.velocity = velocity;
+    me_.velocity = me_.air_velocity = velocity;  // no wind in a Scene
     return *this;
   }
   Scene& neighbour(Vec2 position, Vec2 velocity = {}) {
@@ -72,7 +72,7 @@ class Scene {
   template <class B>
   Vec2 step(B& behavior, std::uint64_t seed = 1) {
     const Vec2 steering = decide(behavior, seed);
-    me_.velocity = (me_.velocity + steering).clamped(me_.max_speed);
+    me_.velocity = me_.air_velocity = (me_.velocity + steering).clamped(me_.max_speed);
     me_.position += me_.velocity * me_.dt;
     me_.time += me_.dt;
     return steering;

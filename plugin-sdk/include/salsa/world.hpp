@@ -91,8 +91,14 @@ class WorldView {
 struct Perception {
   std::uint32_t id = 0;
   Vec2 position;           ///< m
-  Vec2 velocity;           ///< m/s
-  double max_speed = 0;    ///< m/s
+  /// m/s over the ground, as the drone's navigation measures it (and neighbours see it). Steering
+  /// changes the air velocity, so `desired − velocity` (steer_towards) makes the ground velocity
+  /// `desired`: the helpers hold a course against the wind as far as max speed allows.
+  Vec2 velocity;
+  /// m/s relative to the air: velocity minus the wind where the drone is. What max_speed bounds and the
+  /// power model draws for; equal to `velocity` in a test without wind.
+  Vec2 air_velocity;
+  double max_speed = 0;    ///< m/s, relative to the air
   double max_force = 0;    ///< largest velocity change of one steering term per step, m/s (the paper's convention)
   double radius = 0;       ///< m
   double mass = 0;         ///< kg

@@ -23,7 +23,8 @@ struct TestSpec;
 /// as "groups.<name>.<key>". "failures.drone_mtbf", "failures.camera_mtbf" (s; 0: never). Events:
 /// "fail.drone" and "fail.camera" (a drone id: it, or its camera, fails; nothing if it is down
 /// already), "fail.fraction" and "fail.camera_fraction" (that share of the flying drones, chosen
-/// from the seed).
+/// from the seed). "wind.velocity.x", "wind.velocity.y", "wind.gusts.strength", "wind.gusts.time_scale"
+/// (wind_schema()), "wind.field.params.<name>" (a declared parameter of the test's wind field).
 struct Change {
   double time = 0;  ///< s; a whole number of steps: llround(time / dt) is the step it precedes
   std::string key;

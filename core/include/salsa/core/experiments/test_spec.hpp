@@ -46,6 +46,10 @@ struct TestSpec {
   std::vector<GroupSpec> groups{1}; ///< at least one; drone ids run over them in order
   bool named_groups = false;        ///< read from "groups" (and written back so); false: the single form
   FailureSetup failures;
+  Wind wind;                        ///< "wind" without its field (salsa/core/model/wind.hpp)
+  PluginChoice wind_field;          ///< "wind.field": a `wind` plugin; name empty: none
+  /// Whether the test has wind (config.json then writes "wind"); off, the run is exactly as without it.
+  bool has_wind() const { return wind != Wind{} || !wind_field.name.empty(); }
   PluginChoice map;
   std::string map_file;             ///< for file-based maps; absolute or relative to the working folder
   PluginChoice target;

@@ -15,10 +15,12 @@
 #include "salsa/contact.hpp"
 #include "salsa/core/model/drone_config.hpp"
 #include "salsa/core/model/static_geometry.hpp"
+#include "salsa/core/model/wind.hpp"
 #include "salsa/grid.hpp"
 #include "salsa/map.hpp"
 #include "salsa/metric.hpp"  // TargetState
 #include "salsa/target.hpp"
+#include "salsa/wind.hpp"
 
 namespace salsa {
 
@@ -34,7 +36,7 @@ class Observer {
 
 /// A plugin threw: which one (kind and index), and its own message in what() (on one line). `kind` is
 /// "behavior", "target kind", "contact handler" (index: its position in
-/// SimulationSetup::contact_handlers; 0 otherwise), "map" or "metric". The caller, who knows the
+/// SimulationSetup::contact_handlers; 0 otherwise), "map", "metric" or "wind" (the wind field). The caller, who knows the
 /// registered names and files, turns this into the line the user reads (failed_plugin in session.hpp).
 struct PluginFailure : std::runtime_error {
   PluginFailure(std::string kind, std::size_t index, const std::string& message);
@@ -68,6 +70,10 @@ struct SimulationSetup {
   MapData map;
   std::vector<GroupSetup> groups{1};  ///< drone ids run over the groups in order
   FailureSetup failures;
+  /// The air's motion (wind.hpp): constant + gusts + the field's, added to every flying drone's air
+  /// velocity. All zero and no field: off, the step exactly as without wind.
+  Wind wind;
+  std::shared_ptr<WindField> wind_field;  ///< may be null: no field
   std::shared_ptr<TargetKind> target_kind;  ///< may be null: no targets
   std::size_t targets = 0;
   std::vector<std::shared_ptr<ContactHandler>> contact_handlers;
@@ -100,6 +106,10 @@ inline constexpr double box2d_max_step = 2.0;
 /// pass through a wall: at most its radius (contacts are discrete, continuous collision is off) and at
 /// most box2d_max_step.
 Problem check_drone(const DroneConfig& drone, double dt);
+/// The strongest wind the test can make without its field, |velocity| + gust_clamp × gusts.strength,
+/// at most wind_limit(drone, dt): what a drone at max speed can be carried by without crossing a wall
+/// in one step. Field "wind.velocity" or "wind.gusts.strength".
+Problem check_wind(const Wind& wind, const DroneConfig& drone, double dt);
 /// Finite, ordered bounds; polygons of ≥ 3 points and lines of ≥ 2, every point finite and inside the
 /// bounds; a finite spawn point.
 Problem check_map(const MapData& map);
@@ -154,6 +164,9 @@ class Simulation final : public WorldView {
   void set_map(const MapData& map, std::optional<Vec2> spawn = std::nullopt);  ///< re-spawns drones and targets; spawn: the first group's base
   void set_targets(std::shared_ptr<TargetKind> kind, std::size_t count);        ///< re-places targets
   void set_failures(const FailureSetup& failures);  ///< rates from the next step on; each drone's clock runs on
+  /// The wind from the next step on (`field` may be null, or the running one: wind_field_ptr()). Refused
+  /// when a group could be carried through a wall (check_wind). The gusts go on from their value now.
+  void set_wind(const Wind& wind, std::shared_ptr<WindField> field);
   /// Drone `id` fails (the whole drone, or its camera only) now; nothing when it is down already,
   /// std::invalid_argument when there is no such drone. A fraction: that share of the flying drones (rounded to the nearest), chosen with the
   /// seed's own stream, so every behavior of a repeat loses the same drones if the same fly.
@@ -181,6 +194,12 @@ class Simulation final : public WorldView {
   double battery_left(std::uint32_t id) const { return drones_.charge[id]; }
   double status_time(std::uint32_t id) const { return drones_.since[id]; }
   const std::vector<TargetState>& targets() const { return targets_.states; }
+  const Wind& wind() const { return setup_.wind; }
+  const std::shared_ptr<WindField>& wind_field_ptr() const { return setup_.wind_field; }
+  Vec2 gust() const { return gusts_.value(); }  ///< m/s, the gusts of the next step (the same everywhere)
+  /// Each drone's velocity relative to the air (m/s): drone_velocities() minus the wind it flew in
+  /// (the same span as drone_velocities() while the test has had no wind).
+  std::span<const Vec2> air_velocities() const { return wind_active_ ? drones_.air : drones_.velocities; }
   std::size_t targets_found() const { return targets_.found; }
   std::uint64_t collisions() const { return collisions_; }  ///< contacts begun, drone–drone and drone–obstacle
   /// False detections so far (the drone configuration's false_detection_rate): phantom targets the
@@ -225,6 +244,7 @@ class Simulation final : public WorldView {
   void sense();
   void decide();
   void act();
+  void act_in_wind();         // act when the test has (had) wind
   void physics();
   void fleet();               // batteries and failures
   void dispatch_sightings();  // detect, part 1
@@ -234,6 +254,8 @@ class Simulation final : public WorldView {
   // Drones, structure of arrays indexed by id.
   struct Drones {
     std::vector<Vec2> positions, velocities, steering, commanded;
+    /// With wind only: velocity relative to the air, and the wind added in the last act phase (m/s).
+    std::vector<Vec2> air, wind;
     std::vector<Rng> rngs;
     std::vector<std::uint32_t> groups;
     std::vector<DroneStatus> status;
@@ -283,6 +305,9 @@ class Simulation final : public WorldView {
   /// `me` (built from the truth) as the drone's noisy sensors perceive it (Group::Noise).
   void add_noise(Perception& me, Senses senses, Scratch& scratch) const;
   void read_back();
+  /// The wind has been on at some time: from then on air velocities are kept (drones_.air).
+  void track_air();  ///< starts air velocities for drones that have none yet (their velocity now)
+  Vec2 wind_at(Vec2 p, double t) const;
   void timed(Phase phase, const auto& fn);
   /// The time after `steps` steps: steps × dt, counted from the last set_dt.
   double time_at(std::uint64_t steps) const { return dt_base_time_ + static_cast<double>(steps - dt_base_steps_) * setup_.dt; }
@@ -312,6 +337,8 @@ class Simulation final : public WorldView {
   double dt_base_time_ = 0;
   std::uint64_t collisions_ = 0;
   std::uint64_t false_detections_ = 0;
+  bool wind_active_ = false;  ///< the wind was on at some time: act and read_back keep air velocities
+  Gusts gusts_;
   std::array<double, 7> profile_{};
 };
 

@@ -74,6 +74,7 @@ class PluginHost {
   const std::vector<Entry<MapGenerator>>& maps() const { return maps_; }
   const std::vector<Entry<ContactHandler>>& contact_handlers() const { return handlers_; }
   const std::vector<Entry<Metric>>& metrics() const { return metrics_; }
+  const std::vector<Entry<WindField>>& winds() const { return winds_; }
 
   /// The entry of that name, or UnknownPlugin naming what exists.
   const Entry<Behavior>& behavior(const std::string& name) const;
@@ -81,6 +82,7 @@ class PluginHost {
   const Entry<MapGenerator>& map(const std::string& name) const;
   const Entry<ContactHandler>& contact_handler(const std::string& name) const;
   const Entry<Metric>& metric(const std::string& name) const;
+  const Entry<WindField>& wind(const std::string& name) const;
 
   /// A new object from a factory, configured with `values`; it keeps its library loaded. Whatever
   /// plugin code throws (std::bad_alloc, non-std types) comes back as std::runtime_error naming the
@@ -101,6 +103,7 @@ class PluginHost {
   std::vector<Entry<MapGenerator>> maps_;
   std::vector<Entry<ContactHandler>> handlers_;
   std::vector<Entry<Metric>> metrics_;
+  std::vector<Entry<WindField>> winds_;
 };
 
 }  // namespace salsa

@@ -19,6 +19,7 @@ struct Workload {
   int threads = 0;
   std::string behavior = "flocking";     ///< flocking with the paper's parameters, any other with its defaults
   bool fleet = false;                    ///< two groups, batteries and failure rates on (the fleet model's cost)
+  bool wind = false;                     ///< a 3 m/s wind with gusts of 1 m/s (τ 10 s) (the wind model's cost)
 };
 
 /// Table I: flocking with the paper's parameters (or `w.behavior` with its defaults), "small" drones, trees of radius 5 m, summary every

@@ -1,0 +1,59 @@
+#include "salsa/core/model/wind.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "salsa/core/model/simulation.hpp"  // box2d_max_step
+
+namespace salsa {
+
+const std::vector<WindProperty>& wind_schema() {
+  // The ranges are what a test file may hold; check_wind adds the physics' limit (what a drone can be
+  // carried by in one step) on top.
+  static const std::vector<WindProperty> schema{
+      {{"velocity.x", 0, -1e3, 1e3, "m/s", "constant wind, x component (east)", 0.1},
+       [](const Wind& w) { return w.velocity.x; }, [](Wind& w, double v) { w.velocity.x = v; }},
+      {{"velocity.y", 0, -1e3, 1e3, "m/s", "constant wind, y component (north)", 0.1},
+       [](const Wind& w) { return w.velocity.y; }, [](Wind& w, double v) { w.velocity.y = v; }},
+      {{"gusts.strength", 0, 0, 1e3, "m/s", "gusts' standard deviation per axis (Ornstein-Uhlenbeck, stationary); 0: none", 0.1},
+       [](const Wind& w) { return w.gust_strength; }, [](Wind& w, double v) { w.gust_strength = v; }},
+      {{"gusts.time_scale", 10, 1e-3, 1e6, "s", "gusts' autocorrelation time: correlation e^(-lag/time_scale)", 0.1},
+       [](const Wind& w) { return w.gust_time_scale; }, [](Wind& w, double v) { w.gust_time_scale = v; }},
+  };
+  return schema;
+}
+
+const WindProperty* find_wind_property(std::string_view name) {
+  for (const WindProperty& p : wind_schema())
+    if (p.spec.name == name) return &p;
+  return nullptr;
+}
+
+std::string wind_property_names() {
+  std::string out;
+  for (const WindProperty& p : wind_schema()) out += (out.empty() ? "" : ", ") + p.spec.name;
+  return out;
+}
+
+double wind_limit(const DroneConfig& d, double dt) { return std::min(d.radius, box2d_max_step) / dt - d.max_speed; }
+
+namespace {
+constexpr std::uint64_t gust_stream = 3;  // beside the map (0), targets (1) and spawn (2) streams of simulation.cpp
+Vec2 clamped(Vec2 v, double strength) { return v.clamped(gust_clamp * strength); }
+}  // namespace
+
+Gusts::Gusts(std::uint64_t seed, double strength) : rng_(seed, gust_stream) {
+  if (strength <= 0) return;
+  const double x = rng_.normal();  // x first, in its own statement: the order is not the compiler's
+  value_ = clamped({strength * x, strength * rng_.normal()}, strength);
+}
+
+void Gusts::advance(double strength, double time_scale, double dt) {
+  if (strength <= 0) return void(value_ = {});
+  const double decay = std::exp(-dt / time_scale);
+  const double spread = strength * std::sqrt(-std::expm1(-2 * dt / time_scale));  // sqrt(1 − e^(−2dt/τ)), exact for dt ≪ τ
+  const double x = rng_.normal();
+  value_ = clamped({decay * value_.x + spread * x, decay * value_.y + spread * rng_.normal()}, strength);
+}
+
+}  // namespace salsa
