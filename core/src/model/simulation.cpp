@@ -246,7 +246,9 @@ std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, con
 // ---------------------------------------------------------------- set-up and live changes
 
 struct Simulation::Scratch {
-  std::vector<PointGrid::Hit> hits;
+  std::vector<PointGrid::Hit> hits, senders;
+  Outbox outbox;  ///< without "comm": broadcast writes here (its size still checked), nobody reads it
+  std::array<double, max_message_size> room;
   std::vector<Neighbour> neighbours;
   std::vector<TargetSeen> targets;
   std::vector<std::uint32_t> segment_ids;
@@ -334,15 +336,17 @@ struct Simulation::World {
 };
 
 Simulation::Simulation(SimulationSetup setup)
-    : setup_(std::move(setup)), parallel_(std::make_unique<Parallel>(setup_.threads)) {
+    : setup_(std::move(setup)), parallel_(std::make_unique<Parallel>(setup_.threads)), comm_(std::make_unique<CommState>()) {
   if (setup_.groups.empty()) throw std::invalid_argument("groups: none given");
   for (const GroupSetup& g : setup_.groups)
     if (!g.behavior) throw std::invalid_argument("behavior: none given");
   if (setup_.log_every == 0) setup_.log_every = 1;
+  if (const std::string why = comm_problem(setup_.comm); !why.empty()) throw std::invalid_argument(why);
   World world = build_world(setup_);
   for (std::uint32_t g = 0; g < setup_.groups.size(); ++g) {
     Behavior& b = *setup_.groups[g].behavior;
     b.group_ = g;
+    message_sizes_.push_back(message_size(b, g));
     plugin_call(behavior_kind, g, [&] { b.reset(world.drones.positions.size()); });
   }
   install(std::move(world));
@@ -402,6 +406,14 @@ Simulation::Group Simulation::make_group(const GroupSetup& g, Vec2 base, const T
     out.reach = plugin_call(target_kind, 0, [&] { return kind->view_range(g.drone.camera_range); });
   }
   return out;
+}
+
+std::size_t Simulation::message_size(const Behavior& behavior, std::uint32_t g) {
+  const std::size_t size = plugin_call(behavior_kind, g, [&] { return behavior.message_size(); });
+  if (size > max_message_size)
+    throw PluginFailure(behavior_kind, g, "message_size() is " + std::to_string(size) + " doubles (allowed: at most " +
+                                              std::to_string(max_message_size) + ")");
+  return size;
 }
 
 std::size_t Simulation::ray_slots(const std::vector<Group>& groups) {
@@ -504,6 +516,8 @@ void Simulation::install(World&& w) noexcept {
   flying_ = static_cast<std::size_t>(std::count(drones_.status.begin(), drones_.status.end(), DroneStatus::flying));
   physics_->remove_drones_from(0);
   add_bodies();
+  if (comm_) comm_->clear();  // new drones: nothing in flight reaches them
+  comm_stale_ = true;
 }
 
 void Simulation::add_bodies() {
@@ -561,6 +575,7 @@ void Simulation::set_drone_count(std::size_t n, std::uint32_t group) {
   flying_ = static_cast<std::size_t>(std::count(drones_.status.begin(), drones_.status.end(), DroneStatus::flying));
   spawn_rng_ = rng;
   setup_.groups[group].drones = n;
+  comm_stale_ = true;
 }
 
 void Simulation::set_drone_config(const DroneConfig& config, std::uint32_t group) {
@@ -609,8 +624,21 @@ void Simulation::set_behavior(std::shared_ptr<Behavior> behavior, std::uint32_t 
   if (!behavior) throw std::invalid_argument("behavior: none given");
   if (group >= setup_.groups.size()) throw std::invalid_argument("group " + std::to_string(group) + " does not exist");
   behavior->group_ = group;
+  const std::size_t size = message_size(*behavior, group);
   plugin_call(behavior_kind, group, [&] { behavior->reset(drones_.positions.size()); });
   setup_.groups[group].behavior = std::move(behavior);
+  message_sizes_[group] = size;
+  comm_stale_ = true;
+}
+
+void Simulation::set_comm(const CommSetup& comm) {
+  if (const std::string why = comm_problem(comm); !why.empty()) throw std::invalid_argument(why);
+  setup_.comm = comm;
+  comm_stale_ = true;
+}
+
+std::span<const Message> Simulation::inbox(std::uint32_t id) const {
+  return setup_.comm.on ? comm_->inbox(steps_, id) : std::span<const Message>();
 }
 
 void Simulation::set_map(const MapData& map, std::optional<Vec2> spawn) {
@@ -692,6 +720,7 @@ void Simulation::step() {
   auto drones = [this] {
     timed(Phase::sense, [this] { sense(); });
     timed(Phase::decide, [this] { decide(); });
+    if (setup_.comm.on) timed(Phase::communicate, [this] { communicate(); });
     timed(Phase::detect, [this] { dispatch_sightings(); });
   };
   if (setup_.decision_lag == 0) {
@@ -782,6 +811,13 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   me.obstacles = {drones_.hits.data() + id * ray_slots_, drones_.hit_counts[id]};
   me.targets = s.targets;
   me.world = this;
+  if (setup_.comm.on) {
+    me.messages = comm_->inbox(steps_, id);
+    me.outbox = &comm_->outbox(id);
+  } else {
+    s.outbox = {{s.room.data(), message_sizes_[g]}, 0, false};
+    me.outbox = &s.outbox;
+  }
   return me;
 }
 
@@ -798,6 +834,11 @@ void Simulation::decide() {
     plugin_call(behavior_kind, g, [&] { behavior.prepare(*this); });
     senses[g] = plugin_call(behavior_kind, g, [&] { return behavior.senses(); });
   }
+  if (setup_.comm.on && (comm_stale_ || comm_counts_.size() != drones_.positions.size())) {
+    comm_->resize(drones_.positions.size(), message_sizes_, drones_.groups, setup_.comm.latency);
+    comm_counts_.resize(drones_.positions.size());
+    comm_stale_ = false;
+  }
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
     if (drones_.status[i] != DroneStatus::flying) return;
     const std::uint32_t g = drones_.groups[i];
@@ -805,6 +846,33 @@ void Simulation::decide() {
     const Perception me = perceive(i, senses[g], s);
     drones_.steering[i] = plugin_call(behavior_kind, g, [&] { return behavior.decide(me, drones_.rngs[i]); });
   });
+}
+
+// Communicate: the messages broadcast in this decide, matched against the positions they were decided
+// on (the drone grid of this step's sense), each receiver's inbox filled in parallel; the counters add
+// up serially. Runs only with "comm".
+void Simulation::communicate() {
+  const std::size_t sent = comm_->collect(steps_, time(), drones_.status);
+  const std::span<const Vec2> positions = drones_.positions;
+  parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
+    comm_counts_[i] = {};
+    comm_->receive(steps_, i, setup_.comm, setup_.seed, positions, drones_.groups, drones_.status, drone_grid_, geometry_, s.senders,
+                   comm_counts_[i]);
+  });
+  CommState::Counts total;
+  for (const CommState::Counts& c : comm_counts_) {
+    total.in_range += c.in_range, total.obstacle += c.obstacle, total.loss += c.loss;
+    total.cap += c.cap, total.delivered += c.delivered;
+  }
+  // Each message is offered to every other flying drone; those the grid did not find in range are
+  // dropped by range, counted without looking at them.
+  CommCounters& k = comm_counters_;
+  k.sent += sent;
+  k.dropped_range += sent * (flying_ > 0 ? flying_ - 1 : 0) - total.in_range;
+  k.dropped_obstacle += total.obstacle;
+  k.dropped_loss += total.loss;
+  k.dropped_cap += total.cap;
+  k.delivered += total.delivered;
 }
 
 // Act: add the steering to the velocity as it is, clamp the speed to max speed, hand the velocity to

@@ -46,6 +46,7 @@ struct TestSpec {
   std::vector<GroupSpec> groups{1}; ///< at least one; drone ids run over them in order
   bool named_groups = false;        ///< read from "groups" (and written back so); false: the single form
   FailureSetup failures;
+  CommSetup comm;                   ///< "comm": messages between drones; off without it
   PluginChoice map;
   std::string map_file;             ///< for file-based maps; absolute or relative to the working folder
   PluginChoice target;
