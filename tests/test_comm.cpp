@@ -206,7 +206,7 @@ class TestComm : public QObject {
                qPrintable(QString("loss at %1 m: %2, formula %3 ± %4").arg(d).arg(measured).arg(p).arg(binomial_999(p, n))));
     }
     QCOMPARE(comm_loss(c, 50), 1 - 0.7 * (1 - 0.4 * 0.25));
-    QCOMPARE(heard[std::pair{1u, 2u}], 0);
+    QCOMPARE(heard[(std::pair{1u, 2u})], 0);
     QCOMPARE(l.counts.loss + l.counts.delivered, l.counts.in_range);
   }
 
