@@ -291,7 +291,7 @@ class TestComm : public QObject {
     c.loss_at_range = 0.5;
     c.max_received = 4;
     SimulationSetup s = field(40, std::make_shared<Follower>(), c);
-    s.map.obstacles.push_back({{250, 250}, {350, 250}, {350, 350}, {250, 350}});
+    s.map.obstacles.push_back({{340, 240}, {440, 240}, {440, 360}, {340, 360}});
     s.groups[0].spawn_radius = 200;
     Simulation sim(s);
     sim.run_steps(50);
@@ -365,7 +365,7 @@ class TestComm : public QObject {
                                 "targets": {"count": 100}, "time": 15)";
     const TestSpec plain = parse_test("{" + base + "}", "t.json", *host_);
     QVERIFY(!plain.comm.on);
-    QVERIFY(resolved_json(plain, *host_).find("comm") == std::string::npos);
+    QVERIFY(resolved_json(plain, *host_).find("\"comm\"") == std::string::npos);
     const TestSpec talking = parse_test("{" + base + R"(, "comm": {"range": 100, "loss": 0.5}})", "t.json", *host_);
     QVERIFY(talking.comm.on);
     TestSpec off = talking;
