@@ -76,7 +76,7 @@ constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
 /// atan2(y, x) within a few ulps (test_comm checks 1e-15 rad), without libm: glibc's took a sixth of a
 /// step's time at 15 deliveries per drone. Reduced to t = min/max of |x|, |y| in [0, 1]; then with the
 /// nearest c = k/16, atan t = atan c + atan u, u = (t − c) / (1 + t c), |u| ≤ 1/32, whose odd Taylor
-/// series to u⁹ errs by under u¹¹/11 < 3e-18.
+/// series to u⁹ errs by under u¹¹/11 < 3e-18. Plain arithmetic: the same bits on every machine.
 double bearing_of(double y, double x) {
   static const std::array<double, 17> table = [] {
     std::array<double, 17> out{};
@@ -86,10 +86,12 @@ double bearing_of(double y, double x) {
   const double ax = std::fabs(x), ay = std::fabs(y);
   const double hi = std::max(ax, ay), lo = std::min(ax, ay);
   if (!(hi > 0)) return 0;  // the same point (or NaN): no direction
-  const double t = lo / hi;
-  const double k = std::nearbyint(t * 16), c = k / 16;
-  const double u = (t - c) / (1 + t * c), u2 = u * u;
-  double a = table[static_cast<std::size_t>(k)] +
+  // k only picks the expansion point: a float quotient is near enough (|u| stays within a hair of
+  // 1/32), and u = (t − c) / (1 + t c) with t = lo / hi is one division.
+  const auto k = static_cast<std::size_t>(static_cast<float>(lo) * 16.0f / static_cast<float>(hi) + 0.5f);
+  const double c = static_cast<double>(k) / 16;
+  const double u = (lo - c * hi) / (hi + c * lo), u2 = u * u;
+  double a = table[k] +
              u * (1 + u2 * (-1.0 / 3 + u2 * (1.0 / 5 + u2 * (-1.0 / 7 + u2 * (1.0 / 9)))));
   if (ay > ax) a = pi / 2 - a;
   if (x < 0) a = pi - a;
