@@ -247,6 +247,7 @@ std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, con
 
 struct Simulation::Scratch {
   std::vector<PointGrid::Hit> hits, senders;
+  std::vector<Message> messages;
   Outbox outbox;  ///< without "comm": broadcast writes here (its size still checked), nobody reads it
   std::array<double, max_message_size> room;
   std::vector<Neighbour> neighbours;
@@ -637,8 +638,13 @@ void Simulation::set_comm(const CommSetup& comm) {
   comm_stale_ = true;
 }
 
-std::span<const Message> Simulation::inbox(std::uint32_t id) const {
-  return setup_.comm.on ? comm_->inbox(steps_, id) : std::span<const Message>();
+std::vector<Message> Simulation::inbox(std::uint32_t id) const {
+  std::vector<Message> out;
+  if (!setup_.comm.on || comm_stale_) return out;
+  std::vector<PointGrid::Hit> hits;
+  CommState::Counts counts;
+  comm_->receive(steps_, id, setup_.comm, setup_.seed, drones_.groups, geometry_, hits, out, counts);
+  return out;
 }
 
 void Simulation::set_map(const MapData& map, std::optional<Vec2> spawn) {
@@ -812,7 +818,8 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   me.targets = s.targets;
   me.world = this;
   if (setup_.comm.on) {
-    me.messages = comm_->inbox(steps_, id);
+    comm_->receive(steps_, id, setup_.comm, setup_.seed, drones_.groups, geometry_, s.senders, s.messages, comm_counts_[id]);
+    me.messages = s.messages;
     me.outbox = &comm_->outbox(id);
   } else {
     s.outbox = {{s.room.data(), message_sizes_[g]}, 0, false};
@@ -836,9 +843,9 @@ void Simulation::decide() {
   }
   if (setup_.comm.on && (comm_stale_ || comm_counts_.size() != drones_.positions.size())) {
     comm_->resize(drones_.positions.size(), message_sizes_, drones_.groups, setup_.comm.latency);
-    comm_counts_.resize(drones_.positions.size());
     comm_stale_ = false;
   }
+  if (setup_.comm.on) comm_counts_.assign(drones_.positions.size(), {});
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
     if (drones_.status[i] != DroneStatus::flying) return;
     const std::uint32_t g = drones_.groups[i];
@@ -848,31 +855,25 @@ void Simulation::decide() {
   });
 }
 
-// Communicate: the messages broadcast in this decide, matched against the positions they were decided
-// on (the drone grid of this step's sense), each receiver's inbox filled in parallel; the counters add
-// up serially. Runs only with "comm".
+// Communicate: the counts of the messages each drone received in this decide (its inbox was gathered
+// right before its decide, as its neighbours are) summed, then the messages broadcast in this decide
+// packed with the positions they were decided on and a grid of their senders, for the receivers'
+// decide latency + 1 steps on. Serial, O(drones). Runs only with "comm".
 void Simulation::communicate() {
-  const std::size_t sent = comm_->collect(steps_, time(), drones_.status);
-  const std::span<const Vec2> positions = drones_.positions;
-  parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
-    comm_counts_[i] = {};
-    comm_->receive(steps_, i, setup_.comm, setup_.seed, positions, drones_.groups, drones_.status, drone_grid_, geometry_, s.senders,
-                   comm_counts_[i]);
-  });
   CommState::Counts total;
   for (const CommState::Counts& c : comm_counts_) {
-    total.in_range += c.in_range, total.obstacle += c.obstacle, total.loss += c.loss;
+    total.offered += c.offered, total.in_range += c.in_range, total.obstacle += c.obstacle, total.loss += c.loss;
     total.cap += c.cap, total.delivered += c.delivered;
   }
-  // Each message is offered to every other flying drone; those the grid did not find in range are
-  // dropped by range, counted without looking at them.
+  // Each message is offered to every other drone flying when it arrives; those the grid did not find
+  // in range are dropped by range, counted without looking at them.
   CommCounters& k = comm_counters_;
-  k.sent += sent;
-  k.dropped_range += sent * (flying_ > 0 ? flying_ - 1 : 0) - total.in_range;
+  k.dropped_range += total.offered - total.in_range;
   k.dropped_obstacle += total.obstacle;
   k.dropped_loss += total.loss;
   k.dropped_cap += total.cap;
   k.delivered += total.delivered;
+  k.sent += comm_->collect(steps_, time(), drones_.positions, drones_.status, setup_.comm.range);
 }
 
 // Act: add the steering to the velocity as it is, clamp the speed to max speed, hand the velocity to

@@ -221,7 +221,8 @@ std::optional<ObstacleHit> StaticGeometry::ray_cast(Vec2 from, Vec2 to) const {
 }
 
 bool StaticGeometry::blocked(Vec2 a, Vec2 b) const {
-  if (cell_start_.empty()) return false;
+  // Segments 0–3 are the bounds, which two points inside them never cross: nothing else, nothing to do.
+  if (cell_start_.empty() || segments_.size() <= 4) return false;
   const Vec2 d = b - a;
   const double length = d.length();
   if (!(length > 0) || !std::isfinite(length)) return false;

@@ -129,8 +129,9 @@ struct Perception {
   std::span<const Neighbour> neighbours;   ///< drones within detection_range, nearest not first
   std::span<const ObstacleHit> obstacles;  ///< ray hits within obstacle_range
   std::span<const TargetSeen> targets;     ///< targets in camera view
-  /// Messages received this step, by ascending sender id: what other drones broadcast in an earlier
-  /// step and the test's comm model delivered (docs/plugins.md#messages). Empty without "comm".
+  /// Messages received this step: what other drones broadcast in an earlier step and the test's comm
+  /// model delivered (docs/plugins.md#messages-drones-that-talk), in the drone grid's order as
+  /// neighbours are (nearest first when the model caps them). Empty without "comm".
   std::span<const Message> messages;
   const WorldView* world = nullptr;
   /// Where broadcast writes: the core's slot for this drone and step. Null in a Perception made by

@@ -74,41 +74,47 @@ struct CommCounters {
 inline constexpr const char* comm_columns[] = {"messages_sent", "messages_delivered", "dropped_range",
                                                "dropped_obstacle", "dropped_loss", "dropped_cap"};
 
-/// The messages in flight: what each drone broadcast in a step, and each receiver's inbox from it, kept
-/// for latency + 2 steps (one slot written, one read, the rest in flight). Each drone writes only its
-/// own outbox and each receiver only its own inbox, so delivery runs in parallel per receiver.
+/// The messages in flight: what the drones broadcast in a step, with the positions and a grid of the
+/// senders of that step, kept for latency + 2 steps (one slot written, one read, the rest in flight).
+/// A receiver's inbox is gathered in its own `decide`, right before the call (as its neighbours are):
+/// into a buffer of the deciding thread, so nothing per drone is stored and each drone writes only its
+/// own counts.
 class CommState {
  public:
-  /// Per-drone room for `drones` drones, each `room[group]` doubles; keeps what is in flight.
+  /// Per-drone room for `drones` drones, each `room[group]` doubles; keeps what is in flight unless
+  /// the latency changed.
   void resize(std::size_t drones, std::span<const std::size_t> room, std::span<const std::uint32_t> groups, int latency);
-  /// Everything in flight forgotten (a new map, a new latency).
+  /// Everything in flight forgotten (a new map).
   void clear();
   Outbox& outbox(std::uint32_t id) { return outboxes_[id]; }
-  /// What drone `id` receives in step `step` (sent in step − 1 − latency), by ascending sender id.
-  std::span<const Message> inbox(std::uint64_t step, std::uint32_t id) const;
 
-  /// The broadcasts of step `step` (sent at `time`) packed into its slot; outboxes cleared for the
-  /// next step. Returns how many drones broadcast. Serial, O(drones + payload).
-  std::size_t collect(std::uint64_t step, double time, std::span<const DroneStatus> status);
+  /// The broadcasts of step `step` (sent at `time`, decided on `positions`) packed into its slot, with
+  /// a grid of their senders (cells of range / 2); outboxes cleared for the next step. Returns how many
+  /// drones broadcast. Serial, O(drones + payload).
+  std::size_t collect(std::uint64_t step, double time, std::span<const Vec2> positions, std::span<const DroneStatus> status,
+                      double range);
 
-  /// Drone `receiver`'s inbox of step `step`: the messages collected in that step from flying drones
-  /// in range (the drone grid built on the same positions), in sight, not lost, at most max_received.
-  /// Draws come from (seed, step, sender, receiver) alone. Adds to `counts` (its own, for the caller
-  /// to sum): senders in range, blocked, lost, capped, delivered.
+  /// What each receiver's step did with the messages offered to it.
   struct Counts {
-    std::uint64_t in_range = 0, obstacle = 0, loss = 0, cap = 0, delivered = 0;
+    std::uint64_t offered = 0, in_range = 0, obstacle = 0, loss = 0, cap = 0, delivered = 0;
   };
+  /// Drone `receiver`'s messages in step `step` (sent in step − 1 − latency) into `out`, in the grid's
+  /// order (nearest first when capped): the senders of that step strictly within range of where the
+  /// receiver was then, in sight, not lost, at most max_received. Draws come from (seed, sent step,
+  /// sender, receiver) alone. Adds to `counts` (the receiver's own). The receiver flies now, so it flew
+  /// then (a stopped drone never flies again; a drone added since has no messages).
   void receive(std::uint64_t step, std::uint32_t receiver, const CommSetup& comm, std::uint64_t seed,
-               std::span<const Vec2> positions, std::span<const std::uint32_t> groups, std::span<const DroneStatus> status,
-               const PointGrid& grid, const StaticGeometry& geometry, std::vector<PointGrid::Hit>& hits, Counts& counts);
+               std::span<const std::uint32_t> groups, const StaticGeometry& geometry, std::vector<PointGrid::Hit>& hits,
+               std::vector<Message>& out, Counts& counts) const;
 
  private:
   struct Slot {
     double time = 0;
-    std::size_t senders = 0;                   ///< drones that broadcast
     std::vector<double> pool;                  ///< payloads, packed
     std::vector<std::uint32_t> offset, size;   ///< per drone: its payload in pool; size UINT32_MAX: did not broadcast
-    std::vector<std::vector<Message>> inbox;   ///< per receiver
+    std::vector<Vec2> positions;               ///< every drone's, as the senders decided on them
+    std::vector<std::uint32_t> senders;        ///< ids of the drones that broadcast
+    PointGrid grid;                            ///< over the senders' positions, indexing `senders`
   };
   Slot& slot(std::uint64_t step) { return ring_[step % ring_.size()]; }
   const Slot& slot(std::uint64_t step) const { return ring_[step % ring_.size()]; }
@@ -117,6 +123,7 @@ class CommState {
   std::vector<Slot> ring_{2};
   std::vector<double> room_;        ///< every drone's outbox room, back to back
   std::vector<Outbox> outboxes_;
+  std::vector<Vec2> scratch_;       ///< the senders' positions, for the grid
 };
 
 }  // namespace salsa

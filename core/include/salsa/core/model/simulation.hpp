@@ -191,8 +191,8 @@ class Simulation final : public WorldView {
   std::uint64_t collisions() const { return collisions_; }  ///< contacts begun, drone–drone and drone–obstacle
   /// The comm model's counters so far (all zero without "comm").
   const CommCounters& comm_counters() const { return comm_counters_; }
-  /// What drone `id` receives in the next step's decide (empty without "comm").
-  std::span<const Message> inbox(std::uint32_t id) const;
+  /// What drone `id` receives in the next step's decide, if it flies then (empty without "comm").
+  std::vector<Message> inbox(std::uint32_t id) const;
   const StaticGeometry& geometry() const { return geometry_; }
   /// Nearest other drone's distance for each drone (m); +inf when alone. About O(N) through a grid sized
   /// to the drones' spread, whatever the detection range.
@@ -312,7 +312,7 @@ class Simulation final : public WorldView {
   std::vector<std::size_t> message_sizes_;
   std::unique_ptr<CommState> comm_;
   bool comm_stale_ = true;  ///< sizes, drones or latency changed: comm_ is resized before the next decide
-  std::vector<CommState::Counts> comm_counts_;  ///< per receiver, this step
+  mutable std::vector<CommState::Counts> comm_counts_;  ///< per receiver, this step: each drone's perceive writes its own
   CommCounters comm_counters_;
 };
 
