@@ -81,7 +81,7 @@ int cmd_bench(int argc, char** argv) {
       "cpu-time", "time runs and floor by this process's CPU clock, not the wall clock (with --threads 1 on a busy machine)")(
       "profile", "print the time spent in each step phase")(
       "fleet", "table1: two groups of half the swarm, batteries and failure rates on (the fleet model's cost)")(
-      "wind", "table1: a 3 m/s wind with gusts of 1 m/s (the wind model's cost)")("json", po::value<std::string>(), "write all figures to this JSON file");
+      "wind", "table1: a 3 m/s wind with gusts of 1 m/s (the wind model's cost)")("comm", po::value<double>(), "table1: every drone broadcasts its position and velocity every step to drones within RANGE m, line of sight on (the comm model's cost)")("json", po::value<std::string>(), "write all figures to this JSON file");
   po::positional_options_description pos;
   pos.add("workload", 1).add("file", 1);
   po::variables_map vm;
@@ -112,6 +112,9 @@ int cmd_bench(int argc, char** argv) {
   // The default everywhere (test files, the desktop, both workloads): no lag, the paper's definition.
   const int lag = vm.count("decision-lag") ? vm["decision-lag"].as<int>() : 0;
   if (lag != 0 && lag != 1) throw InputError("--decision-lag: " + std::to_string(lag) + " is out of range (allowed: 0 or 1)");
+  const double comm_range = vm.count("comm") ? vm["comm"].as<double>() : 0;
+  if (vm.count("comm") && !(comm_range >= 1e-3 && comm_range <= 1e6))
+    throw InputError("--comm: " + Parameter::format(comm_range) + " is out of range (allowed: a range in [0.001, 1000000] m)");
 
   std::vector<Cell> cells;
   if (!is_table1) {
@@ -141,7 +144,8 @@ int cmd_bench(int argc, char** argv) {
   const int used_threads = threads > 0 ? threads : tbb::info::default_concurrency();
   std::cout << "salsa " << salsa_version() << " bench " << workload << ": " << std::thread::hardware_concurrency()
             << " cores (" << cpu_model() << "), " << used_threads << " decide thread(s), " << sim_time
-            << " s simulated per run, seeds 1.." << seeds << ", decision lag " << lag << (cpu ? ", CPU clock" : "") << "\n";
+            << " s simulated per run, seeds 1.." << seeds << ", decision lag " << lag << (cpu ? ", CPU clock" : "")
+            << (comm_range > 0 ? ", comm range " + Parameter::format(comm_range) + " m" : "") << "\n";
   std::cout << std::left << std::setw(8) << "drones" << std::setw(9) << "targets" << std::right << std::setw(9) << "setup_s"
             << std::setw(9) << "wall_s" << std::setw(10) << "RTF" << std::setw(22) << "RTF min-max" << std::setw(13)
             << "steps/s" << std::setw(15) << "drone-steps/s" << std::setw(9) << "peak_MB" << std::setw(10) << "found";
@@ -158,6 +162,7 @@ int cmd_bench(int argc, char** argv) {
   report["seeds"] = seeds;
   report["decision_lag"] = lag;
   report["clock"] = cpu ? "process CPU" : "wall";
+  if (comm_range > 0) report["comm_range"] = comm_range;
   report["cells"] = nlohmann::ordered_json::array();
 
   const std::size_t steps = static_cast<std::size_t>(std::llround(sim_time * 60));
@@ -174,6 +179,7 @@ int cmd_bench(int argc, char** argv) {
       w.behavior = behavior;
       w.fleet = vm.count("fleet") > 0;
       w.wind = vm.count("wind") > 0;
+      w.comm_range = comm_range;
       bench::reset_peak_rss();
       const auto t0 = std::chrono::steady_clock::now();
       SimulationSetup setup = bench::table1(host, w);

@@ -6,6 +6,7 @@
 #include <memory>
 #include <type_traits>
 
+#include "salsa/core/model/comm.hpp"
 #include "salsa/core/model/drone_config.hpp"
 #include "salsa/core/plugins/plugin_host.hpp"
 #include "commands.hpp"
@@ -79,7 +80,7 @@ void describe_columns(const Entry<Metric>& e) {
 
 int cmd_describe(int argc, char** argv) {
   po::options_description o("describe options");
-  o.add_options()("name", po::value<std::string>(), "plugin name (behavior, target kind, map, contact handler, metric or wind), or drone");
+  o.add_options()("name", po::value<std::string>(), "plugin name (behavior, target kind, map, contact handler, metric or wind), drone or comm");
   po::variables_map vm;
   if (!parse(argc, argv, "describe", "NAME [options]", o, vm, plugin_options, positional("name"))) return 0;
   if (!vm.count("name")) throw InputError("describe: missing NAME (see 'salsa plugins' for the names)");
@@ -106,6 +107,15 @@ int cmd_describe(int argc, char** argv) {
         if (p.section == DroneSection::body || p.get(c) != p.spec.value) std::cout << " " << p.spec.name << "=" << Parameter::format(p.get(c));
       std::cout << "\n";
     }
+    return 0;
+  }
+  if (name == "comm") {  // not a plugin: a test's communication model (comm_schema)
+    std::cout << "comm: a test's communication model (\"comm\": {...}; absent: drones exchange no messages). Timed changes\n"
+                 "and sweeps set its fields as comm.<field>; line_of_sight is true or false (1 or 0 in changes and sweeps).\n"
+                 "Loss at distance d: p = 1 - (1 - loss)(1 - loss_at_range (d / range)^2).\n\n";
+    Parameters parameters;
+    for (const CommField& f : comm_schema()) parameters.push_back(f.spec);
+    table(parameters);
     return 0;
   }
   PluginHost host;

@@ -72,8 +72,8 @@ echo "ok: the smoke test fails bad_map"
 examples=$prefix/share/doc/salsa/examples/plugin
 configure_build_test "$examples" "$work/example"
 out=$(ctest --test-dir "$work/example" --output-on-failure 2>&1) || { echo "$out"; echo "FAIL: ctest of examples/plugin"; exit 1; }
-for t in wander_test dwell_test rings_test return_to_base_test flocking_plus_test vortex_test wander_loads dwell_loads rings_loads \
-         return_to_base_loads in_zone_loads flocking_plus_loads vortex_loads; do
+for t in wander_test dwell_test rings_test return_to_base_test flocking_plus_test vortex_test gossip_test wander_loads dwell_loads rings_loads \
+         return_to_base_loads in_zone_loads flocking_plus_loads vortex_loads gossip_loads; do
   grep -q "$t .*Passed" <<<"$out" || { echo "$out"; echo "FAIL: $t did not pass"; exit 1; }
 done
 # A queue that uses them, from a fresh folder holding only the built files.

@@ -11,6 +11,7 @@
 
 #include <QtTest>
 
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -95,6 +96,47 @@ class TestBuiltinBehaviors : public QObject {
     salsa::Rng rng(1, 0);
     const Vec2 steering = pheromone->decide(scene.perception(), rng);
     QCOMPARE(steering.y != 0, counted);
+  }
+
+  // sharing 1 (messages): drone 1's mark reaches drone 0's own field only as a message from its
+  // group, and drone 0 broadcasts where it marked. Same layout as above: counted, drone 0 turns.
+  void pheromone_messages_mark_only_what_was_received_data() {
+    QTest::addColumn<bool>("received");
+    QTest::addColumn<int>("sender_group");
+    QTest::addColumn<bool>("counted");
+    QTest::newRow("no message") << false << 0 << false;
+    QTest::newRow("a message from its group") << true << 0 << true;
+    QTest::newRow("a message from another group") << true << 1 << false;
+  }
+  void pheromone_messages_mark_only_what_was_received() {
+    QFETCH(bool, received);
+    QFETCH(int, sender_group);
+    QFETCH(bool, counted);
+    World world;
+    world.add({100, 100});
+    world.add({130, 100}, static_cast<std::uint32_t>(sender_group));
+    auto pheromone = make<salsa::behaviors::PheromoneAvoidance>();
+    salsa::ParameterValues values = pheromone->parameters();
+    values.set("sharing", 1);
+    pheromone->set_parameters(values);
+    pheromone->reset(2);
+    pheromone->prepare(world);
+    salsa::testing::Scene scene;
+    scene.at({100, 100}, {10, 0});
+    const double where[2] = {130, 100};
+    const salsa::Message message{1, static_cast<std::uint32_t>(sender_group), 30, 0, 0, where};
+    std::array<double, 2> room{};
+    salsa::Outbox outbox{room};
+    salsa::Perception me = scene.perception();
+    if (received) me.messages = {&message, 1};
+    me.outbox = &outbox;
+    salsa::Rng rng(1, 0);
+    const Vec2 steering = pheromone->decide(me, rng);
+    QCOMPARE(steering.y != 0, counted);
+    QVERIFY(outbox.sent);
+    QCOMPARE(outbox.size, std::size_t{2});
+    QCOMPARE(room[0], 100.0);
+    QCOMPARE(room[1], 100.0);
   }
 
   // The partition points: only members (drones 0 and 1) repel and move, and the spacing counts only

@@ -272,6 +272,9 @@ struct Engine::Worker {
           snap->trails[d * trail_length + k] = trail_ring[d * trail_length + (first + k) % trail_length];
     }
     snap->heat = heat;
+    if (sim->setup().comm.on)
+      for (std::uint32_t id = 0; id < p.size() && snap->links.size() < Snapshot::max_links; ++id)
+        for (const Message& m : sim->inbox(id)) snap->links.emplace_back(id, m.sender);
     if (selected && *selected < p.size() && status[*selected] != DroneStatus::removed) snap->selected = inspect(*selected);
     if (speed_samples.size() >= 2) {
       const auto& [w0, t0] = speed_samples.front();
@@ -313,6 +316,10 @@ struct Engine::Worker {
       in.status = status_name(*sim, id);
       in.energy_used = sim->energy_used(id) / 3600;  // J to Wh
       if (drone.battery_capacity > 0) in.battery_left = std::clamp(sim->battery_left(id) / (drone.battery_capacity * 3600), 0.0, 1.0);
+    }
+    if (sim->setup().comm.on) {
+      in.heard.emplace();
+      for (const Message& m : sim->inbox(id)) in.heard->push_back(m.sender);
     }
     try {  // plugin code on the worker thread: a throw must not end the desktop
       in.memory = sim->behavior(group).inspect(id);

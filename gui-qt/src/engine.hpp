@@ -62,6 +62,8 @@ struct Inspection {
   std::string status;
   double energy_used = 0;                  ///< Wh (drawn from its battery: 0 without one)
   std::optional<double> battery_left;      ///< fraction 0..1; none without a battery
+  /// With "comm": the senders of the messages it receives in the next step, by ascending id.
+  std::optional<std::vector<std::uint32_t>> heard;
 };
 
 /// A group of drones as the view draws it.
@@ -99,6 +101,10 @@ struct Snapshot {
   double speed = 0;         ///< simulated seconds per wall second, recent
   std::string test_name;    ///< the loaded test's name
   std::size_t changes_applied = 0;  ///< timeline changes applied so far (the controls refresh when it moves)
+  /// With "comm": the messages delivered for the next step as (receiver, sender) ids, at most
+  /// max_links of them (the view draws them as lines).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> links;
+  static constexpr std::size_t max_links = 100000;
 
   std::uint32_t group_of(std::uint32_t id) const { return id < drone_groups.size() ? drone_groups[id] : 0; }
   DroneStatus status_of(std::uint32_t id) const { return id < status.size() ? status[id] : DroneStatus::flying; }

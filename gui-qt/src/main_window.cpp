@@ -205,7 +205,8 @@ void MainWindow::build_menus() {
   for (const Toggle& t : {Toggle{"Camera range", &ViewOptions::camera_range}, Toggle{"Obstacle range", &ViewOptions::obstacle_range},
                           Toggle{"Detection range", &ViewOptions::detection_range}, Toggle{"Targets", &ViewOptions::targets},
                           Toggle{"Trails", &ViewOptions::trails}, Toggle{"Heat map", &ViewOptions::heat_map},
-                          Toggle{"Obstacles", &ViewOptions::obstacles}, Toggle{"Spawn point", &ViewOptions::spawn}}) {
+                          Toggle{"Obstacles", &ViewOptions::obstacles}, Toggle{"Spawn point", &ViewOptions::spawn},
+                          Toggle{"Communication links", &ViewOptions::links}}) {
     QAction* a = view->addAction(t.text);
     a->setCheckable(true);
     a->setChecked(sandbox_->view()->options().*t.flag);

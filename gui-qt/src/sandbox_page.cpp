@@ -35,6 +35,13 @@ namespace {
 using json = nlohmann::ordered_json;
 using Clock = std::chrono::steady_clock;
 
+/// The comm model's fields as panel rows (declared once, in comm_schema()).
+Parameters comm_parameters() {
+  Parameters out;
+  for (const CommField& f : comm_schema()) out.push_back(f.spec);
+  return out;
+}
+
 QString q(const std::string& s) { return QString::fromStdString(s); }
 
 json params_json(const ParamPanel* panel) {
@@ -300,6 +307,17 @@ void SandboxPage::build_controls() {
   failure_form->addRow(fail_);
   column->addWidget(failures);
 
+  // Communication: turning it on or off is a new start state; its fields change live, recorded.
+  comm_box_ = new QGroupBox("Communication (fields live, recorded)");
+  comm_box_->setObjectName("comm");
+  comm_box_->setCheckable(true);
+  comm_box_->setChecked(false);
+  comm_box_->setToolTip("messages between drones (docs/test-format.md#communication); off: nobody hears anybody");
+  comm_panel_ = new ParamPanel;
+  comm_panel_->set_schema(comm_parameters());
+  (new QVBoxLayout(comm_box_))->addWidget(comm_panel_);
+  column->addWidget(comm_box_);
+
   auto* run = new QGroupBox("Run");
   auto* run_layout = new QVBoxLayout(run);
   auto* buttons = new QHBoxLayout;
@@ -401,6 +419,12 @@ void SandboxPage::build_controls() {
   connect(camera_mtbf_, &QDoubleSpinBox::valueChanged, this, [this](double v) {
     if (!updating_) live_change("failures.camera_mtbf", v);
   });
+  connect(comm_box_, &QGroupBox::toggled, this, [this](bool) {
+    if (!updating_) schedule_reload();
+  });
+  connect(comm_panel_, &ParamPanel::changed, this, [this](const std::string& name, double v) {
+    if (!updating_) live_change("comm." + name, v);
+  });
   connect(fail_, &QPushButton::clicked, this, [this] {
     if (fail_target_) live_change("fail.drone", *fail_target_);
   });
@@ -447,6 +471,15 @@ std::optional<TestSpec> SandboxPage::spec_from_controls(std::string* why) {
   j.erase("failures");
   if (drone_mtbf_->value() > 0 || camera_mtbf_->value() > 0)
     j["failures"] = {{"drone_mtbf", drone_mtbf_->value()}, {"camera_mtbf", camera_mtbf_->value()}};
+  j.erase("comm");
+  if (comm_box_->isChecked()) {
+    json comm = json::object();
+    for (const CommField& f : comm_schema()) {
+      const double v = comm_panel_->value(f.spec.name);
+      comm[f.spec.name] = f.flag ? json(v != 0) : json(v);
+    }
+    j["comm"] = comm;
+  }
   if (!map_file_.isEmpty()) j["map"] = {{"file", map_file_.toStdString()}};
   else j["map"] = {{"name", map_->currentText().toStdString()}, {"params", params_json(map_panel_)}};
   const bool same_kind = target_kind_->currentText().toStdString() == file_base_.target.name;
@@ -570,6 +603,8 @@ void SandboxPage::show_test(const TestSpec& t) {
   if (section_in_use(group.drone, DroneSection::noise)) noise_toggle_->setChecked(true);  // so is noise
   drone_mtbf_->setValue(t.failures.drone_mtbf);
   camera_mtbf_->setValue(t.failures.camera_mtbf);
+  comm_box_->setChecked(t.comm.on);
+  for (const CommField& f : comm_schema()) comm_panel_->set_value(f.spec.name, f.get(t.comm));
   updating_ = was;
 }
 
@@ -919,6 +954,11 @@ void SandboxPage::refresh() {
     if (in.neighbours.size() > 12) text += " …";
     text += QString("\nobstacle hits: %1").arg(in.hits.size());
     for (const ObstacleHit& h : in.hits) text += QString(" %1 m").arg(h.distance, 0, 'f', 1);
+    if (in.heard) {
+      text += QString("\nmessages next step: %1 from").arg(in.heard->size());
+      for (std::size_t i = 0; i < std::min<std::size_t>(in.heard->size(), 12); ++i) text += QString(" %1").arg((*in.heard)[i]);
+      if (in.heard->size() > 12) text += " …";
+    }
     if (!in.memory.empty()) text += "\nmemory: " + q(in.memory);
     inspector_->setPlainText(text);
   } else if (!inspector_->toPlainText().isEmpty()) {

@@ -22,6 +22,7 @@
 #include "view.hpp"
 
 class QComboBox;
+class QGroupBox;
 class QDoubleSpinBox;
 class QSpinBox;
 class QToolButton;
@@ -91,6 +92,8 @@ class SandboxPage : public QWidget {
   QDoubleSpinBox* drone_mtbf_box() const { return drone_mtbf_; }
   QDoubleSpinBox* camera_mtbf_box() const { return camera_mtbf_; }
   QPushButton* fail_button() const { return fail_; }             ///< fails the inspected drone
+  QGroupBox* comm_box() const { return comm_box_; }              ///< checked: the test has "comm" (a new start state)
+  ParamPanel* comm_panel() const { return comm_panel_; }         ///< its fields, live
   ParamPanel* map_panel() const { return map_panel_; }
   QSpinBox* drones_box() const { return drones_; }
   QSpinBox* targets_box() const { return targets_; }
@@ -166,6 +169,8 @@ class SandboxPage : public QWidget {
   QDoubleSpinBox* drone_mtbf_ = nullptr;
   QDoubleSpinBox* camera_mtbf_ = nullptr;
   QPushButton* fail_ = nullptr;
+  QGroupBox* comm_box_ = nullptr;
+  ParamPanel* comm_panel_ = nullptr;
   std::optional<std::uint32_t> fail_target_;  ///< the inspected drone the fail button names
   QPushButton* run_button_ = nullptr;
   QComboBox* pacing_ = nullptr;

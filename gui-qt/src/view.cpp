@@ -260,6 +260,17 @@ void render_dynamic(QPainter& painter, const Snapshot& snap, const ViewOptions& 
     }
   }
 
+  if (options.links && !snap.links.empty()) {
+    // Each delivery once a pair: a link heard both ways is one line, drawn purple under the drones.
+    std::vector<QLineF> lines;
+    lines.reserve(snap.links.size());
+    for (const auto& [receiver, sender] : snap.links)
+      if (receiver < n && sender < n && (sender < receiver || !std::binary_search(snap.links.begin(), snap.links.end(), std::pair{sender, receiver})))
+        lines.emplace_back(at[receiver], at[sender]);
+    painter.setPen(QPen(QColor(0x7b, 0x3f, 0xa0, 90), 1));
+    painter.drawLines(lines.data(), static_cast<int>(lines.size()));
+  }
+
   struct Range {
     bool on;
     double DroneConfig::*metres;

@@ -21,6 +21,7 @@ struct ViewOptions {
   bool heat_map = false;
   bool obstacles = true;
   bool spawn = true;
+  bool links = false;      ///< messages delivered for the next step, receiver to sender (with "comm")
   bool operator==(const ViewOptions&) const = default;
 };
 

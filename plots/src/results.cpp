@@ -134,6 +134,7 @@ struct TestData {
   double target_radius = 0;  // m, from config.json's target params (0: not given)
   std::vector<double> time, found, nn, coverage;  // summary.csv; nn: NaN when empty
   std::vector<double> alive, energy;              // summary.csv with the fleet model, else empty
+  std::vector<std::vector<double>> messages;      // summary.csv's message counters (comm_columns) with "comm", else empty
   bool has_coverage = false;
   std::vector<Group> groups;  // in group order: summary.csv's, then any other drones.csv names
   bool drone_groups = false;  // drones.csv has the group column
@@ -162,6 +163,11 @@ void read_summary(TestData& t, const fs::path& file) {
       t.groups.push_back({name, {}, {}, {}});
       group_columns.push_back({in.find(h), in.find(name + ".alive"), in.find(name + ".energy_used_Wh")});
     }
+  std::vector<std::size_t> message_columns;
+  for (const char* name : comm_columns)
+    if (const auto c = in.find(name)) message_columns.push_back(*c);
+  if (message_columns.size() != std::size(comm_columns)) message_columns.clear();  // all or none
+  t.messages.assign(message_columns.size(), {});
   const double nan = std::nan("");
   double targets = 0;  // a group's found is a count: the test's targets = targets_found / fraction_found
   while (in.next()) {
@@ -173,6 +179,7 @@ void read_summary(TestData& t, const fs::path& file) {
     if (c_coverage) t.coverage.push_back(in.optional_number(*c_coverage).value_or(nan) * 100);
     if (c_alive) t.alive.push_back(in.optional_number(*c_alive).value_or(nan));
     if (c_energy) t.energy.push_back(in.optional_number(*c_energy).value_or(nan));
+    for (std::size_t k = 0; k < message_columns.size(); ++k) t.messages[k].push_back(in.optional_number(message_columns[k]).value_or(nan));
     for (std::size_t g = 0; g < group_columns.size(); ++g) {
       const Columns& c = group_columns[g];
       for (auto [column, into] : {std::pair{c.found, &t.groups[g].found}, std::pair{c.alive, &t.groups[g].alive}, std::pair{c.energy, &t.groups[g].energy}})
@@ -602,6 +609,16 @@ void draw_test_plots(const fs::path& folder) {
   if (any_value(t.alive)) time_chart(t, per_group(t, t.alive, &Group::alive), "drones alive", "drones flying", from_zero(t.alive), dir / "alive.png");
   if (std::any_of(t.energy.begin(), t.energy.end(), [](double x) { return x > 0; }))  // none used: no power model
     time_chart(t, per_group(t, t.energy, &Group::energy), "energy used", "energy used so far (Wh)", from_zero(t.energy), dir / "energy.png");
+  if (!t.messages.empty()) {  // delivered and each kind of dropped, so far; sent (column 0) is their sum over receivers
+    std::vector<Line> lines;
+    double top = 0;
+    const char* names[] = {"delivered", "out of range", "blocked by obstacles", "lost", "over the cap"};
+    for (std::size_t k = 1; k < t.messages.size(); ++k) {
+      lines.push_back({names[k - 1], &t.messages[k], palette(k - 1)});
+      top = std::max(top, range_of(t.messages[k]).second);
+    }
+    time_chart(t, lines, "messages", "messages so far (message × receiver)", std::pair{0.0, std::max(top, 1.0) * 1.04}, dir / "messages.png");
+  }
   if (!t.paths.empty()) {
     trajectories(t, dir / "trajectories.png");
     heat_map(t, dir / "heatmap.png");

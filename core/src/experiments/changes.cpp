@@ -18,6 +18,7 @@ constexpr std::string_view params_prefix = "behavior.params.";
 constexpr std::string_view drone_prefix = "drone.";
 constexpr std::string_view wind_prefix = "wind.";
 constexpr std::string_view wind_params_prefix = "wind.field.params.";
+constexpr std::string_view comm_prefix = "comm.";
 constexpr double max_drones = 1'000'000;  // as "drones" in a test file
 constexpr double max_id = 4294967294.0;   // ids are 32-bit
 
@@ -64,6 +65,10 @@ std::uint64_t change_step(double time, double dt) { return static_cast<std::uint
 
 bool change_is_whole(std::string_view key) {
   if (key == "drones" || key.ends_with(".drones") || key == "fail.drone" || key == "fail.camera") return true;
+  if (key.starts_with(comm_prefix)) {
+    const CommField* f = find_comm_field(key.substr(comm_prefix.size()));
+    return f && f->spec.is_integer();
+  }
   const auto at = key.rfind(drone_prefix);
   const DroneProperty* p = at != std::string_view::npos ? find_drone_property(key.substr(at + drone_prefix.size())) : nullptr;
   return p && p->spec.is_integer();
@@ -133,6 +138,13 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
     if (!(c.value >= 0 && c.value <= 1e9)) return value + " is out of range (allowed: [0, 1e9] s; 0: never)";
     return {};
   }
+  if (key.starts_with(comm_prefix)) {
+    const CommField* f = find_comm_field(key.substr(comm_prefix.size()));
+    if (!f) return "unknown comm field (allowed: " + comm_field_names() + ")";
+    if (!test.comm.on) return "the test has no \"comm\" (allowed: comm.<field> in a test with a \"comm\" object; \"comm\": {} gives the defaults)";
+    if (const std::string why = f->spec.check(c.value); !why.empty()) return value + " " + why;
+    return {};
+  }
   if (key == "fail.drone" || key == "fail.camera") {
     if (!(c.value >= 0 && c.value <= max_id) || c.value != std::floor(c.value))
       return value + " is out of range (allowed: a drone id, " + whole_in(0, max_id) + ")";
@@ -143,7 +155,7 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
     return {};
   }
   return "unknown key (allowed: behavior.params.<name>, drones, drone.<property>, groups.<name>.<any of those>, "
-         "failures.drone_mtbf, failures.camera_mtbf, fail.drone, fail.camera, fail.fraction, fail.camera_fraction, "
+         "failures.drone_mtbf, failures.camera_mtbf, fail.drone, fail.camera, fail.fraction, fail.camera_fraction, comm.<field>, "
          "wind.<velocity.x, velocity.y, gusts.strength, gusts.time_scale>, wind.field.params.<name>)";
 }
 
@@ -163,6 +175,8 @@ void apply_to_test(TestSpec& test, const Change& c) {
     test.wind_field.params.set(key.substr(wind_params_prefix.size()), c.value);
   } else if (key.starts_with(wind_prefix)) {
     find_wind_property(key.substr(wind_prefix.size()))->set(test.wind, c.value);
+  } else if (key.starts_with(comm_prefix)) {
+    find_comm_field(key.substr(comm_prefix.size()))->set(test.comm, c.value);
   }  // fail.*: events, nothing the test holds
 }
 
@@ -205,6 +219,8 @@ void apply_change(Simulation& sim, TestSpec& test, const Change& c, const Plugin
     }
   } else if (key.starts_with(wind_prefix)) {
     sim.set_wind(changed.wind, sim.wind_field_ptr());
+  } else if (key.starts_with(comm_prefix)) {
+    sim.set_comm(changed.comm);
   } else if (key == "fail.drone" || key == "fail.camera") {
     try {
       sim.fail(static_cast<std::uint32_t>(c.value), key == "fail.camera");

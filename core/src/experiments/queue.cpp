@@ -297,7 +297,7 @@ struct Sweep {
 
 const char* const set_key_forms =
     "a dotted path to a number of the test: drones, drone.<property>, behavior.params.<p>, groups.<name>.drones, "
-    "groups.<name>.drone.<property>, groups.<name>.behavior.params.<p>, failures.drone_mtbf, failures.camera_mtbf, "
+    "groups.<name>.drone.<property>, groups.<name>.behavior.params.<p>, failures.drone_mtbf, failures.camera_mtbf, comm.<field>, "
     "wind.velocity.x, wind.gusts.strength, wind.field.params.<p>, ...";
 
 /// A whole number as a JSON integer (messages and config.json show 20, not 20.0).

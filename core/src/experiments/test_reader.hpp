@@ -97,6 +97,8 @@ class Reader {
 json read_json_file(const std::filesystem::path& file, std::string_view expected);
 /// A drone configuration at `at` ("drone" in a test, its name in a drone configuration file).
 DroneConfig parse_drone(const json& v, const Reader& r, const std::vector<DroneConfig>& named, const std::string& at);
+/// The "comm" object: its fields (comm_schema), each checked against its declared range; on.
+CommSetup parse_comm(const json& c, const Reader& r);
 /// The built-in configurations, then those of a drone configuration file.
 std::vector<DroneConfig> drone_configs_file(const std::filesystem::path& file);
 /// One test object; a test without "seed" gets the paired seed of queue seed 1 (queue.hpp).

@@ -197,8 +197,30 @@ void parse_group(GroupSpec& g, const json& j, const Reader& r, const PluginHost&
 
 }  // namespace
 
+CommSetup parse_comm(const json& c, const Reader& r) {
+  if (!c.is_object()) r.fail("comm", show(c) + " must be an object, e.g. {\"range\": 100, \"loss\": 0.1}");
+  for (const auto& [key, value] : c.items())
+    if (!find_comm_field(key)) r.fail(Reader::join("comm", key), "unknown key (allowed: " + comm_field_names() + ")");
+  CommSetup out;
+  out.on = true;
+  for (const CommField& f : comm_schema()) {
+    if (!c.contains(f.spec.name)) continue;
+    const std::string field = "comm." + f.spec.name;
+    const json& v = c[f.spec.name];
+    if (f.flag) {  // true or false; 0 and 1 too, as a sweep or a timed change gives them
+      if (v.is_boolean()) f.set(out, v.get<bool>() ? 1 : 0);
+      else if (v.is_number() && (v.get<double>() == 0 || v.get<double>() == 1)) f.set(out, v.get<double>());
+      else r.fail(field, show(v) + " is not true or false (allowed: true, false, 1, 0)");
+    } else {
+      f.set(out, f.spec.is_integer() ? static_cast<double>(r.integer(v, field, f.spec.min, f.spec.max))
+                                     : r.number(v, field, f.spec.min, f.spec.max, f.spec.unit.c_str()));
+    }
+  }
+  return out;
+}
+
 TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
-  r.only_keys(j, "", {"name", "behavior", "drone", "drone_configs", "drones", "groups", "failures", "wind", "map", "spawn", "targets",
+  r.only_keys(j, "", {"name", "behavior", "drone", "drone_configs", "drones", "groups", "failures", "comm", "wind", "map", "spawn", "targets",
                       "contact_handlers", "metrics", "time", "dt", "log_interval", "velocity_iterations",
                       "position_iterations", "decision_lag", "seed", "repeat", "changes", "versions"});
   TestSpec t;
@@ -234,6 +256,7 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
   } else {
     parse_group(t.groups[0], j, r, host, named, "");
   }
+  if (j.contains("comm")) t.comm = parse_comm(j["comm"], r);
   if (j.contains("failures")) {
     const json& f = j["failures"];
     r.only_keys(f, "failures", {"drone_mtbf", "camera_mtbf"});
@@ -428,6 +451,12 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
     group_json(t.groups[0], j);
   }
   if (t.failures != FailureSetup{}) j["failures"] = {{"drone_mtbf", t.failures.drone_mtbf}, {"camera_mtbf", t.failures.camera_mtbf}};
+  if (t.comm.on) {  // only then: a test without it keeps its config.json bytes
+    json comm = json::object();
+    for (const CommField& f : comm_schema())
+      comm[f.spec.name] = f.flag ? json(f.get(t.comm) != 0) : f.whole ? json(static_cast<std::int64_t>(f.get(t.comm))) : json(f.get(t.comm));
+    j["comm"] = comm;
+  }
   if (t.has_wind()) {  // only then: a test without wind keeps its config.json bytes
     j["wind"] = {{"velocity", {t.wind.velocity.x, t.wind.velocity.y}},
                  {"gusts", {{"strength", t.wind.gust_strength}, {"time_scale", t.wind.gust_time_scale}}}};
@@ -508,6 +537,7 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   if (const std::string why = refused_change(t, host); !why.empty()) throw InputError(t.source + ": " + why);
   s.failures = t.failures;
   s.wind = t.wind;
+  s.comm = t.comm;
   s.targets = t.targets;
   s.dt = t.dt;
   s.velocity_iterations = t.velocity_iterations;

@@ -265,7 +265,10 @@ std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, con
 // ---------------------------------------------------------------- set-up and live changes
 
 struct Simulation::Scratch {
-  std::vector<PointGrid::Hit> hits;
+  std::vector<PointGrid::Hit> hits, senders;
+  std::vector<Message> messages;
+  Outbox outbox;  ///< without "comm": broadcast writes here (its size still checked), nobody reads it
+  std::array<double, max_message_size> room;
   std::vector<Neighbour> neighbours;
   std::vector<TargetSeen> targets;
   std::vector<ObstacleHit> obstacles;  ///< the noisy copy of a drone's hits (obstacle or position noise)
@@ -354,15 +357,17 @@ struct Simulation::World {
 };
 
 Simulation::Simulation(SimulationSetup setup)
-    : setup_(std::move(setup)), parallel_(std::make_unique<Parallel>(setup_.threads)) {
+    : setup_(std::move(setup)), parallel_(std::make_unique<Parallel>(setup_.threads)), comm_(std::make_unique<CommState>()) {
   if (setup_.groups.empty()) throw std::invalid_argument("groups: none given");
   for (const GroupSetup& g : setup_.groups)
     if (!g.behavior) throw std::invalid_argument("behavior: none given");
   if (setup_.log_every == 0) setup_.log_every = 1;
+  if (const std::string why = comm_problem(setup_.comm); !why.empty()) throw std::invalid_argument(why);
   World world = build_world(setup_);
   for (std::uint32_t g = 0; g < setup_.groups.size(); ++g) {
     Behavior& b = *setup_.groups[g].behavior;
     b.group_ = g;
+    message_sizes_.push_back(message_size(b, g));
     plugin_call(behavior_kind, g, [&] { b.reset(world.drones.positions.size()); });
   }
   install(std::move(world));
@@ -458,6 +463,14 @@ Simulation::Group Simulation::make_group(const GroupSetup& g, Vec2 base, const T
     out.reach = plugin_call(target_kind, 0, [&] { return kind->view_range(g.drone.camera_range); });
   }
   return out;
+}
+
+std::size_t Simulation::message_size(const Behavior& behavior, std::uint32_t g) {
+  const std::size_t size = plugin_call(behavior_kind, g, [&] { return behavior.message_size(); });
+  if (size > max_message_size)
+    throw PluginFailure(behavior_kind, g, "message_size() is " + std::to_string(size) + " doubles (allowed: at most " +
+                                              std::to_string(max_message_size) + ")");
+  return size;
 }
 
 std::size_t Simulation::ray_slots(const std::vector<Group>& groups) {
@@ -561,6 +574,8 @@ void Simulation::install(World&& w) noexcept {
   flying_ = static_cast<std::size_t>(std::count(drones_.status.begin(), drones_.status.end(), DroneStatus::flying));
   physics_->remove_drones_from(0);
   add_bodies();
+  if (comm_) comm_->clear();  // new drones: nothing in flight reaches them
+  comm_stale_ = true;
   if (wind_active_) track_air();  // the new drones' air velocities: their velocities as spawned
 }
 
@@ -628,6 +643,7 @@ void Simulation::set_drone_count(std::size_t n, std::uint32_t group) {
   if (wind_active_) track_air();
   spawn_rng_ = rng;
   setup_.groups[group].drones = n;
+  comm_stale_ = true;
 }
 
 void Simulation::set_drone_config(const DroneConfig& config, std::uint32_t group) {
@@ -692,8 +708,26 @@ void Simulation::set_behavior(std::shared_ptr<Behavior> behavior, std::uint32_t 
   if (!behavior) throw std::invalid_argument("behavior: none given");
   if (group >= setup_.groups.size()) throw std::invalid_argument("group " + std::to_string(group) + " does not exist");
   behavior->group_ = group;
+  const std::size_t size = message_size(*behavior, group);
   plugin_call(behavior_kind, group, [&] { behavior->reset(drones_.positions.size()); });
   setup_.groups[group].behavior = std::move(behavior);
+  message_sizes_[group] = size;
+  comm_stale_ = true;
+}
+
+void Simulation::set_comm(const CommSetup& comm) {
+  if (const std::string why = comm_problem(comm); !why.empty()) throw std::invalid_argument(why);
+  setup_.comm = comm;
+  comm_stale_ = true;
+}
+
+std::vector<Message> Simulation::inbox(std::uint32_t id) const {
+  std::vector<Message> out;
+  if (!setup_.comm.on || comm_stale_) return out;
+  std::vector<PointGrid::Hit> hits;
+  CommState::Counts counts;
+  comm_->receive(steps_, id, setup_.comm, setup_.seed, drones_.groups, geometry_, hits, out, counts);
+  return out;
 }
 
 void Simulation::set_map(const MapData& map, std::optional<Vec2> spawn) {
@@ -775,6 +809,7 @@ void Simulation::step() {
   auto drones = [this] {
     timed(Phase::sense, [this] { sense(); });
     timed(Phase::decide, [this] { decide(); });
+    if (setup_.comm.on) timed(Phase::communicate, [this] { communicate(); });
     timed(Phase::detect, [this] { dispatch_sightings(); });
   };
   if (setup_.decision_lag == 0) {
@@ -940,6 +975,14 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   me.obstacles = {drones_.hits.data() + id * ray_slots_, drones_.hit_counts[id]};
   me.targets = s.targets;
   me.world = this;
+  if (setup_.comm.on) {
+    comm_->receive(steps_, id, setup_.comm, setup_.seed, drones_.groups, geometry_, s.senders, s.messages, comm_counts_[id]);
+    me.messages = s.messages;
+    me.outbox = &comm_->outbox(id);
+  } else {
+    s.outbox = {{s.room.data(), message_sizes_[g]}, 0, false};
+    me.outbox = &s.outbox;
+  }
   return me;
 }
 
@@ -959,6 +1002,11 @@ void Simulation::decide() {
   // Asked once per step, so that without noise a drone's perception costs one test of a local more.
   bool noise = false;
   for (const Group& g : groups_) noise = noise || g.noise.perceived() || g.noise.false_rate > 0;
+  if (setup_.comm.on && (comm_stale_ || comm_counts_.size() != drones_.positions.size())) {
+    comm_->resize(drones_.positions.size(), message_sizes_, drones_.groups, setup_.comm.latency);
+    comm_stale_ = false;
+  }
+  if (setup_.comm.on) comm_counts_.assign(drones_.positions.size(), {});
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
     if (drones_.status[i] != DroneStatus::flying) return;
     const std::uint32_t g = drones_.groups[i];
@@ -967,6 +1015,27 @@ void Simulation::decide() {
     if (noise) add_noise(me, senses[g], s);
     drones_.steering[i] = plugin_call(behavior_kind, g, [&] { return behavior.decide(me, drones_.rngs[i]); });
   });
+}
+
+// Communicate: the counts of the messages each drone received in this decide (its inbox was gathered
+// right before its decide, as its neighbours are) summed, then the messages broadcast in this decide
+// packed with the positions they were decided on and a grid of their senders, for the receivers'
+// decide latency + 1 steps on. Serial, O(drones). Runs only with "comm".
+void Simulation::communicate() {
+  CommState::Counts total;
+  for (const CommState::Counts& c : comm_counts_) {
+    total.offered += c.offered, total.in_range += c.in_range, total.obstacle += c.obstacle, total.loss += c.loss;
+    total.cap += c.cap, total.delivered += c.delivered;
+  }
+  // Each message is offered to every other drone flying when it arrives; those the grid did not find
+  // in range are dropped by range, counted without looking at them.
+  CommCounters& k = comm_counters_;
+  k.dropped_range += total.offered - total.in_range;
+  k.dropped_obstacle += total.obstacle;
+  k.dropped_loss += total.loss;
+  k.dropped_cap += total.cap;
+  k.delivered += total.delivered;
+  k.sent += comm_->collect(steps_, time(), drones_.positions, drones_.status, setup_.comm.range);
 }
 
 // Act: add the steering to the velocity as it is, clamp the speed to max speed, hand the velocity to

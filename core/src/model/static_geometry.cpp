@@ -220,6 +220,33 @@ std::optional<ObstacleHit> StaticGeometry::ray_cast(Vec2 from, Vec2 to) const {
   return ray_cast(from, (to - from) / length, length, ids);
 }
 
+bool StaticGeometry::blocked(Vec2 a, Vec2 b) const {
+  // Segments 0–3 are the bounds, which two points inside them never cross: nothing else, nothing to do.
+  if (cell_start_.empty() || segments_.size() <= 4) return false;
+  const Vec2 d = b - a;
+  const double length = d.length();
+  if (!(length > 0) || !std::isfinite(length)) return false;
+  const Vec2 unit = d / length;
+  // Row by row, the columns of the part of a→b inside the row's band. A crossing point lies in one of
+  // those cells, and the segment it is on is filed there (cells_of files a segment in every cell it
+  // comes within the cell's circumcircle of), so no crossing is missed.
+  for (int y = row(std::min(a.y, b.y)), last_row = row(std::max(a.y, b.y)); y <= last_row; ++y) {
+    double t0 = 0, t1 = 1;
+    if (d.y != 0) {
+      const double band = origin_.y + y * cell_;
+      const double ta = (band - a.y) / d.y, tb = (band + cell_ - a.y) / d.y;
+      t0 = std::max(0.0, std::min(ta, tb));
+      t1 = std::min(1.0, std::max(ta, tb));
+      if (t0 > t1) continue;
+    }
+    const double xa = a.x + d.x * t0, xb = a.x + d.x * t1;
+    const std::size_t first = static_cast<std::size_t>(y) * cols_;
+    for (std::uint32_t k = cell_start_[first + col(std::min(xa, xb))], end = cell_start_[first + col(std::max(xa, xb)) + 1]; k < end; ++k)
+      if (ray_segment(a, unit, length, segments_[cell_ids_[k]])) return true;
+  }
+  return false;
+}
+
 bool StaticGeometry::is_free(Vec2 p, double clearance) const {
   if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(clearance)) return false;
   if (p.x < bounds_.min.x + clearance || p.x > bounds_.max.x - clearance || p.y < bounds_.min.y + clearance ||

@@ -2,6 +2,7 @@
 
 #include "model/physics_world.hpp"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <ctime>
@@ -9,6 +10,30 @@
 #include <string>
 
 namespace salsa::bench {
+
+namespace {
+/// A behavior that flies as `inner` does and broadcasts its position and velocity every step; it reads
+/// every message it gets (their payloads summed into its steering times zero), as a behavior using them would.
+class Broadcasting final : public Behavior {
+ public:
+  explicit Broadcasting(std::shared_ptr<Behavior> inner) : inner_(std::move(inner)) {}
+  void prepare(const WorldView& world) override { inner_->prepare(world); }
+  Vec2 decide(const Perception& me, Rng& rng) override {
+    const std::array<double, 4> state{me.position.x, me.position.y, me.velocity.x, me.velocity.y};
+    me.broadcast(state);
+    double heard = 0;
+    for (const Message& m : me.messages) heard += m.payload[0] * 0 + m.range * 0;
+    return inner_->decide(me, rng) + Vec2{heard, 0};
+  }
+  void reset(std::size_t drones) override { inner_->reset(drones); }
+  void resize(std::size_t drones) override { inner_->resize(drones); }
+  Senses senses() const override { return inner_->senses(); }
+  std::size_t message_size() const override { return 4; }
+
+ private:
+  std::shared_ptr<Behavior> inner_;
+};
+}  // namespace
 
 SimulationSetup table1(const PluginHost& host, const Workload& w) {
   SimulationSetup s;
@@ -28,6 +53,12 @@ SimulationSetup table1(const PluginHost& host, const Workload& w) {
     params.set("obstacle_avoidance_weight", 4.0);
   }
   g.behavior = PluginHost::create(behavior, params);
+  if (w.comm_range > 0) {
+    s.comm.on = true;
+    s.comm.range = w.comm_range;
+    s.comm.line_of_sight = true;
+    g.behavior = std::make_shared<Broadcasting>(g.behavior);
+  }
   if (w.fleet) {
     // Two groups of half the swarm each, batteries that last the run and failures at a rate that takes
     // a few drones: all of the fleet model's per-step work. Both groups draw from the spawn disc of the

@@ -51,21 +51,30 @@ std::vector<std::string> fleet_texts(const std::vector<double>& values) {
   return out;
 }
 
-/// The columns after the metrics': the fleet's (TestSpec::fleet), then false_detections
-/// (counts_false_detections).
-std::vector<std::string> last_columns(const TestSpec& test) {
+/// The comm model's counters as text, in comm_columns' order.
+std::vector<std::string> comm_texts(const CommCounters& c) {
+  std::vector<std::string> out;
+  for (std::uint64_t v : {c.sent, c.delivered, c.dropped_range, c.dropped_obstacle, c.dropped_loss, c.dropped_cap})
+    out.push_back(std::to_string(v));
+  return out;
+}
+
+/// The columns after salsa's and the metrics': the fleet's (TestSpec::fleet), the comm model's (with
+/// "comm"), then false_detections (counts_false_detections).
+std::vector<std::string> model_columns(const TestSpec& test) {
   std::vector<std::string> out = test.fleet() ? fleet_columns(test) : std::vector<std::string>{};
+  if (test.comm.on) out.insert(out.end(), std::begin(comm_columns), std::end(comm_columns));
   if (counts_false_detections(test)) out.emplace_back("false_detections");
   return out;
 }
 
-// summary.csv: one row per logged step, salsa's columns, the metrics', then the fleet's (TestSpec::fleet)
-// and the false detections.
+// summary.csv: one row per logged step, salsa's columns, the metrics', then the models' (model_columns).
 class SummaryObserver final : public Observer {
  public:
   SummaryObserver(const fs::path& file, MetricSet& metrics, const TestSpec& test)
-      : csv_(file, header(header(summary_columns, metrics.step_columns()), last_columns(test))),
-        metrics_(metrics), fleet_(test.fleet()), per_group_(test.groups.size() > 1), false_detections_(counts_false_detections(test)) {}
+      : csv_(file, header(header(summary_columns, metrics.step_columns()), model_columns(test))),
+        metrics_(metrics), fleet_(test.fleet()), comm_(test.comm.on), per_group_(test.groups.size() > 1),
+        false_detections_(counts_false_detections(test)) {}
   void observe(const Simulation& sim) override {
     const SummaryRow row = summary_row(sim);
     csv_.field(row.time, 4).field(static_cast<std::uint64_t>(row.targets_found)).field(row.fraction_found, 6);
@@ -76,6 +85,8 @@ class SummaryObserver final : public Observer {
     metrics_.row(sim, csv_);
     if (fleet_)
       for (const std::string& text : fleet_texts(fleet_values(sim, per_group_))) csv_.text(text);
+    if (comm_)
+      for (const std::string& text : comm_texts(sim.comm_counters())) csv_.text(text);
     if (false_detections_) csv_.field(sim.false_detections());
     csv_.end_row();
   }
@@ -84,7 +95,7 @@ class SummaryObserver final : public Observer {
  private:
   CsvWriter csv_;
   MetricSet& metrics_;
-  bool fleet_, per_group_, false_detections_;
+  bool fleet_, comm_, per_group_, false_detections_;
 };
 
 // drones.csv: one row per logged step and drone not removed; with the fleet, its group, status and
@@ -248,6 +259,10 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
         const std::vector<std::string> columns = fleet_columns(test);
         const std::vector<std::string> texts = fleet_texts(fleet_values(sim, test.groups.size() > 1));
         for (std::size_t k = 0; k < columns.size(); ++k) finals.emplace_back(columns[k], texts[k]);
+      }
+      if (test.comm.on) {
+        const std::vector<std::string> texts = comm_texts(sim.comm_counters());
+        for (std::size_t k = 0; k < texts.size(); ++k) finals.emplace_back(comm_columns[k], texts[k]);
       }
       if (counts_false_detections(test)) finals.emplace_back("false_detections", std::to_string(sim.false_detections()));
       write_file(work / "outcome.csv", outcome_csv(sim, finals));

@@ -41,6 +41,9 @@ class Behavior : public Configurable {
   /// A few lines about drone `id`'s memory for the GUI's inspector ("" = nothing to show). Called
   /// between steps, on the stepping thread.
   virtual std::string inspect(std::uint32_t id) const { (void)id; return {}; }
+  /// The most doubles one message of this behavior holds (Perception::broadcast); 0 (the default): its
+  /// drones never broadcast. Asked when the behavior starts; more than max_message_size is refused.
+  virtual std::size_t message_size() const { return 0; }
 
   /// The group this behavior decides for (index into WorldView::drone_groups()); 0 without groups.
   /// Shared state built in `prepare` should count only its group's flying drones.

@@ -1,9 +1,12 @@
 #pragma once
 // What a plugin may see of the world: read-only views, no Box2D, Qt or JSON types.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <stdexcept>
+#include <string>
 
 #include "salsa/map.hpp"
 #include "salsa/vec2.hpp"
@@ -43,6 +46,27 @@ struct TargetSeen {
   double distance;   ///< m, centre to centre
   std::uint32_t id;  ///< the target's id, or `phantom`
   bool found;        ///< already found by any drone (false for a phantom)
+};
+
+/// The most doubles one message may hold (Behavior::message_size is refused above it).
+inline constexpr std::size_t max_message_size = 64;
+
+/// A message another drone broadcast, as this drone received it (Perception::messages). Range and
+/// bearing are what the receiver measured when it was sent, with the test's comm noise.
+struct Message {
+  std::uint32_t sender;   ///< the sender's drone id
+  std::uint32_t group;    ///< the sender's group (index into the test's "groups"; 0 without groups)
+  double range;           ///< m from the receiver to the sender (range noise added, never below 0)
+  double bearing;         ///< rad: direction from the receiver to the sender in the map's frame, atan2(dy, dx) in [−π, π] (bearing noise added)
+  double time;            ///< s: when it was sent (the start of the step it was broadcast in)
+  std::span<const double> payload;  ///< what the sender broadcast; valid during the decide call it came with
+};
+
+/// One drone's message slot for the current step, provided by the core (Perception::broadcast).
+struct Outbox {
+  std::span<double> room;  ///< message_size() doubles
+  std::size_t size = 0;    ///< doubles in the message
+  bool sent = false;       ///< broadcast was called this step
 };
 
 /// The properties every drone of a group shares (its drone configuration).
@@ -114,7 +138,29 @@ struct Perception {
   std::span<const Neighbour> neighbours;   ///< drones within detection_range, nearest not first
   std::span<const ObstacleHit> obstacles;  ///< ray hits within obstacle_range
   std::span<const TargetSeen> targets;     ///< targets in camera view
+  /// Messages received this step: what other drones broadcast in an earlier step and the test's comm
+  /// model delivered (docs/plugins.md#messages-drones-that-talk), in the drone grid's order as
+  /// neighbours are (nearest first when the model caps them). Empty without "comm".
+  std::span<const Message> messages;
   const WorldView* world = nullptr;
+  /// Where broadcast writes: the core's slot for this drone and step. Null in a Perception made by
+  /// hand (salsa/testing.hpp's Scene), where broadcast does nothing.
+  Outbox* outbox = nullptr;
+
+  /// Broadcasts one message this step (a second call in the same step replaces the first). Drones in
+  /// the comm model's reach receive it in a later step's `messages`; without "comm" nobody does.
+  /// Throws std::length_error for a payload longer than the behavior's message_size(): the core reports
+  /// that as the behavior's failure.
+  void broadcast(std::span<const double> payload) const {
+    if (!outbox) return;
+    if (payload.size() > outbox->room.size())
+      throw std::length_error("drone " + std::to_string(id) + " broadcast " + std::to_string(payload.size()) +
+                              " doubles, more than the " + std::to_string(outbox->room.size()) +
+                              " its behavior declares (Behavior::message_size)");
+    std::copy(payload.begin(), payload.end(), outbox->room.begin());
+    outbox->size = payload.size();
+    outbox->sent = true;
+  }
 };
 
 }  // namespace salsa

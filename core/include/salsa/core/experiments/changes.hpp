@@ -20,7 +20,8 @@ struct TestSpec;
 /// One live change: before the step that starts at `time` s, set `key` to `value`.
 /// Keys: "behavior.params.<name>" (a declared parameter of the test's behavior), "drones" (drone count,
 /// whole number ≥ 1), "drone.<property>" (a property of drone_schema()); with "groups", each of those
-/// as "groups.<name>.<key>". "failures.drone_mtbf", "failures.camera_mtbf" (s; 0: never). Events:
+/// as "groups.<name>.<key>". "failures.drone_mtbf", "failures.camera_mtbf" (s; 0: never);
+/// "comm.<field>" (a field of comm_schema(), in a test with "comm"; line_of_sight as 0 or 1). Events:
 /// "fail.drone" and "fail.camera" (a drone id: it, or its camera, fails; nothing if it is down
 /// already), "fail.fraction" and "fail.camera_fraction" (that share of the flying drones, chosen
 /// from the seed). "wind.velocity.x", "wind.velocity.y", "wind.gusts.strength", "wind.gusts.time_scale"

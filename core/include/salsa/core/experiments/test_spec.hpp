@@ -50,6 +50,7 @@ struct TestSpec {
   PluginChoice wind_field;          ///< "wind.field": a `wind` plugin; name empty: none
   /// Whether the test has wind (config.json then writes "wind"); off, the run is exactly as without it.
   bool has_wind() const { return wind != Wind{} || !wind_field.name.empty(); }
+  CommSetup comm;                   ///< "comm": messages between drones; off without it
   PluginChoice map;
   std::string map_file;             ///< for file-based maps; absolute or relative to the working folder
   PluginChoice target;

@@ -13,6 +13,7 @@
 
 #include "salsa/behavior.hpp"
 #include "salsa/contact.hpp"
+#include "salsa/core/model/comm.hpp"
 #include "salsa/core/model/drone_config.hpp"
 #include "salsa/core/model/static_geometry.hpp"
 #include "salsa/core/model/wind.hpp"
@@ -74,6 +75,7 @@ struct SimulationSetup {
   /// velocity. All zero and no field: off, the step exactly as without wind.
   Wind wind;
   std::shared_ptr<WindField> wind_field;  ///< may be null: no field
+  CommSetup comm;                     ///< messages between drones (off by default)
   std::shared_ptr<TargetKind> target_kind;  ///< may be null: no targets
   std::size_t targets = 0;
   std::vector<std::shared_ptr<ContactHandler>> contact_handlers;
@@ -136,9 +138,10 @@ std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, con
 /// What plugins see of a drone configuration (WorldView::drone()).
 DroneProperties drone_properties(const DroneConfig& config);
 
-/// Step phases, timed separately (DESIGN §3). `fleet`: batteries and failures.
-enum class Phase { sense, decide, act, physics, fleet, detect, observe };
-inline constexpr std::array<const char*, 7> phase_names{"sense", "decide", "act", "physics", "fleet", "detect", "observe"};
+/// Step phases, timed separately (DESIGN §3). `communicate`: the messages broadcast in decide matched
+/// to their receivers (the comm model); `fleet`: batteries and failures.
+enum class Phase { sense, decide, communicate, act, physics, fleet, detect, observe };
+inline constexpr std::array<const char*, 8> phase_names{"sense", "decide", "communicate", "act", "physics", "fleet", "detect", "observe"};
 
 class Simulation final : public WorldView {
  public:
@@ -167,6 +170,9 @@ class Simulation final : public WorldView {
   /// The wind from the next step on (`field` may be null, or the running one: wind_field_ptr()). Refused
   /// when a group could be carried through a wall (check_wind). The gusts go on from their value now.
   void set_wind(const Wind& wind, std::shared_ptr<WindField> field);
+  /// The comm model from the next step on (comm_problem refused). Messages in flight keep their
+  /// deliveries; a new latency drops them.
+  void set_comm(const CommSetup& comm);
   /// Drone `id` fails (the whole drone, or its camera only) now; nothing when it is down already,
   /// std::invalid_argument when there is no such drone. A fraction: that share of the flying drones (rounded to the nearest), chosen with the
   /// seed's own stream, so every behavior of a repeat loses the same drones if the same fly.
@@ -209,6 +215,10 @@ class Simulation final : public WorldView {
   /// position_noise draw for that step (the position itself without noise). For the desktop's
   /// inspector: true against perceived.
   Vec2 perceived_position(std::uint32_t id) const;
+  /// The comm model's counters so far (all zero without "comm").
+  const CommCounters& comm_counters() const { return comm_counters_; }
+  /// What drone `id` receives in the next step's decide, if it flies then (empty without "comm").
+  std::vector<Message> inbox(std::uint32_t id) const;
   const StaticGeometry& geometry() const { return geometry_; }
   /// Nearest other drone's distance for each drone (m); +inf when alone. About O(N) through a grid sized
   /// to the drones' spread, whatever the detection range.
@@ -218,7 +228,7 @@ class Simulation final : public WorldView {
     return {drones_.hits.data() + id * ray_slots_, id < drones_.hit_counts.size() ? drones_.hit_counts[id] : 0u};
   }
   /// Seconds spent in each phase so far (zeros unless SimulationSetup::profile).
-  const std::array<double, 7>& profile() const { return profile_; }
+  const std::array<double, phase_names.size()>& profile() const { return profile_; }
 
   // ---- WorldView ----
   Rect bounds() const override { return setup_.map.bounds; }
@@ -243,6 +253,7 @@ class Simulation final : public WorldView {
   // The phases of one step.
   void sense();
   void decide();
+  void communicate();
   void act();
   void act_in_wind();         // act when the test has (had) wind
   void physics();
@@ -294,6 +305,8 @@ class Simulation final : public WorldView {
   static Drones grown(Drones from, std::uint32_t group, std::size_t count, const SimulationSetup& setup,
                       const StaticGeometry& geometry, Vec2 base, Rng& spawn_rng, double time);
   static Group make_group(const GroupSetup& g, Vec2 base, const TargetKind* kind, bool with_targets);
+  /// The behavior's message_size(), checked against max_message_size (a PluginFailure naming group g).
+  static std::size_t message_size(const Behavior& behavior, std::uint32_t g);
   static Targets make_targets(std::vector<Vec2> positions, const std::vector<Group>& groups);
   static std::size_t ray_slots(const std::vector<Group>& groups);
   /// Tells the contact handlers the drones or targets were (re)made; `world` is the state from now on.
@@ -339,7 +352,14 @@ class Simulation final : public WorldView {
   std::uint64_t false_detections_ = 0;
   bool wind_active_ = false;  ///< the wind was on at some time: act and read_back keep air velocities
   Gusts gusts_;
-  std::array<double, 7> profile_{};
+  std::array<double, phase_names.size()> profile_{};
+
+  // Messages (the comm model): each group's behavior's message_size, the messages in flight, counters.
+  std::vector<std::size_t> message_sizes_;
+  std::unique_ptr<CommState> comm_;
+  bool comm_stale_ = true;  ///< sizes, drones or latency changed: comm_ is resized before the next decide
+  mutable std::vector<CommState::Counts> comm_counts_;  ///< per receiver, this step: each drone's perceive writes its own
+  CommCounters comm_counters_;
 };
 
 }  // namespace salsa

@@ -35,6 +35,9 @@ class StaticGeometry {
   bool is_free(Vec2 p, double clearance) const;
   /// Nearest hit on the segment from `from` to `to`.
   std::optional<ObstacleHit> ray_cast(Vec2 from, Vec2 to) const;
+  /// Whether a wall or obstacle segment crosses the segment from `a` to `b` (the comm model's line of
+  /// sight): only the cells the segment passes are looked at, and the first crossing ends the search.
+  bool blocked(Vec2 a, Vec2 b) const;
   /// Segment ids whose cells touch the square of half-side `range` around `p`, each once (in cell
   /// order; ascending when there are many).
   void candidates(Vec2 p, double range, std::vector<std::uint32_t>& out) const;

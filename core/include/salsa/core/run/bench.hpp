@@ -20,6 +20,9 @@ struct Workload {
   std::string behavior = "flocking";     ///< flocking with the paper's parameters, any other with its defaults
   bool fleet = false;                    ///< two groups, batteries and failure rates on (the fleet model's cost)
   bool wind = false;                     ///< a 3 m/s wind with gusts of 1 m/s (τ 10 s) (the wind model's cost)
+  /// > 0: the comm model on with this range (m) and line of sight, and every drone broadcasting its
+  /// position and velocity every step (and summing what it receives): the comm model's cost.
+  double comm_range = 0;
 };
 
 /// Table I: flocking with the paper's parameters (or `w.behavior` with its defaults), "small" drones, trees of radius 5 m, summary every
