@@ -30,6 +30,16 @@ cat > "$work/groups.json" <<'JSON'
 JSON
 shot "$work/groups.json" --start --select 2 --screenshot $img/gui-groups.png --after 44
 
+# Communication links and wind, 20 s in: pheromone avoidance sharing its field over an 80 m radio that
+# loses a fifth of the messages, in a 3 m/s wind with gusts; drone 3, whose position sensor is noisy, inspected.
+cat > "$work/radio.json" <<'JSON'
+{"name": "radio", "behavior": {"name": "pheromone_avoidance", "params": {"sharing": 1}}, "drones": 20,
+ "drone": {"base": "small", "position_noise": 2},
+ "map": {"name": "forest", "params": {"size": 600}}, "targets": {"count": 400}, "time": 300, "seed": 5,
+ "comm": {"range": 80, "loss": 0.2}, "wind": {"velocity": [3, 1], "gusts": {"strength": 1, "time_scale": 10}}}
+JSON
+shot "$work/radio.json" --start --view links --select 3 --screenshot $img/gui-radio-wind.png --after 20
+
 # Queue mode, 1.6 s into a run of the comparison queue.
 shot --queue examples/comparison-queue.json --run-queue "$work/results" --screenshot $img/gui-queue.png --after 1.6
 

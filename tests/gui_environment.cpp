@@ -1,11 +1,13 @@
-// Communication (and the models beside it) in the desktop, as a person uses them: ticking
-// "Communication" starts the test over with a radio; a value typed into its panel is a recorded live
-// change; View → Communication links draws who hears whom; the inspector lists what a drone hears;
-// a saved test replays the radio with salsa run.
+// Communication, wind and sensor noise in the desktop, as a person uses them: ticking
+// "Communication" or "Wind" starts the test over with it; a value typed into its panel is a recorded
+// live change; View → Communication links draws who hears whom, the wind is drawn as arrows; the
+// inspector lists what a drone hears, its air velocity and where it believes it is; a saved test
+// replays it all with salsa run.
 #include "common.hpp"
 
 #include <QAbstractSpinBox>
 #include <QGroupBox>
+#include <QToolButton>
 #include <QSettings>
 #include <QTemporaryDir>
 #include <algorithm>
@@ -117,6 +119,63 @@ class GuiEnvironment : public QObject {
     QVERIFY2(r.exit_code == 0, describe(r));
     QVERIFY(read_file(dir.path() + "/out/radio/summary.csv").startsWith("time,"));
     QVERIFY(non_empty_lines(read_file(dir.path() + "/out/radio/summary.csv")).value(0).contains("messages_delivered"));
+  }
+
+  void wind_ticked_typed_drawn_and_noise_inspected() {
+    QGroupBox* wind = sandbox().wind_box();
+    QVERIFY(!wind->isChecked());
+    wind->setChecked(true);
+    settle();
+    QTRY_VERIFY(sandbox().engine().current_test() && sandbox().engine().current_test()->has_wind());
+    QCOMPARE(sandbox().engine().current_test()->wind.velocity, (Vec2{3, 0}));  // ticked over no wind: a breeze to edit
+    auto* x = sandbox().wind_panel()->spin_box("velocity.x");
+    QVERIFY(x);
+    type(x, "4");
+    QCOMPARE(sandbox().engine().current_test()->wind.velocity.x, 4.0);
+    const auto timeline = sandbox().engine().timeline();
+    QVERIFY(std::any_of(timeline.begin(), timeline.end(), [](const Change& c) { return c.key == "wind.velocity.x" && c.value == 4; }));
+    // Sensor noise, in the drone panel's own section: typed too.
+    QTest::mouseClick(sandbox().noise_toggle(), Qt::LeftButton);
+    auto* noise = sandbox().noise_panel()->spin_box("position_noise");
+    QVERIFY(noise);
+    type(noise, "3");
+    QCOMPARE(sandbox().engine().current_test()->groups[0].drone.position_noise, 3.0);
+    steps(20);
+    // Arrows: every grid sample carries the constant wind (no gusts, no field); drawn, and not when off.
+    const auto snap = sandbox().engine().snapshot();
+    QCOMPARE(snap->wind.size(), std::size_t(Snapshot::wind_grid * Snapshot::wind_grid));
+    for (const auto& [p, w] : snap->wind) QCOMPARE(w, (Vec2{4, 0}));
+    ViewOptions options;
+    options.trails = false;
+    options.targets = false;
+    const QSize size(800, 800);
+    const QTransform t = fit_transform(snap->scene->map.bounds, QSizeF(size));
+    const QImage with = render_frame(*snap, options, size, t);
+    options.wind = false;
+    const QImage without = render_frame(*snap, options, size, t);
+    int changed = 0;
+    for (int y = 0; y < size.height(); ++y)
+      for (int px = 0; px < size.width(); ++px) changed += with.pixel(px, y) != without.pixel(px, y);
+    QVERIFY2(changed > 144 * 20, qPrintable(QString("%1 pixels differ").arg(changed)));
+    // The inspector: air velocity beside the ground's, and the perceived position apart from the true one.
+    sandbox().engine().select(0);
+    steps(1);
+    QTRY_VERIFY(sandbox().inspector_text().contains("air velocity ("));
+    QVERIFY(sandbox().inspector_text().contains("perceived position ("));
+    const auto inspected = sandbox().engine().snapshot()->selected;
+    QVERIFY(inspected && inspected->perceived && inspected->air_velocity);
+    QVERIFY(distance(*inspected->perceived, inspected->position) > 0);
+    QVERIFY(distance(inspected->velocity - *inspected->air_velocity, Vec2{4, 0}) < 0.01);
+    // Saved and run by salsa run: the wind and the noise are in config.json.
+    QTemporaryDir dir;
+    QCOMPARE(sandbox().save_test(dir.path() + "/windy.json"), std::string());
+    const CliResult r = run_salsa({"run", "windy.json", "--out", "out", "--no-plots", "-q", "--time", "2"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const QStringList folders = QDir(dir.path() + "/out").entryList(QDir::Dirs | QDir::NoDotAndDotDot);
+    QCOMPARE(folders.size(), 1);
+    const QByteArray config = read_file(dir.path() + "/out/" + folders[0] + "/config.json");
+    QVERIFY(config.contains("\"wind\""));
+    QVERIFY(config.contains("\"drone.position_noise\""));  // a live change: in "changes"
   }
 };
 

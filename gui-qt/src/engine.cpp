@@ -272,9 +272,23 @@ struct Engine::Worker {
           snap->trails[d * trail_length + k] = trail_ring[d * trail_length + (first + k) % trail_length];
     }
     snap->heat = heat;
+    if (session->current().has_wind()) {
+      const Rect b = sim->bounds();
+      const double t = sim->time();
+      try {  // a field plugin: its failure stops the run at the next step, which says why
+        for (int y = 0; y < Snapshot::wind_grid; ++y)
+          for (int x = 0; x < Snapshot::wind_grid; ++x) {
+            const Vec2 p{b.min.x + (x + 0.5) * b.width() / Snapshot::wind_grid, b.min.y + (y + 0.5) * b.height() / Snapshot::wind_grid};
+            snap->wind.emplace_back(p, sim->wind_at(p, t));
+          }
+      } catch (const std::exception&) {
+        snap->wind.clear();
+      }
+    }
     if (sim->setup().comm.on)
       for (std::uint32_t id = 0; id < p.size() && snap->links.size() < Snapshot::max_links; ++id)
         for (const Message& m : sim->inbox(id)) snap->links.emplace_back(id, m.sender);
+    std::sort(snap->links.begin(), snap->links.end());  // inboxes come in grid order; the view looks pairs up
     if (selected && *selected < p.size() && status[*selected] != DroneStatus::removed) snap->selected = inspect(*selected);
     if (speed_samples.size() >= 2) {
       const auto& [w0, t0] = speed_samples.front();
@@ -317,9 +331,12 @@ struct Engine::Worker {
       in.energy_used = sim->energy_used(id) / 3600;  // J to Wh
       if (drone.battery_capacity > 0) in.battery_left = std::clamp(sim->battery_left(id) / (drone.battery_capacity * 3600), 0.0, 1.0);
     }
+    if (drone.position_noise > 0) in.perceived = sim->perceived_position(id);
+    if (session->current().has_wind()) in.air_velocity = sim->air_velocities()[id];
     if (sim->setup().comm.on) {
       in.heard.emplace();
       for (const Message& m : sim->inbox(id)) in.heard->push_back(m.sender);
+      std::sort(in.heard->begin(), in.heard->end());
     }
     try {  // plugin code on the worker thread: a throw must not end the desktop
       in.memory = sim->behavior(group).inspect(id);

@@ -64,6 +64,10 @@ struct Inspection {
   std::optional<double> battery_left;      ///< fraction 0..1; none without a battery
   /// With "comm": the senders of the messages it receives in the next step, by ascending id.
   std::optional<std::vector<std::uint32_t>> heard;
+  /// With position noise: where the drone will perceive itself at its next decision (m).
+  std::optional<Vec2> perceived;
+  /// With wind: its velocity through the air (m/s); `velocity` is over the ground.
+  std::optional<Vec2> air_velocity;
 };
 
 /// A group of drones as the view draws it.
@@ -105,6 +109,9 @@ struct Snapshot {
   /// max_links of them (the view draws them as lines).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> links;
   static constexpr std::size_t max_links = 100000;
+  /// With wind: the wind at the next step on a grid over the map, (position m, velocity m/s).
+  std::vector<std::pair<Vec2, Vec2>> wind;
+  static constexpr int wind_grid = 12;  ///< samples per side
 
   std::uint32_t group_of(std::uint32_t id) const { return id < drone_groups.size() ? drone_groups[id] : 0; }
   DroneStatus status_of(std::uint32_t id) const { return id < status.size() ? status[id] : DroneStatus::flying; }

@@ -32,7 +32,7 @@ options:
   --plugin-dir DIR     also search DIR for plugins (repeatable, searched first)
   --start              start running at once
   --view LIST          what the view shows, e.g. heat,camera,-trails (camera, obstacle, detection,
-                       targets, trails, heat, obstacles, spawn; a leading - hides)
+                       targets, trails, heat, obstacles, spawn, links, wind; a leading - hides)
   --select ID          inspect drone ID
   --mode MODE          start in sandbox, queue or map (the map creator)
   --queue FILE         open a queue file in queue mode (implies --mode queue)
@@ -190,10 +190,12 @@ int main(int argc, char** argv) {
                                            : name == "heat"        ? &salsa::gui::ViewOptions::heat_map
                                            : name == "obstacles"   ? &salsa::gui::ViewOptions::obstacles
                                            : name == "spawn"       ? &salsa::gui::ViewOptions::spawn
+                                           : name == "links"       ? &salsa::gui::ViewOptions::links
+                                           : name == "wind"        ? &salsa::gui::ViewOptions::wind
                                                                    : nullptr;
       if (!flag) {
         std::cerr << "salsa-gui: --view: unknown item '" << name
-                  << "' (allowed: camera, obstacle, detection, targets, trails, heat, obstacles, spawn)\n";
+                  << "' (allowed: camera, obstacle, detection, targets, trails, heat, obstacles, spawn, links, wind)\n";
         return 2;
       }
       o.*flag = on;

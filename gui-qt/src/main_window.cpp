@@ -206,7 +206,7 @@ void MainWindow::build_menus() {
                           Toggle{"Detection range", &ViewOptions::detection_range}, Toggle{"Targets", &ViewOptions::targets},
                           Toggle{"Trails", &ViewOptions::trails}, Toggle{"Heat map", &ViewOptions::heat_map},
                           Toggle{"Obstacles", &ViewOptions::obstacles}, Toggle{"Spawn point", &ViewOptions::spawn},
-                          Toggle{"Communication links", &ViewOptions::links}}) {
+                          Toggle{"Communication links", &ViewOptions::links}, Toggle{"Wind", &ViewOptions::wind}}) {
     QAction* a = view->addAction(t.text);
     a->setCheckable(true);
     a->setChecked(sandbox_->view()->options().*t.flag);

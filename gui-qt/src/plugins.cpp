@@ -136,6 +136,7 @@ void PluginsDialog::refresh() {
   add(host->maps(), "map");
   add(host->contact_handlers(), "contact handler");
   add(host->metrics(), "metric");
+  add(host->winds(), "wind");
   auto* refused = new QTreeWidgetItem(tree_, {"Refused"});
   for (const auto& f : host->failures())
     new QTreeWidgetItem(refused, {q(f.registration.empty() ? f.file.filename().string() : f.registration), q(f.reason), "",

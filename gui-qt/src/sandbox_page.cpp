@@ -19,6 +19,7 @@
 #include <QSpinBox>
 #include <QToolButton>
 #include <QVBoxLayout>
+#include <algorithm>
 #include <charconv>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -35,10 +36,15 @@ namespace {
 using json = nlohmann::ordered_json;
 using Clock = std::chrono::steady_clock;
 
-/// The comm model's fields as panel rows (declared once, in comm_schema()).
+/// The comm model's and the wind's numbers as panel rows (each declared once, in its schema).
 Parameters comm_parameters() {
   Parameters out;
   for (const CommField& f : comm_schema()) out.push_back(f.spec);
+  return out;
+}
+Parameters wind_parameters() {
+  Parameters out;
+  for (const WindProperty& p : wind_schema()) out.push_back(p.spec);
   return out;
 }
 
@@ -318,6 +324,18 @@ void SandboxPage::build_controls() {
   (new QVBoxLayout(comm_box_))->addWidget(comm_panel_);
   column->addWidget(comm_box_);
 
+  // Wind, the same way: on or off starts over (the test's field plugin, if any, is kept), its numbers live.
+  wind_box_ = new QGroupBox("Wind (numbers live, recorded)");
+  wind_box_->setObjectName("wind");
+  wind_box_->setCheckable(true);
+  wind_box_->setChecked(false);
+  wind_box_->setToolTip("constant wind and gusts; a drone's max speed and power are through the air (docs/test-format.md#wind). "
+                        "Ticked with no wind set, it starts as 3 m/s along +x");
+  wind_panel_ = new ParamPanel;
+  wind_panel_->set_schema(wind_parameters());
+  (new QVBoxLayout(wind_box_))->addWidget(wind_panel_);
+  column->addWidget(wind_box_);
+
   auto* run = new QGroupBox("Run");
   auto* run_layout = new QVBoxLayout(run);
   auto* buttons = new QHBoxLayout;
@@ -425,6 +443,18 @@ void SandboxPage::build_controls() {
   connect(comm_panel_, &ParamPanel::changed, this, [this](const std::string& name, double v) {
     if (!updating_) live_change("comm." + name, v);
   });
+  connect(wind_box_, &QGroupBox::toggled, this, [this](bool on) {
+    if (updating_) return;
+    // A wind of zero is no wind: ticked over all zeros, it starts as a 3 m/s breeze along +x to edit.
+    const bool calm = std::all_of(wind_schema().begin(), wind_schema().end(), [&](const WindProperty& p) {
+      return p.spec.name == "gusts.time_scale" || wind_panel_->value(p.spec.name) == 0;
+    });
+    if (on && calm) wind_panel_->set_value("velocity.x", 3);
+    schedule_reload();
+  });
+  connect(wind_panel_, &ParamPanel::changed, this, [this](const std::string& name, double v) {
+    if (!updating_) live_change("wind." + name, v);
+  });
   connect(fail_, &QPushButton::clicked, this, [this] {
     if (fail_target_) live_change("fail.drone", *fail_target_);
   });
@@ -479,6 +509,14 @@ std::optional<TestSpec> SandboxPage::spec_from_controls(std::string* why) {
       comm[f.spec.name] = f.flag ? json(v != 0) : json(v);
     }
     j["comm"] = comm;
+  }
+  const json field = j.contains("wind") && j["wind"].contains("field") ? j["wind"]["field"] : json();
+  j.erase("wind");
+  if (wind_box_->isChecked()) {
+    Wind w;
+    for (const WindProperty& p : wind_schema()) p.set(w, wind_panel_->value(p.spec.name));
+    j["wind"] = {{"velocity", {w.velocity.x, w.velocity.y}}, {"gusts", {{"strength", w.gust_strength}, {"time_scale", w.gust_time_scale}}}};
+    if (!field.is_null()) j["wind"]["field"] = field;
   }
   if (!map_file_.isEmpty()) j["map"] = {{"file", map_file_.toStdString()}};
   else j["map"] = {{"name", map_->currentText().toStdString()}, {"params", params_json(map_panel_)}};
@@ -605,6 +643,8 @@ void SandboxPage::show_test(const TestSpec& t) {
   camera_mtbf_->setValue(t.failures.camera_mtbf);
   comm_box_->setChecked(t.comm.on);
   for (const CommField& f : comm_schema()) comm_panel_->set_value(f.spec.name, f.get(t.comm));
+  wind_box_->setChecked(t.has_wind());
+  for (const WindProperty& p : wind_schema()) wind_panel_->set_value(p.spec.name, p.get(t.wind));
   updating_ = was;
 }
 
@@ -954,6 +994,12 @@ void SandboxPage::refresh() {
     if (in.neighbours.size() > 12) text += " …";
     text += QString("\nobstacle hits: %1").arg(in.hits.size());
     for (const ObstacleHit& h : in.hits) text += QString(" %1 m").arg(h.distance, 0, 'f', 1);
+    if (in.perceived)
+      text += QString("\nperceived position (%1, %2) m, %3 m off").arg(in.perceived->x, 0, 'f', 2).arg(in.perceived->y, 0, 'f', 2)
+                  .arg(distance(*in.perceived, in.position), 0, 'f', 2);
+    if (in.air_velocity)
+      text += QString("\nair velocity (%1, %2) m/s, air speed %3 m/s").arg(in.air_velocity->x, 0, 'f', 2).arg(in.air_velocity->y, 0, 'f', 2)
+                  .arg(in.air_velocity->length(), 0, 'f', 2);
     if (in.heard) {
       text += QString("\nmessages next step: %1 from").arg(in.heard->size());
       for (std::size_t i = 0; i < std::min<std::size_t>(in.heard->size(), 12); ++i) text += QString(" %1").arg((*in.heard)[i]);

@@ -94,6 +94,8 @@ class SandboxPage : public QWidget {
   QPushButton* fail_button() const { return fail_; }             ///< fails the inspected drone
   QGroupBox* comm_box() const { return comm_box_; }              ///< checked: the test has "comm" (a new start state)
   ParamPanel* comm_panel() const { return comm_panel_; }         ///< its fields, live
+  QGroupBox* wind_box() const { return wind_box_; }              ///< checked: the test has "wind" (a new start state)
+  ParamPanel* wind_panel() const { return wind_panel_; }         ///< its numbers, live
   ParamPanel* map_panel() const { return map_panel_; }
   QSpinBox* drones_box() const { return drones_; }
   QSpinBox* targets_box() const { return targets_; }
@@ -171,6 +173,8 @@ class SandboxPage : public QWidget {
   QPushButton* fail_ = nullptr;
   QGroupBox* comm_box_ = nullptr;
   ParamPanel* comm_panel_ = nullptr;
+  QGroupBox* wind_box_ = nullptr;
+  ParamPanel* wind_panel_ = nullptr;
   std::optional<std::uint32_t> fail_target_;  ///< the inspected drone the fail button names
   QPushButton* run_button_ = nullptr;
   QComboBox* pacing_ = nullptr;

@@ -260,6 +260,37 @@ void render_dynamic(QPainter& painter, const Snapshot& snap, const ViewOptions& 
     }
   }
 
+  if (options.wind && !snap.wind.empty()) {
+    // Arrows on the snapshot's grid, the strongest as long as 80 % of a grid cell; the scale is written
+    // at the bottom right so that lengths compare across frames.
+    double strongest = 0;
+    for (const auto& [p, w] : snap.wind) strongest = std::max(strongest, w.length());
+    if (strongest > 0) {
+      const QPointF a0 = world_to_px.map(QPointF(snap.wind[0].first.x, snap.wind[0].first.y));
+      const QPointF a1 = world_to_px.map(QPointF(snap.wind[1 % snap.wind.size()].first.x, snap.wind[1 % snap.wind.size()].first.y));
+      const double cell = std::max(8.0, std::hypot(a1.x() - a0.x(), a1.y() - a0.y()));
+      const double scale = 0.8 * cell / strongest;  // px per m/s
+      const QColor colour(0x3a, 0x5f, 0x7d, 150);
+      painter.setPen(QPen(colour, 1.4));
+      for (const auto& [p, w] : snap.wind) {
+        const QPointF from = world_to_px.map(QPointF(p.x, p.y));
+        const QPointF screen = world_to_px.map(QPointF(p.x + w.x, p.y + w.y)) - from;  // y flips with the map
+        const double length = std::hypot(screen.x(), screen.y());
+        if (length <= 0) continue;
+        const QPointF d = screen / length * (w.length() * scale);
+        const QPointF tip = from + d / 2, tail = from - d / 2;
+        painter.drawLine(tail, tip);
+        const QPointF back = -d / std::max(1.0, std::hypot(d.x(), d.y())) * std::min(8.0, 0.35 * std::hypot(d.x(), d.y()));
+        const QPointF side(-back.y() * 0.5, back.x() * 0.5);
+        painter.drawLine(tip, tip + back + side);
+        painter.drawLine(tip, tip + back - side);
+      }
+      const QString label = QString("wind up to %1 m/s").arg(strongest, 0, 'f', 1);
+      const QRectF box = QRectF(painter.viewport()).adjusted(0, 0, -10, -8);
+      painter.drawText(box, Qt::AlignRight | Qt::AlignBottom, label);
+    }
+  }
+
   if (options.links && !snap.links.empty()) {
     // Each delivery once a pair: a link heard both ways is one line, drawn purple under the drones.
     std::vector<QLineF> lines;

@@ -22,6 +22,7 @@ struct ViewOptions {
   bool obstacles = true;
   bool spawn = true;
   bool links = false;      ///< messages delivered for the next step, receiver to sender (with "comm")
+  bool wind = true;        ///< arrows of the wind on a grid (with "wind")
   bool operator==(const ViewOptions&) const = default;
 };
 

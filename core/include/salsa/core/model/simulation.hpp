@@ -203,6 +203,9 @@ class Simulation final : public WorldView {
   const Wind& wind() const { return setup_.wind; }
   const std::shared_ptr<WindField>& wind_field_ptr() const { return setup_.wind_field; }
   Vec2 gust() const { return gusts_.value(); }  ///< m/s, the gusts of the next step (the same everywhere)
+  /// The wind at `p` at time `t` (m/s): constant + gusts + the field's (a plugin call: may throw
+  /// PluginFailure "wind").
+  Vec2 wind_at(Vec2 p, double t) const;
   /// Each drone's velocity relative to the air (m/s): drone_velocities() minus the wind it flew in
   /// (the same span as drone_velocities() while the test has had no wind).
   std::span<const Vec2> air_velocities() const { return wind_active_ ? drones_.air : drones_.velocities; }
@@ -320,7 +323,6 @@ class Simulation final : public WorldView {
   void read_back();
   /// The wind has been on at some time: from then on air velocities are kept (drones_.air).
   void track_air();  ///< starts air velocities for drones that have none yet (their velocity now)
-  Vec2 wind_at(Vec2 p, double t) const;
   void timed(Phase phase, const auto& fn);
   /// The time after `steps` steps: steps × dt, counted from the last set_dt.
   double time_at(std::uint64_t steps) const { return dt_base_time_ + static_cast<double>(steps - dt_base_steps_) * setup_.dt; }
