@@ -59,6 +59,19 @@ Target target(const TestSpec& test, std::string_view key) {
   return {0, key, {}};
 }
 
+/// `v` (shown as `value`) for parameter `name` of a plugin's declared `schema`: "" when allowed, else why
+/// (out of range, or unknown, listing what `plugin` declares).
+std::string check_param(const Parameters& schema, std::string_view name, double v, const std::string& value, const std::string& plugin) {
+  for (const Parameter& p : schema)
+    if (p.name == name) {
+      const std::string why = p.check(v);
+      return why.empty() ? "" : value + " " + why;
+    }
+  std::string declared;
+  for (const Parameter& p : schema) declared += (declared.empty() ? "" : ", ") + p.name;
+  return "unknown parameter of " + plugin + " (declared: " + (declared.empty() ? "none" : declared) + ")";
+}
+
 }  // namespace
 
 std::uint64_t change_step(double time, double dt) { return static_cast<std::uint64_t>(std::llround(time / dt)); }
@@ -82,16 +95,8 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
   if (to.group >= 0) {
     const GroupSpec& g = test.groups[static_cast<std::size_t>(to.group)];
     if (key.starts_with(params_prefix)) {
-      const std::string_view name = key.substr(params_prefix.size());
-      const Parameters& schema = host.behavior(g.behavior.name).factory.parameters;
-      for (const Parameter& p : schema)
-        if (p.name == name) {
-          const std::string why = p.check(c.value);
-          return why.empty() ? "" : value + " " + why;
-        }
-      std::string declared;
-      for (const Parameter& p : schema) declared += (declared.empty() ? "" : ", ") + p.name;
-      return "unknown parameter of behavior '" + g.behavior.name + "' (declared: " + (declared.empty() ? "none" : declared) + ")";
+      return check_param(host.behavior(g.behavior.name).factory.parameters, key.substr(params_prefix.size()), c.value, value,
+                         "behavior '" + g.behavior.name + "'");
     }
     if (key == "drones") {
       if (!(c.value >= 1 && c.value <= max_drones) || c.value != std::floor(c.value))
@@ -109,16 +114,8 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
   }
   if (key.starts_with(wind_params_prefix)) {
     if (test.wind_field.name.empty()) return "the test has no wind field (allowed: wind.field.params.<name> with a \"wind\": {\"field\": ...})";
-    const std::string_view name = key.substr(wind_params_prefix.size());
-    const Parameters& schema = host.wind(test.wind_field.name).factory.parameters;
-    for (const Parameter& p : schema)
-      if (p.name == name) {
-        const std::string why = p.check(c.value);
-        return why.empty() ? "" : value + " " + why;
-      }
-    std::string declared;
-    for (const Parameter& p : schema) declared += (declared.empty() ? "" : ", ") + p.name;
-    return "unknown parameter of wind '" + test.wind_field.name + "' (declared: " + (declared.empty() ? "none" : declared) + ")";
+    return check_param(host.wind(test.wind_field.name).factory.parameters, key.substr(wind_params_prefix.size()), c.value, value,
+                       "wind '" + test.wind_field.name + "'");
   }
   if (key.starts_with(wind_prefix)) {
     const WindProperty* property = find_wind_property(key.substr(wind_prefix.size()));
