@@ -462,8 +462,10 @@ class TestQueue : public QObject {
     QCOMPARE(calls, q.tests.size());
   }
 
-  // A list of 10^6 values is checked for repeats in one pass (it took 372 s when each value was
-  // compared with all before it): a repeat at its end is found in well under a second or two.
+  // A list of 10^6 values is checked for repeats in one pass (it took 372 s in Release when each value
+  // was compared with all before it): a repeat at its end is found. No wall-clock assertion (a loaded
+  // machine is not a slow algorithm): sized so that the quadratic check, about 10× slower under the
+  // sanitizers, cannot finish the two lists within the suite's 1,800 s; the time is printed.
   void long_sweep_lists_are_checked_fast() {
     for (const char* axis : {"behaviors\": [{\"name\": \"flocking\", \"params\": {\"cohesion_weight\": ", "drones\": "}) {
       QByteArray list = "[";
@@ -475,7 +477,6 @@ class TestQueue : public QObject {
       const QString message = error_of("{\"sweep\": {\"" + QByteArray(axis) + list + "}}");
       qInfo("%s: %lld ms", axis, static_cast<long long>(timer.elapsed()));
       QVERIFY2(message.contains("[1000000]: ") && message.contains("is already in the list (allowed: each value once)"), qPrintable(message.left(300)));
-      QVERIFY2(timer.elapsed() < 20000, qPrintable(QString::number(timer.elapsed())));
     }
   }
 
