@@ -124,7 +124,7 @@ class TestBuiltinBehaviors : public QObject {
     salsa::testing::Scene scene;
     scene.at({100, 100}, {10, 0});
     const double where[2] = {130, 100};
-    const salsa::Message message{1, static_cast<std::uint32_t>(sender_group), 30, 0, 0, where};
+    const salsa::Message message{1, static_cast<std::uint32_t>(sender_group), {30, 0}, 0, where};
     std::array<double, 2> room{};
     salsa::Outbox outbox{room};
     salsa::Perception me = scene.perception();

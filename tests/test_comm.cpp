@@ -55,13 +55,18 @@ struct Layout {
       me.outbox = &state.outbox(i);
       me.broadcast(std::array{static_cast<double>(i)});
     }
-    state.collect(k, static_cast<double>(k) * 0.1, positions, status, comm.range);
+    state.collect(k, static_cast<double>(k) * 0.1, positions, status);
   }
-  /// What drone `r` receives in step `k` (sent in k − 1 − latency), its counts added to `counts`.
-  std::vector<Message> inbox(std::uint64_t k, std::uint32_t r) {
+  /// What drone `r` receives in step `k` (sent in k − 1 − latency), its counts added to `counts`; the
+  /// drones are at `now` when it receives (where they sent from, unless given).
+  std::vector<Message> inbox(std::uint64_t k, std::uint32_t r, std::vector<Vec2> now = {}) {
+    if (now.empty()) now = positions;
+    PointGrid grid;
+    grid.build(now, 25);
     std::vector<Message> out;
-    std::vector<PointGrid::Hit> hits;
-    state.receive(k, r, comm, seed, groups, *geometry, hits, out, counts);
+    std::vector<PointGrid::Hit> candidates, hits;
+    grid.gather(now[r], state.reach(k, now, comm.range), candidates);
+    state.receive(k, r, comm, seed, groups, *geometry, candidates, hits, out, counts);
     return out;
   }
   /// Their senders, by ascending id.
@@ -111,7 +116,7 @@ class Follower final : public Behavior {
   Vec2 decide(const Perception& me, Rng& rng) override {
     me.broadcast(std::array{me.position.x, me.position.y});
     Vec2 sum;
-    for (const Message& m : me.messages) sum += Vec2{m.payload[0], m.payload[1]} + Vec2::polar(m.range, m.bearing) * 1e-3;
+    for (const Message& m : me.messages) sum += Vec2{m.payload[0], m.payload[1]} + Vec2::polar(m.range(), m.bearing()) * 1e-3;
     const Vec2 wander = Vec2::polar(me.max_force, rng.angle());
     if (me.messages.empty()) return wander;
     return seek(me, sum / static_cast<double>(me.messages.size())) + wander + avoid_near_obstacles(me);
@@ -165,9 +170,9 @@ class TestComm : public QObject {
     QCOMPARE(l.counts.obstacle, std::uint64_t(2));
     QCOMPARE(l.counts.delivered, std::uint64_t(2));
     const Message m = l.inbox(1, 0)[0];
-    QCOMPARE(m.range, 50.0);
-    QCOMPARE(m.bearing, 0.0);  // from 0 towards 1: along +x
-    QCOMPARE(l.inbox(1, 1)[0].bearing, pi);
+    QCOMPARE(m.range(), 50.0);
+    QCOMPARE(m.bearing(), 0.0);  // from 0 towards 1: along +x
+    QCOMPARE(l.inbox(1, 1)[0].bearing(), pi);
     QCOMPARE(m.payload.size(), std::size_t(1));
     QCOMPARE(m.payload[0], 1.0);
     QCOMPARE(m.time, 0.0);
@@ -248,7 +253,7 @@ class TestComm : public QObject {
     for (int k = 0; k < steps; ++k) {
       l.step(static_cast<std::uint64_t>(k));
       const Message m = l.inbox(static_cast<std::uint64_t>(k) + 1, 0)[0];
-      ranges.push_back(m.range), bearings.push_back(m.bearing);
+      ranges.push_back(m.range()), bearings.push_back(m.bearing());
     }
     auto check = [](const std::vector<double>& x, double sd, const char* what) {
       const double n = static_cast<double>(x.size());
@@ -266,8 +271,9 @@ class TestComm : public QObject {
     Layout again({{100, 100}, {150, 100}}, c);
     again.start();
     again.step(17);
-    QCOMPARE(again.inbox(18, 0)[0].range, first);
-    // The bearing is atan2's (the core's own, within 1e-15 rad), from every direction.
+    QCOMPARE(again.inbox(18, 0)[0].range(), first);
+    // Without noise the offset is exactly the sender's position less the receiver's, from every
+    // direction, and range and bearing are its length and atan2.
     std::vector<Vec2> ring{{200, 200}};
     for (int k = 0; k < 720; ++k) ring.push_back(Vec2{200, 200} + Vec2::polar(10 + k % 37, k * pi / 360 + 1e-3 * (k % 7)));
     CommSetup exact;
@@ -275,12 +281,14 @@ class TestComm : public QObject {
     Layout around(ring, exact);
     around.start();
     around.step(0);
-    double worst = 0;
-    for (const Message& got : around.inbox(1, 0)) {
+    const std::vector<Message> heard = around.inbox(1, 0);
+    QCOMPARE(heard.size(), ring.size() - 1);
+    for (const Message& got : heard) {
       const Vec2 to = ring[got.sender] - ring[0];
-      worst = std::max(worst, std::abs(got.bearing - std::atan2(to.y, to.x)));
+      QCOMPARE(got.offset, to);
+      QCOMPARE(got.range(), std::sqrt(to.x * to.x + to.y * to.y));
+      QCOMPARE(got.bearing(), std::atan2(to.y, to.x));
     }
-    QVERIFY2(worst <= 1e-15, qPrintable(QString::number(worst)));
   }
 
   // Through the simulation: a message sent in step k is in decide's messages in step k + 1 + latency,
@@ -325,6 +333,35 @@ class TestComm : public QObject {
     QVERIFY(k.delivered > 0 && k.dropped_range > 0 && k.dropped_obstacle > 0 && k.dropped_loss > 0 && k.dropped_cap > 0);
   }
 
+  // A receiver finds its senders from where the drones are when it receives: every drone that sent
+  // from within range of where the receiver was then, and no other, however far the drones moved since.
+  void senders_are_found_after_the_drones_moved() {
+    Rng rng(5, 0);
+    std::vector<Vec2> points;
+    for (int i = 0; i < 300; ++i) points.push_back(rng.in_disc({200, 200}, 190));
+    CommSetup c;
+    c.range = 60;
+    Layout l(points, c);
+    l.start();
+    l.step(0);
+    for (double moved : {0.0, 0.5, 40.0}) {
+      std::vector<Vec2> now = points;
+      for (Vec2& p : now) p += Vec2::polar(moved * rng.uniform(0, 1), rng.angle());
+      std::size_t heard = 0;
+      for (std::uint32_t r = 0; r < points.size(); ++r) {
+        std::vector<std::uint32_t> got;
+        for (const Message& m : l.inbox(1, r, now)) got.push_back(m.sender);
+        std::sort(got.begin(), got.end());
+        std::vector<std::uint32_t> expected;
+        for (std::uint32_t j = 0; j < points.size(); ++j)
+          if (j != r && distance_squared(points[j], points[r]) < c.range * c.range) expected.push_back(j);
+        QCOMPARE(got, expected);
+        heard += got.size();
+      }
+      QVERIFY(heard > 3000);
+    }
+  }
+
   // Deliveries (and so the flights they steer) are identical on 1 and 2 threads and across runs.
   void deliveries_are_the_same_on_any_thread_count() {
     CommSetup c;
@@ -345,7 +382,7 @@ class TestComm : public QObject {
       std::vector<double> out(sim.drone_positions().size() * 2);
       for (std::size_t i = 0; i < sim.drone_positions().size(); ++i) out[2 * i] = sim.drone_positions()[i].x, out[2 * i + 1] = sim.drone_positions()[i].y;
       for (std::uint32_t i = 0; i < sim.drone_count(); ++i)
-        for (const Message& m : sim.inbox(i)) out.insert(out.end(), {double(m.sender), m.range, m.bearing, m.payload[0]});
+        for (const Message& m : sim.inbox(i)) out.insert(out.end(), {double(m.sender), m.range(), m.bearing(), m.payload[0]});
       const CommCounters& k = sim.comm_counters();
       out.insert(out.end(), {double(k.delivered), double(k.dropped_loss), double(k.dropped_cap), double(k.dropped_obstacle)});
       return out;

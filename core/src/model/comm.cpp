@@ -73,29 +73,12 @@ class PairDraws {
 
 constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
 
-/// atan2(y, x) within a few ulps (test_comm checks 1e-15 rad), without libm: glibc's took a sixth of a
-/// step's time at 15 deliveries per drone. Reduced to t = min/max of |x|, |y| in [0, 1]; then with the
-/// nearest c = k/16, atan t = atan c + atan u, u = (t − c) / (1 + t c), |u| ≤ 1/32, whose odd Taylor
-/// series to u⁹ errs by under u¹¹/11 < 3e-18. Plain arithmetic: the same bits on every machine.
-double bearing_of(double y, double x) {
-  static const std::array<double, 17> table = [] {
-    std::array<double, 17> out{};
-    for (int k = 0; k <= 16; ++k) out[static_cast<std::size_t>(k)] = std::atan(k / 16.0);
-    return out;
-  }();
-  const double ax = std::fabs(x), ay = std::fabs(y);
-  const double hi = std::max(ax, ay), lo = std::min(ax, ay);
-  if (!(hi > 0)) return 0;  // the same point (or NaN): no direction
-  // k only picks the expansion point: a float quotient is near enough (|u| stays within a hair of
-  // 1/32), and u = (t − c) / (1 + t c) with t = lo / hi is one division.
-  const auto k = static_cast<std::size_t>(static_cast<float>(lo) * 16.0f / static_cast<float>(hi) + 0.5f);
-  const double c = static_cast<double>(k) / 16;
-  const double u = (lo - c * hi) / (hi + c * lo), u2 = u * u;
-  double a = table[k] +
-             u * (1 + u2 * (-1.0 / 3 + u2 * (1.0 / 5 + u2 * (-1.0 / 7 + u2 * (1.0 / 9)))));
-  if (ay > ax) a = pi / 2 - a;
-  if (x < 0) a = pi - a;
-  return y < 0 ? -a : a;
+/// The offset `to` as a receiver measures it with the model's range and bearing noise, from the pair's
+/// draws (a range that noise takes below 0 is 0).
+[[gnu::noinline]] Vec2 measured(Vec2 to, const CommSetup& comm, PairDraws draws) {
+  draws.uniform();  // the loss draw (drawn or not): a pair's noise is the same with and without loss
+  const double dr = draws.normal(), db = draws.normal();
+  return Vec2::polar(std::max(0.0, to.length() + comm.range_noise * dr), to.angle() + comm.bearing_noise * db);
 }
 
 }  // namespace
@@ -113,19 +96,17 @@ void CommState::resize(std::size_t drones, std::span<const std::size_t> room, st
 }
 
 void CommState::clear() {
-  for (Slot& s : ring_) s.senders.clear(), s.positions.clear();
+  for (Slot& s : ring_) s.senders = 0, s.positions.clear();
   for (Outbox& o : outboxes_) o.sent = false, o.size = 0;
 }
 
-std::size_t CommState::collect(std::uint64_t step, double time, std::span<const Vec2> positions, std::span<const DroneStatus> status,
-                               double range) {
+std::size_t CommState::collect(std::uint64_t step, double time, std::span<const Vec2> positions, std::span<const DroneStatus> status) {
   Slot& s = slot(step);
   s.time = time;
   s.pool.clear();
-  s.senders.clear();
+  s.senders = 0;
   s.offset.resize(outboxes_.size());
   s.size.assign(outboxes_.size(), none);
-  scratch_.clear();
   for (std::uint32_t i = 0; i < outboxes_.size(); ++i) {
     Outbox& o = outboxes_[i];
     if (!o.sent) continue;
@@ -134,51 +115,80 @@ std::size_t CommState::collect(std::uint64_t step, double time, std::span<const 
     s.offset[i] = static_cast<std::uint32_t>(s.pool.size());
     s.size[i] = static_cast<std::uint32_t>(o.size);
     s.pool.insert(s.pool.end(), o.room.begin(), o.room.begin() + static_cast<std::ptrdiff_t>(o.size));
-    s.senders.push_back(i);
-    scratch_.push_back(positions[i]);
+    ++s.senders;
   }
   s.positions.assign(positions.begin(), positions.end());
-  s.grid.build(scratch_, range / 2);  // a query touches at most 5 × 5 cells, as the drone grid's do
-  return s.senders.size();
+  return s.senders;
+}
+
+const CommState::Slot* CommState::sent_to(std::uint64_t step) const {
+  const auto wait = static_cast<std::uint64_t>(latency_) + 1;
+  if (step < wait) return nullptr;
+  const Slot& s = slot(step - wait);
+  return s.senders == 0 ? nullptr : &s;
+}
+
+double CommState::reach(std::uint64_t step, std::span<const Vec2> now, double range) const {
+  const Slot* s = sent_to(step);
+  if (!s) return 0;
+  double moved2 = 0;  // a drone with a non-finite position is in no grid: it neither sends nor receives
+  for (std::size_t i = 0, n = std::min(now.size(), s->positions.size()); i < n; ++i)
+    if (const double d2 = distance_squared(now[i], s->positions[i]); std::isfinite(d2)) moved2 = std::max(moved2, d2);
+  // d(then) < range implies d(now) ≤ d(then) + 2 × moved < range + 2 × moved; the factor covers
+  // the rounding of the distances the grid and this test compute.
+  return (range + 2 * std::sqrt(moved2)) * (1 + 1e-9);
 }
 
 void CommState::receive(std::uint64_t step, std::uint32_t r, const CommSetup& comm, std::uint64_t seed,
-                        std::span<const std::uint32_t> groups, const StaticGeometry& geometry, std::vector<PointGrid::Hit>& hits,
-                        std::vector<Message>& out, Counts& counts) const {
+                        std::span<const std::uint32_t> groups, const StaticGeometry& geometry,
+                        std::span<const PointGrid::Hit> candidates, std::vector<PointGrid::Hit>& hits, std::vector<Message>& out,
+                        Counts& counts) const {
   out.clear();
-  const auto wait = static_cast<std::uint64_t>(latency_) + 1;
-  if (step < wait) return;
-  const std::uint64_t sent = step - wait;
-  const Slot& s = slot(sent);
-  if (s.senders.empty() || r >= s.positions.size()) return;
+  const Slot* found = sent_to(step);
+  if (!found || r >= found->positions.size()) return;
+  const Slot& s = *found;
+  const std::uint64_t sent = step - static_cast<std::uint64_t>(latency_) - 1;
   const Vec2 p = s.positions[r];
-  counts.offered += s.senders.size() - (s.size[r] != none);  // every sender but itself
+  counts.offered += s.senders - (s.size[r] != none);  // every sender but itself
   const bool sight = comm.line_of_sight && geometry.segments().size() > 4;  // 0–3 are the bounds, never crossed
   const bool lossy = comm.loss > 0 || comm.loss_at_range > 0, noisy = comm.range_noise > 0 || comm.bearing_noise > 0;
   const auto cap = static_cast<std::size_t>(comm.max_received);
-  auto emit = [&](std::uint32_t j, Vec2 to, double d2) {
-    double range = std::sqrt(d2), bearing = bearing_of(to.y, to.x);
-    if (noisy) {
-      PairDraws draws(seed, sent, j, r);
-      draws.uniform();  // the loss draw (drawn or not): a pair's noise is the same with and without loss
-      const double dr = draws.normal(), db = draws.normal();
-      range = std::max(0.0, range + comm.range_noise * dr);
-      bearing = std::remainder(bearing + comm.bearing_noise * db, 2 * pi);  // back to [−π, π]
-    }
-    out.push_back({j, groups[j], range, bearing, s.time, {s.pool.data() + s.offset[j], s.size[j]}});
+  // The message as measured: the true offset to the sender, or with noise (measured()) the offset at
+  // the noisy range and bearing. Field by field into its place: a Message built aside and copied in
+  // went through the stack in pieces, stalling the loads that copied it (a third of the delivery).
+  auto deliver = [&](std::uint32_t j, Vec2 to) {
+    Message& m = out.emplace_back();
+    m.sender = j;
+    m.group = groups[j];
+    m.offset = noisy ? measured(to, comm, PairDraws(seed, sent, j, r)) : to;
+    m.time = s.time;
+    m.payload = {s.pool.data() + s.offset[j], s.size[j]};
   };
-  // The senders the grid finds strictly within range, in its order: line of sight, then the loss
-  // draw; without a cap each one left is a message at once.
+  // Each candidate that sent from strictly within range: line of sight, then the loss draw; without a
+  // cap each one left is a message at once. Counted in locals: `out` may alias `counts` for all the
+  // compiler knows.
   hits.clear();
-  s.grid.query(p, comm.range, [&](std::uint32_t k, Vec2 q, double d2) {
-    const std::uint32_t j = s.senders[k];
-    if (j == r) return;
-    ++counts.in_range;
-    if (sight && geometry.blocked(p, q)) return void(++counts.obstacle);
-    if (lossy && PairDraws(seed, sent, j, r).uniform() < comm_loss(comm, std::sqrt(d2))) return void(++counts.loss);
-    if (cap == 0) emit(j, q - p, d2);
-    else hits.push_back({j, d2});
-  });
+  const double r2 = comm.range * comm.range;
+  std::uint64_t in_range = 0, obstacle = 0, loss = 0;
+  for (const PointGrid::Hit& h : candidates) {
+    const std::uint32_t j = h.index;
+    if (j == r || j >= s.size.size() || s.size[j] == none) continue;
+    const Vec2 q = s.positions[j], to = q - p;
+    const double d2 = to.length_squared();
+    if (!(d2 < r2)) continue;
+    ++in_range;
+    if (sight && geometry.blocked(p, q)) {
+      ++obstacle;
+      continue;
+    }
+    if (lossy && PairDraws(seed, sent, j, r).uniform() < comm_loss(comm, std::sqrt(d2))) {
+      ++loss;
+      continue;
+    }
+    if (cap > 0) hits.push_back({j, d2});
+    else deliver(j, to);
+  }
+  counts.in_range += in_range, counts.obstacle += obstacle, counts.loss += loss;
   if (cap > 0) {  // nearest first, then the lower id: a fixed choice, kept in that order
     const auto nearer = [](const PointGrid::Hit& a, const PointGrid::Hit& b) {
       return a.distance_squared != b.distance_squared ? a.distance_squared < b.distance_squared : a.index < b.index;
@@ -189,7 +199,7 @@ void CommState::receive(std::uint64_t step, std::uint32_t r, const CommSetup& co
       hits.resize(cap);
     }
     std::sort(hits.begin(), hits.end(), nearer);
-    for (const PointGrid::Hit& h : hits) emit(h.index, s.positions[h.index] - p, h.distance_squared);
+    for (const PointGrid::Hit& h : hits) deliver(h.index, s.positions[h.index] - p);
   }
   counts.delivered += out.size();
 }

@@ -575,7 +575,7 @@ void Simulation::install(World&& w) noexcept {
   physics_->remove_drones_from(0);
   add_bodies();
   if (comm_) comm_->clear();  // new drones: nothing in flight reaches them
-  comm_stale_ = true;
+  comm_changed();
   if (wind_active_) track_air();  // the new drones' air velocities: their velocities as spawned
 }
 
@@ -643,7 +643,7 @@ void Simulation::set_drone_count(std::size_t n, std::uint32_t group) {
   if (wind_active_) track_air();
   spawn_rng_ = rng;
   setup_.groups[group].drones = n;
-  comm_stale_ = true;
+  comm_changed();
 }
 
 void Simulation::set_drone_config(const DroneConfig& config, std::uint32_t group) {
@@ -712,21 +712,33 @@ void Simulation::set_behavior(std::shared_ptr<Behavior> behavior, std::uint32_t 
   plugin_call(behavior_kind, group, [&] { behavior->reset(drones_.positions.size()); });
   setup_.groups[group].behavior = std::move(behavior);
   message_sizes_[group] = size;
+  comm_changed();
+}
+
+void Simulation::comm_changed() {
   comm_stale_ = true;
+  inbox_grid_step_ = std::numeric_limits<std::uint64_t>::max();
 }
 
 void Simulation::set_comm(const CommSetup& comm) {
   if (const std::string why = comm_problem(comm); !why.empty()) throw std::invalid_argument(why);
   setup_.comm = comm;
-  comm_stale_ = true;
+  comm_changed();
 }
 
 std::vector<Message> Simulation::inbox(std::uint32_t id) const {
   std::vector<Message> out;
   if (!setup_.comm.on || comm_stale_) return out;
-  std::vector<PointGrid::Hit> hits;
+  if (id >= drones_.positions.size()) return out;
+  // The grid the next step's sense will build (drones do not move between steps), kept for the step.
+  if (inbox_grid_step_ != steps_) {
+    inbox_grid_.build(drones_.positions, grid_range_ / 2);
+    inbox_grid_step_ = steps_;
+  }
+  std::vector<PointGrid::Hit> candidates, hits;
+  inbox_grid_.gather(drones_.positions[id], comm_->reach(steps_, drones_.positions, setup_.comm.range), candidates);
   CommState::Counts counts;
-  comm_->receive(steps_, id, setup_.comm, setup_.seed, drones_.groups, geometry_, hits, out, counts);
+  comm_->receive(steps_, id, setup_.comm, setup_.seed, drones_.groups, geometry_, candidates, hits, out, counts);
   return out;
 }
 
@@ -936,16 +948,20 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   const DroneProperties& cfg = groups_[g].properties;
   const Vec2 p = drones_.positions[id];
   s.neighbours.clear();
+  // One search of the drone grid serves the neighbours and the messages' candidate senders (comm's
+  // reach may pass the detection range: then neighbours are those within it, in the same order).
+  const double detection = senses.neighbours ? cfg.detection_range : 0, reach = setup_.comm.on ? comm_reach_ : 0;
+  s.hits.clear();
+  if (detection > 0 || reach > 0) drone_grid_.gather(p, std::max(detection, reach), s.hits);
   if (senses.neighbours) {
-    s.hits.clear();
-    drone_grid_.gather(p, cfg.detection_range, s.hits);
+    const double within = reach > detection ? detection * detection : std::numeric_limits<double>::infinity();
     // The common case, every drone flying in one group, reads neither status nor group per neighbour.
     if (flying_ == drones_.positions.size() && groups_.size() == 1) {
       for (const auto& [j, d2] : s.hits)
-        if (j != id) s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j, 0});
+        if (j != id && d2 < within) s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j, 0});
     } else {
       for (const auto& [j, d2] : s.hits)
-        if (j != id && drones_.status[j] == DroneStatus::flying)
+        if (j != id && d2 < within && drones_.status[j] == DroneStatus::flying)
           s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j, drones_.groups[j]});
     }
   }
@@ -976,7 +992,7 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   me.targets = s.targets;
   me.world = this;
   if (setup_.comm.on) {
-    comm_->receive(steps_, id, setup_.comm, setup_.seed, drones_.groups, geometry_, s.senders, s.messages, comm_counts_[id]);
+    comm_->receive(steps_, id, setup_.comm, setup_.seed, drones_.groups, geometry_, s.hits, s.senders, s.messages, comm_counts_[id]);
     me.messages = s.messages;
     me.outbox = &comm_->outbox(id);
   } else {
@@ -1006,7 +1022,10 @@ void Simulation::decide() {
     comm_->resize(drones_.positions.size(), message_sizes_, drones_.groups, setup_.comm.latency);
     comm_stale_ = false;
   }
-  if (setup_.comm.on) comm_counts_.assign(drones_.positions.size(), {});
+  if (setup_.comm.on) {
+    comm_counts_.assign(drones_.positions.size(), {});
+    comm_reach_ = comm_->reach(steps_, drones_.positions, setup_.comm.range);
+  }
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
     if (drones_.status[i] != DroneStatus::flying) return;
     const std::uint32_t g = drones_.groups[i];
@@ -1019,7 +1038,7 @@ void Simulation::decide() {
 
 // Communicate: the counts of the messages each drone received in this decide (its inbox was gathered
 // right before its decide, as its neighbours are) summed, then the messages broadcast in this decide
-// packed with the positions they were decided on and a grid of their senders, for the receivers'
+// packed with the positions they were decided on, for the receivers'
 // decide latency + 1 steps on. Serial, O(drones). Runs only with "comm".
 void Simulation::communicate() {
   CommState::Counts total;
@@ -1035,7 +1054,7 @@ void Simulation::communicate() {
   k.dropped_loss += total.loss;
   k.dropped_cap += total.cap;
   k.delivered += total.delivered;
-  k.sent += comm_->collect(steps_, time(), drones_.positions, drones_.status, setup_.comm.range);
+  k.sent += comm_->collect(steps_, time(), drones_.positions, drones_.status);
 }
 
 // Act: add the steering to the velocity as it is, clamp the speed to max speed, hand the velocity to

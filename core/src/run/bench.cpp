@@ -22,7 +22,7 @@ class Broadcasting final : public Behavior {
     const std::array<double, 4> state{me.position.x, me.position.y, me.velocity.x, me.velocity.y};
     me.broadcast(state);
     double heard = 0;
-    for (const Message& m : me.messages) heard += m.payload[0] * 0 + m.range * 0;
+    for (const Message& m : me.messages) heard += m.payload[0] * 0 + m.range() * 0;
     return inner_->decide(me, rng) + Vec2{heard, 0};
   }
   void reset(std::size_t drones) override { inner_->reset(drones); }

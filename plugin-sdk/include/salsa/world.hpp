@@ -51,15 +51,20 @@ struct TargetSeen {
 /// The most doubles one message may hold (Behavior::message_size is refused above it).
 inline constexpr std::size_t max_message_size = 64;
 
-/// A message another drone broadcast, as this drone received it (Perception::messages). Range and
-/// bearing are what the receiver measured when it was sent, with the test's comm noise.
+/// A message another drone broadcast, as this drone received it (Perception::messages): where the
+/// sender was as the receiver measured it when it was sent, with the test's comm noise. Range and bearing
+/// are computed when asked, so a behavior that reads only payloads pays for neither.
 struct Message {
   std::uint32_t sender;   ///< the sender's drone id
   std::uint32_t group;    ///< the sender's group (index into the test's "groups"; 0 without groups)
-  double range;           ///< m from the receiver to the sender (range noise added, never below 0)
-  double bearing;         ///< rad: direction from the receiver to the sender in the map's frame, atan2(dy, dx) in [−π, π] (bearing noise added)
+  Vec2 offset;            ///< m: from the receiver to the sender in the map's frame (range and bearing noise added)
   double time;            ///< s: when it was sent (the start of the step it was broadcast in)
   std::span<const double> payload;  ///< what the sender broadcast; valid during the decide call it came with
+  /// m from the receiver to the sender (with range noise; never below 0).
+  double range() const { return offset.length(); }
+  /// rad: direction from the receiver to the sender, atan2(dy, dx) in [−π, π] (with bearing noise; 0
+  /// when the range is 0).
+  double bearing() const { return offset.angle(); }
 };
 
 /// One drone's message slot for the current step, provided by the core (Perception::broadcast).

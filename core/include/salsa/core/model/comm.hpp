@@ -74,11 +74,15 @@ struct CommCounters {
 inline constexpr const char* comm_columns[] = {"messages_sent", "messages_delivered", "dropped_range",
                                                "dropped_obstacle", "dropped_loss", "dropped_cap"};
 
-/// The messages in flight: what the drones broadcast in a step, with the positions and a grid of the
-/// senders of that step, kept for latency + 2 steps (one slot written, one read, the rest in flight).
-/// A receiver's inbox is gathered in its own `decide`, right before the call (as its neighbours are):
-/// into a buffer of the deciding thread, so nothing per drone is stored and each drone writes only its
-/// own counts.
+/// The messages in flight: what the drones broadcast in a step, with the positions they were decided
+/// on, kept for latency + 2 steps (one slot written, one read, the rest in flight). A receiver's inbox
+/// is gathered in its own `decide`, right before the call (as its neighbours are), into a buffer of the
+/// deciding thread: nothing per receiver is stored, and each drone writes only its own counts.
+///
+/// The candidate senders come from the drone grid of the receiving step, in the same search as the
+/// receiver's neighbours, within `reach`: the range plus twice the farthest any drone moved since the
+/// messages were sent, so every sender that was within range then is found now. Range is then decided
+/// on the positions of the sent step.
 class CommState {
  public:
   /// Per-drone room for `drones` drones, each `room[group]` doubles; keeps what is in flight unless
@@ -88,42 +92,46 @@ class CommState {
   void clear();
   Outbox& outbox(std::uint32_t id) { return outboxes_[id]; }
 
-  /// The broadcasts of step `step` (sent at `time`, decided on `positions`) packed into its slot, with
-  /// a grid of their senders (cells of range / 2); outboxes cleared for the next step. Returns how many
-  /// drones broadcast. Serial, O(drones + payload).
-  std::size_t collect(std::uint64_t step, double time, std::span<const Vec2> positions, std::span<const DroneStatus> status,
-                      double range);
+  /// The broadcasts of step `step` (sent at `time`, decided on `positions`) packed into its slot;
+  /// outboxes cleared for the next step. Returns how many drones broadcast. Serial, O(drones + payload).
+  std::size_t collect(std::uint64_t step, double time, std::span<const Vec2> positions, std::span<const DroneStatus> status);
+
+  /// The radius around a receiver's position `now` within which step `step`'s receivers find every
+  /// sender that was within `range` of them when it sent: range + 2 × the farthest a drone moved since
+  /// (with a hair for rounding). 0 when nothing is to be received. Serial, O(drones), once a step.
+  double reach(std::uint64_t step, std::span<const Vec2> now, double range) const;
 
   /// What each receiver's step did with the messages offered to it.
   struct Counts {
     std::uint64_t offered = 0, in_range = 0, obstacle = 0, loss = 0, cap = 0, delivered = 0;
   };
-  /// Drone `receiver`'s messages in step `step` (sent in step − 1 − latency) into `out`, in the grid's
-  /// order (nearest first when capped): the senders of that step strictly within range of where the
-  /// receiver was then, in sight, not lost, at most max_received. Draws come from (seed, sent step,
+  /// Drone `receiver`'s messages in step `step` (sent in step − 1 − latency) into `out`, in the order of
+  /// `candidates` (nearest first when capped): the senders among them that were strictly within range of
+  /// where the receiver was then, in sight, not lost, at most max_received. `candidates` is a search of
+  /// the drone grid of step `step` within `reach` (more is fine). Draws come from (seed, sent step,
   /// sender, receiver) alone. Adds to `counts` (the receiver's own). The receiver flies now, so it flew
   /// then (a stopped drone never flies again; a drone added since has no messages).
   void receive(std::uint64_t step, std::uint32_t receiver, const CommSetup& comm, std::uint64_t seed,
-               std::span<const std::uint32_t> groups, const StaticGeometry& geometry, std::vector<PointGrid::Hit>& hits,
-               std::vector<Message>& out, Counts& counts) const;
+               std::span<const std::uint32_t> groups, const StaticGeometry& geometry, std::span<const PointGrid::Hit> candidates,
+               std::vector<PointGrid::Hit>& hits, std::vector<Message>& out, Counts& counts) const;
 
  private:
   struct Slot {
     double time = 0;
     std::vector<double> pool;                  ///< payloads, packed
     std::vector<std::uint32_t> offset, size;   ///< per drone: its payload in pool; size UINT32_MAX: did not broadcast
+    std::size_t senders = 0;                   ///< drones that broadcast
     std::vector<Vec2> positions;               ///< every drone's, as the senders decided on them
-    std::vector<std::uint32_t> senders;        ///< ids of the drones that broadcast
-    PointGrid grid;                            ///< over the senders' positions, indexing `senders`
   };
   Slot& slot(std::uint64_t step) { return ring_[step % ring_.size()]; }
   const Slot& slot(std::uint64_t step) const { return ring_[step % ring_.size()]; }
+  /// The slot step `step` receives from, or nullptr before anything was sent.
+  const Slot* sent_to(std::uint64_t step) const;
 
   int latency_ = 0;
   std::vector<Slot> ring_{2};
   std::vector<double> room_;        ///< every drone's outbox room, back to back
   std::vector<Outbox> outboxes_;
-  std::vector<Vec2> scratch_;       ///< the senders' positions, for the grid
 };
 
 }  // namespace salsa

@@ -264,6 +264,7 @@ class Simulation final : public WorldView {
   void dispatch_sightings();  // detect, part 1
   void dispatch_contacts();   // detect, part 2
   void observe();
+  void comm_changed();  // drones, sizes or the model changed: resize before the next decide, forget inbox()'s grid
 
   // Drones, structure of arrays indexed by id.
   struct Drones {
@@ -362,6 +363,9 @@ class Simulation final : public WorldView {
   bool comm_stale_ = true;  ///< sizes, drones or latency changed: comm_ is resized before the next decide
   mutable std::vector<CommState::Counts> comm_counts_;  ///< per receiver, this step: each drone's perceive writes its own
   CommCounters comm_counters_;
+  double comm_reach_ = 0;  ///< this step's CommState::reach
+  mutable PointGrid inbox_grid_;  ///< inbox(): the drone grid of the next step, built once per step asked
+  mutable std::uint64_t inbox_grid_step_ = std::numeric_limits<std::uint64_t>::max();
 };
 
 }  // namespace salsa
