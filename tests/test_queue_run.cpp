@@ -252,8 +252,8 @@ class TestQueueRun : public QObject {
     const auto rows = csv_rows(dir.filePath("out/summary.csv"));
     QCOMPARE(rows.size(), 5);
     const QStringList header = rows[0];
-    QCOMPARE(header.mid(0, 13), (QStringList{"name", "status", "error", "cell", "variant", "behavior", "repeat", "seed", "drones",
-                                              "targets", "target", "map", "time"}));
+    QCOMPARE(header.mid(0, 15), (QStringList{"name", "status", "error", "cell", "variant", "condition", "condition_label", "behavior",
+                                              "repeat", "seed", "drones", "targets", "target", "map", "time"}));
     // Wall times are in OUT/timing.csv, so identical runs write identical summary.csv files.
     QVERIFY(!header.contains("wall_seconds"));
     const auto timing = csv_rows(dir.filePath("out/timing.csv"));
@@ -267,9 +267,10 @@ class TestQueueRun : public QObject {
     QVERIFY(header.indexOf("map.size") < header.indexOf("drone.max_speed"));
     QVERIFY(header.indexOf("drone.max_speed") < header.indexOf("versions.behavior"));
     auto at = [&](int row, const char* column) { return rows[row][header.indexOf(column)]; };
-    QCOMPARE(at(1, "variant"), QString("flocking"));
-    QCOMPARE(at(2, "variant"), QString("flocking(cohesion_weight=2)"));
-    QCOMPARE(at(3, "variant"), QString("random_walk"));
+    QCOMPARE(at(1, "variant"), QString("flocking (defaults)"));
+    QCOMPARE(at(2, "variant"), QString("flocking: cohesion_weight = 2"));
+    QCOMPARE(at(3, "variant"), QString("random_walk (defaults)"));
+    QCOMPARE(at(1, "condition"), QString());  // a queue without conditions
     QCOMPARE(at(1, "seed"), QString("4"));
     QCOMPARE(at(1, "drones"), QString("5"));
     QCOMPARE(at(1, "targets"), QString("3"));
