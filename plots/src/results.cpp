@@ -783,9 +783,10 @@ struct Measure {
 const Measure found_measure{"fraction_found", 100, 100.0, false, "Targets found over time", "targets found (%)", "found_over_time"};
 const Measure alive_measure{"alive", 1, std::nullopt, true, "Drones alive over time", "drones flying", "alive_over_time"};
 
-/// The times of a test's timed changes (config.json's "changes").
+/// The times of a test's timed changes (config.json's "changes"; none without config.json).
 std::vector<double> change_times(const fs::path& folder) {
   std::vector<double> out;
+  if (!is_file(folder / "config.json")) return out;
   const json config = read_json(folder / "config.json", "a test's config.json");
   if (config.is_object() && config.contains("changes") && config["changes"].is_array())
     for (const json& c : config["changes"])
