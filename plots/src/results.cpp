@@ -1029,6 +1029,9 @@ void score_plots(const std::vector<QueueRow>& rows, const fs::path& dir) {
       f.legend(legend);
       QPainter& p = f.begin();
       for (std::size_t k = 0; k < drawn.size(); ++k) {
+        // Lines side by side by 1 % of the axis, so that their intervals at one value do not hide each other.
+        const double dodge = 0.01 * span * (static_cast<double>(k) - static_cast<double>(drawn.size() - 1) / 2);
+        for (Point& pt : drawn[k]) pt.x += dodge;
         std::vector<double> x, mean;
         for (const Point& pt : drawn[k]) x.push_back(pt.x), mean.push_back(pt.mean);
         draw_line(f, x, mean, palette(k), 2);
