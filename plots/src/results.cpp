@@ -645,8 +645,10 @@ bool natural_less(std::string_view a, std::string_view b) {
       const char* ea = std::from_chars(a.data() + i, a.data() + a.size(), x).ptr;
       const char* eb = std::from_chars(b.data() + j, b.data() + b.size(), y).ptr;
       if (x != y) return x < y;
-      i = static_cast<std::size_t>(ea - a.data()), j = static_cast<std::size_t>(eb - b.data());
-      continue;
+      if (ea > a.data() + i && eb > b.data() + j) {
+        i = static_cast<std::size_t>(ea - a.data()), j = static_cast<std::size_t>(eb - b.data());
+        continue;
+      }
     }
     if (a[i] != b[j]) return a[i] < b[j];
     ++i, ++j;

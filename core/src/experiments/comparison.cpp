@@ -189,14 +189,19 @@ void write_comparison(const fs::path& out, const std::string& metric) {
   std::string did = "cell";
   for (const char* name : description) did += std::string(",") + name;
   did += ",metric,variant_a,variant_b,baseline,condition,n,diff_baseline,diff_condition,did,ci_low,ci_high\n";
-  bool any = false;
+  std::vector<std::string> cells;                           // in order of first appearance
+  std::map<std::string, std::vector<std::size_t>> in_cell;  // cell → its groups, the baseline first
   for (std::size_t i = 0; i < groups.size(); ++i) {
-    const Group& base = groups[i];
-    if (std::any_of(groups.begin(), groups.begin() + static_cast<std::ptrdiff_t>(i), [&](const Group& g) { return g.cell == base.cell; }))
-      continue;  // not the cell's first condition
-    for (std::size_t k = i + 1; k < groups.size(); ++k) {
-      const Group& other = groups[k];
-      if (other.cell != base.cell) continue;
+    auto& list = in_cell[groups[i].cell];
+    if (list.empty()) cells.push_back(groups[i].cell);
+    list.push_back(i);
+  }
+  bool any = false;
+  for (const std::string& cell : cells) {
+    const std::vector<std::size_t>& list = in_cell[cell];
+    const Group& base = groups[list.front()];
+    for (std::size_t k = 1; k < list.size(); ++k) {
+      const Group& other = groups[list[k]];
       any = true;
       for (const auto& [a, b] : compared_pairs(base.variants, reference)) {
         const std::string &va = base.variants[a], &vb = base.variants[b];

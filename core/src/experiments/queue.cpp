@@ -464,7 +464,7 @@ struct Condition {
   /// `test` with the condition laid over it (its fields, then its keys) and its labels; `owner` names
   /// the test in messages.
   void apply(json& test, const Reader& r, const std::string& owner) const {
-    if (name.empty()) return;
+    if (name.empty() || !test.is_object()) return;  // not a test object: the test reader says so
     test = merged(test, fields, true);
     for (const auto& [key, value] : set.items()) place(test, key, r, Reader::join(at + ".set", key), owner) = value;
     test["condition"] = {{"name", name}, {"label", label}};
