@@ -815,6 +815,17 @@ class TestQueue : public QObject {
     }
   }
 
+  void cli_queue_expand_names_the_condition() {
+    const std::string path = file("cond.json", R"({"base": {"drones": 5, "time": 10}, "sweep": {"behaviors": ["flocking"]},
+                                                   "conditions": [{"name": "calm"}, {"name": "big", "drones": 6}]})");
+    const CliResult r = run_salsa({"queue", "expand", q(path)});
+    QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
+    const QStringList lines = non_empty_lines(r.out);
+    QCOMPARE(lines.size(), 3);
+    QVERIFY2(lines[1].startsWith("flocking_calm_r0 ") && lines[1].contains(" condition=calm ") && lines[1].contains("drones=5"), qPrintable(lines[1]));
+    QVERIFY2(lines[2].startsWith("flocking_big_r0 ") && lines[2].contains(" condition=big ") && lines[2].contains("drones=6"), qPrintable(lines[2]));
+  }
+
   void cli_validate_and_yes() {
     const std::string small = file("small.json", R"({"sweep": {"behaviors": ["random_walk", "flocking"], "drones": [3, 4]}})");
     CliResult r = run_salsa({"validate", q(small)});

@@ -469,13 +469,13 @@ struct Condition {
     for (const auto& [key, value] : set.items()) place(test, key, r, Reader::join(at + ".set", key), owner) = value;
     test["condition"] = {{"name", name}, {"label", label}};
   }
-  /// Refuses a condition that sets what the test sets itself (`paths` with `by`, e.g. "sweep.drones").
-  void check_apart(const std::vector<std::string>& theirs, const std::string& by, const Reader& r) const {
+  /// Refuses a condition that sets what a test or the sweep sets itself: (path, where it is set), e.g.
+  /// ("drones", "sweep.drones"), ("changes", "tests[0].changes").
+  void check_apart(const std::vector<std::pair<std::string, std::string>>& theirs, const Reader& r) const {
     for (const std::string& mine : paths)
-      for (const std::string& other : theirs)
+      for (const auto& [other, by] : theirs)
         if (overlaps(mine, other))
-          r.fail(at + "." + mine, "also set by " + by + (other == mine ? "" : "." + other) +
-                                      " (allowed: one or the other; a condition changes the base, not what a test or the sweep sets)");
+          r.fail(at + "." + mine, "also set by " + by + " (allowed: one or the other; a condition changes the base, not what a test or the sweep sets)");
   }
 };
 
@@ -759,18 +759,19 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host, const S
 
   // What the sweep sets is its own: a condition changes the base only.
   if (shared.named()) {
-    std::vector<std::pair<std::string, std::string>> swept;  // (path, the axis)
+    std::vector<std::pair<std::string, std::string>> swept;  // (path, where)
     for (const auto& [axis, key] : {std::pair{"behaviors", "behavior"}, {"maps", "map"}, {"drones", "drones"}, {"drone", "drone"}})
       if (s.contains(axis)) swept.emplace_back(key, std::string("sweep.") + axis);
     for (const Point& p : sweep.targets)  // counts keep the base's kind and parameters
       swept.emplace_back(p.set["targets"].size() == 1 ? "targets.count" : "targets", "sweep.targets");
-    for (const auto& axis : sweep.set) swept.emplace_back(axis.front().set.begin().key(), "sweep.set");
+    for (const auto& axis : sweep.set) {
+      const std::string key = axis.front().set.begin().key();
+      swept.emplace_back(key, "sweep.set." + key);
+    }
     std::vector<std::string> leaves;
     leaf_paths(own, "", leaves);
-    for (const Condition& c : sweep.conditions) {
-      for (const auto& [path, axis] : swept) c.check_apart({path}, axis, r);
-      c.check_apart(leaves, "sweep.test", r);
-    }
+    for (const std::string& leaf : leaves) swept.emplace_back(leaf, "sweep.test." + leaf);
+    for (const Condition& c : sweep.conditions) c.check_apart(swept, r);
   }
   return sweep;
 }
@@ -930,6 +931,8 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
       const json& own = (*tests)[i];
       std::vector<std::string> leaves;
       leaf_paths(own, "", leaves);
+      std::vector<std::pair<std::string, std::string>> own_paths;  // what the test sets itself
+      for (const std::string& leaf : leaves) own_paths.emplace_back(leaf, at + "." + leaf);
       if (shared.named() && own.is_object() && own.contains("condition"))
         r.fail(at + ".condition", "set by the queue's conditions (allowed: leave it out)");
       for (const Condition& condition : shared.conditions) {
@@ -937,7 +940,7 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
         const Reader reader(where, file.parent_path());
         json test = j.contains("base") ? merged(shared.base, own, true) : own;
         if (!condition.name.empty()) {
-          condition.check_apart(leaves, at, r);
+          condition.check_apart(own_paths, r);
           condition.apply(test, reader, at);
         }
         Config c{detail::parse_test(test, reader, host), where, "", ""};
