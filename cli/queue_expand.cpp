@@ -35,6 +35,7 @@ int cmd_queue(int argc, char** argv) {
     rows.push_back({t.name, variant(t, host), "drones=" + std::to_string(t.drone_total()), targets,
                     "map=" + (t.map_file.empty() ? describe_choice(t.map, host.map(t.map.name).factory.parameters) : t.map_file),
                     "drone=" + t.groups[0].drone.name, "repeat=" + std::to_string(t.repeat), "seed=" + std::to_string(t.seed)});
+    if (!t.condition.empty()) rows.back().insert(rows.back().begin() + 2, "condition=" + t.condition);  // every test of such a queue has one
   }
   std::vector<std::size_t> width(rows.empty() ? 0 : rows[0].size(), 0);
   for (const auto& row : rows)

@@ -378,26 +378,104 @@ class TestPlots : public QObject {
                "d1,ok,,c2,A,a,0,21,20,50,tree,forest,60,0.5\n");
     salsa::write_comparison(out.toStdString());
     const QStringList lines = non_empty_lines(QString::fromUtf8(read_file(out + "/comparison.csv")));
-    QCOMPARE(lines.value(0), QString("cell,drones,targets,target,map,time,metric,variant_a,variant_b,n,mean_a,mean_b,"
+    QCOMPARE(lines.value(0), QString("cell,condition,drones,targets,target,map,time,metric,variant_a,variant_b,n,mean_a,mean_b,"
                                      "mean_diff,ci_low,ci_high,win_rate_a"));
     QCOMPARE(lines.size(), 4);  // c1: A–B, A–C, B–C; c2 has one variant
     auto field = [&](int line, int column) { return lines[line].split(',')[column]; };
-    QCOMPARE(lines[1].split(',').mid(0, 10).join(','), QString("c1,10,50,tree,forest,60,fraction_found,A,B,5"));
-    QCOMPARE(field(1, 10).toDouble(), 0.6);
-    QCOMPARE(field(1, 11).toDouble(), 0.52);
-    QVERIFY(std::abs(field(1, 12).toDouble() - 0.08) < 1e-9);
-    QVERIFY2(std::abs(field(1, 13).toDouble() - -0.081868) < 2e-4, qPrintable(lines[1]));
-    QVERIFY2(std::abs(field(1, 14).toDouble() - 0.241868) < 2e-4, qPrintable(lines[1]));
-    QCOMPARE(field(1, 15).toDouble(), 0.7);
+    QCOMPARE(lines[1].split(',').mid(0, 11).join(','), QString("c1,,10,50,tree,forest,60,fraction_found,A,B,5"));
+    QCOMPARE(field(1, 11).toDouble(), 0.6);
+    QCOMPARE(field(1, 12).toDouble(), 0.52);
+    QVERIFY(std::abs(field(1, 13).toDouble() - 0.08) < 1e-9);
+    QVERIFY2(std::abs(field(1, 14).toDouble() - -0.081868) < 2e-4, qPrintable(lines[1]));
+    QVERIFY2(std::abs(field(1, 15).toDouble() - 0.241868) < 2e-4, qPrintable(lines[1]));
+    QCOMPARE(field(1, 16).toDouble(), 0.7);
     // One pair: the mean is the difference, the interval empty.
-    QCOMPARE(lines[2], QString("c1,10,50,tree,forest,60,fraction_found,A,\"C(x=1, y=2)\",1,0.5,0.25,0.25,,,1"));
-    QCOMPARE(lines[3], QString("c1,10,50,tree,forest,60,fraction_found,B,\"C(x=1, y=2)\",1,0.4,0.25,0.15,,,1"));
+    QCOMPARE(lines[2], QString("c1,,10,50,tree,forest,60,fraction_found,A,\"C(x=1, y=2)\",1,0.5,0.25,0.25,,,1"));
+    QCOMPARE(lines[3], QString("c1,,10,50,tree,forest,60,fraction_found,B,\"C(x=1, y=2)\",1,0.4,0.25,0.15,,,1"));
+    QVERIFY(!QFileInfo::exists(out + "/did.csv"));  // one condition: nothing to difference
     // Rewritten from the same file, byte for byte.
     const QByteArray first = read_file(out + "/comparison.csv");
     salsa::write_comparison(out.toStdString());
     QCOMPARE(read_file(out + "/comparison.csv"), first);
     // Another metric by name; one that is not a column is refused in one line naming the file.
     QVERIFY_THROWS_EXCEPTION(salsa::InputError, salsa::write_comparison(out.toStdString(), "coverage"));
+  }
+
+  // Conditions, by hand. Cell c1 under "base" and "drop" (the same worlds: seeds 11-14) and "big" (its own
+  // worlds: seeds 31-34, paired with the others by repeat):
+  //   base: A = .5 .6 .7 .4, B = .4 .6 .5 .5 → A − B = .1 0 .2 −.1 (mean .05)
+  //   drop: A = .3 .5 .4 .2, B = .4 .5 .5 .4 → A − B = −.1 0 −.1 −.2 (mean −.1)
+  //   big:  A = .6 each,     B = .5 each     → A − B = .1 each
+  // drop − base, per repeat: −.2 0 −.3 −.1: mean −.15, sd √(.05 / 3) = .129099, t_{0.975,3} = 3.182446
+  // → −.15 ± .205426 = [−.355426, .055426]. big − base: 0 .1 −.1 .2: mean .05.
+  void difference_in_differences() {
+    const QString out = path("did");
+    QByteArray summary = "name,status,error,cell,variant,condition,condition_label,behavior,repeat,seed,drones,targets,target,map,time,fraction_found\n";
+    const std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> values{
+        {"base", {{.5, .6, .7, .4}, {.4, .6, .5, .5}}}, {"drop", {{.3, .5, .4, .2}, {.4, .5, .5, .4}}}, {"big", {{.6, .6, .6, .6}, {.5, .5, .5, .5}}}};
+    for (const char* condition : {"base", "drop", "big"})
+      for (int r = 0; r < 4; ++r)
+        for (const char* v : {"A", "B"}) {
+          const auto& [a, b] = values.at(condition);
+          const int seed = (condition[1] == 'i' ? 31 : 11) + r;
+          summary += QByteArray(v) + condition + QByteArray::number(r) + ",ok,,c1," + v + "," + condition + ",x," + v + "," + QByteArray::number(r) + "," +
+                     QByteArray::number(seed) + ",10,50,tree,forest,60," + QByteArray::number(v[0] == 'A' ? a[r] : b[r]) + "\n";
+        }
+    write_file(out + "/summary.csv", summary);
+    salsa::write_comparison(out.toStdString());
+    // Within each condition: A − B on its own worlds.
+    const QStringList cmp = non_empty_lines(QString::fromUtf8(read_file(out + "/comparison.csv")));
+    QCOMPARE(cmp.size(), 4);
+    QVERIFY2(cmp[1].startsWith("c1,base,10,50,tree,forest,60,fraction_found,A,B,4,0.55,0.5,0.05,"), qPrintable(cmp[1]));
+    QVERIFY2(cmp[2].startsWith("c1,drop,10,50,tree,forest,60,fraction_found,A,B,4,0.35,0.45,-0.1,"), qPrintable(cmp[2]));
+    const QStringList did = non_empty_lines(QString::fromUtf8(read_file(out + "/did.csv")));
+    QCOMPARE(did.value(0), QString("cell,drones,targets,target,map,time,metric,variant_a,variant_b,baseline,condition,n,diff_baseline,diff_condition,"
+                                   "did,ci_low,ci_high"));
+    QCOMPARE(did.size(), 3);
+    const QStringList drop = did[1].split(',');
+    QCOMPARE(drop.mid(0, 12).join(','), QString("c1,10,50,tree,forest,60,fraction_found,A,B,base,drop,4"));
+    QVERIFY2(std::abs(drop[12].toDouble() - 0.05) < 1e-9 && std::abs(drop[13].toDouble() - -0.1) < 1e-9, qPrintable(did[1]));
+    QVERIFY2(std::abs(drop[14].toDouble() - -0.15) < 1e-9, qPrintable(did[1]));
+    QVERIFY2(std::abs(drop[15].toDouble() - -0.355426) < 2e-5 && std::abs(drop[16].toDouble() - 0.055426) < 2e-5, qPrintable(did[1]));
+    const QStringList big = did[2].split(',');
+    QCOMPARE(big.mid(9, 3).join(','), QString("base,big,4"));  // paired by repeat: its seeds are its own
+    QVERIFY2(std::abs(big[14].toDouble() - 0.05) < 1e-9, qPrintable(did[2]));
+  }
+
+  // Many variants: each against the reference, or the first beyond max_all_pairs; few: every pair.
+  void pairs_that_matter() {
+    using P = std::vector<std::pair<std::size_t, std::size_t>>;
+    QCOMPARE(salsa::compared_pairs({"a", "b", "c"}, ""), (P{{0, 1}, {0, 2}, {1, 2}}));
+    QCOMPARE(salsa::compared_pairs({"a", "b", "c"}, "c"), (P{{0, 2}, {1, 2}}));
+    QCOMPARE(salsa::compared_pairs({"a", "b", "c", "d", "e"}, ""), (P{{1, 0}, {2, 0}, {3, 0}, {4, 0}}));
+    QCOMPARE(salsa::compared_pairs({"a", "b", "c", "d", "e"}, "d"), (P{{0, 3}, {1, 3}, {2, 3}, {4, 3}}));
+    QCOMPARE(salsa::compared_pairs({"a", "b", "c", "d", "e"}, "z"), (P{{1, 0}, {2, 0}, {3, 0}, {4, 0}}));  // not in this cell
+    // 9 variants with a reference recorded in queue.json: 8 rows, not 36.
+    const QString out = path("many");
+    QByteArray summary = "name,status,error,cell,variant,behavior,repeat,seed,drones,targets,target,map,time,fraction_found\n";
+    for (int v = 0; v < 9; ++v)
+      for (int r = 0; r < 3; ++r)
+        summary += "t" + QByteArray::number(v) + "_" + QByteArray::number(r) + ",ok,,c1,\"f: a = " + QByteArray::number(v) + "\",f," +
+                   QByteArray::number(r) + "," + QByteArray::number(r + 1) + ",10,50,tree,forest,60,0." + QByteArray::number(v) + "\n";
+    write_file(out + "/summary.csv", summary);
+    write_file(out + "/queue.json", R"({"tests": [], "configs_hash": "0123456789abcdef", "command": [], "reference": "f: a = 4"})");
+    salsa::write_comparison(out.toStdString());
+    const QStringList lines = non_empty_lines(QString::fromUtf8(read_file(out + "/comparison.csv")));
+    QCOMPARE(lines.size(), 1 + 8);
+    for (qsizetype i = 1; i < lines.size(); ++i) QVERIFY2(lines[i].contains(",f: a = 4,3,"), qPrintable(lines[i]));
+  }
+
+  void variants_in_numeric_order() {
+    using salsa::plots::natural_less;
+    const std::vector<std::string> sorted{"flocking: alpha = 1", "flocking: alpha = 1.4", "flocking: alpha = 1.8", "flocking: alpha = 10",
+                                          "flocking: alpha = 10, beta = -2", "flocking: alpha = 10, beta = 0.5"};
+    for (std::size_t i = 0; i < sorted.size(); ++i)
+      for (std::size_t j = 0; j < sorted.size(); ++j)
+        QVERIFY2(natural_less(sorted[i], sorted[j]) == (i < j), qPrintable(QString::fromStdString(sorted[i] + " vs " + sorted[j])));
+    QVERIFY(natural_less("d5", "d20"));
+    QVERIFY(natural_less("x = -2", "x = 1"));
+    QVERIFY(natural_less("x-2", "x-10"));  // a dash inside a word is no minus sign
+    QVERIFY(!natural_less("a", "a"));
   }
 
   // Queue plots from a hand-written summary.csv and test folders holding only summary.csv.
@@ -431,7 +509,46 @@ class TestPlots : public QObject {
     // Drones alive over time only for the swarm size whose tests have the column.
     QCOMPARE(pngs(out + "/plots"), (QStringList{"alive_over_time_5_drones.png", "comparison.png", "found_boxplot.png",
                                                 "found_over_time_20_drones.png", "found_over_time_5_drones.png"}));
-    check_png(out + "/plots/comparison.png", salsa::plots::plot_width, salsa::plots::comparison_plot_height(2));
+    check_png(out + "/plots/comparison.png", salsa::plots::plot_width, salsa::plots::comparison_plot_height(2 + 2));  // a heading per swarm size
+  }
+
+  // A queue with conditions and a swept parameter: every plot, grouped by condition; the change's time
+  // is marked on found-over-time.
+  void queue_plots_with_conditions() {
+    const QString out = path("conditions");
+    QByteArray summary = "name,status,error,cell,variant,condition,condition_label,behavior,repeat,seed,drones,targets,target,map,time,"
+                         "behavior.alpha,fraction_found\n";
+    int k = 0;
+    for (const char* condition : {"baseline", "dropout"})
+      for (const char* alpha : {"1", "1.4", "10", "1.8"})
+        for (int repeat = 0; repeat < 4; ++repeat, ++k) {
+          const double a = QByteArray(alpha).toDouble();
+          const double end = 0.3 + 0.02 * a + 0.03 * repeat - (condition[0] == 'd' ? 0.1 : 0.0);
+          const QByteArray name = "t" + QByteArray::number(k), variant = QByteArray("f: alpha = ") + alpha;
+          summary += name + ",ok,,c1,\"" + variant + "\"," + condition + "," + (condition[0] == 'd' ? "drones → 4 at 5 s" : "no change") + ",f," +
+                     QByteArray::number(repeat) + "," + QByteArray::number(repeat + 1) + ",5,50,tree,forest,10," + alpha + "," +
+                     QByteArray::number(end) + "\n";
+          QByteArray rows = "time,targets_found,fraction_found\n";
+          for (int s = 0; s <= 10; ++s) rows += QByteArray::number(s) + ",0," + QByteArray::number(end * s / 10) + "\n";
+          write_file(out + "/" + name + "/summary.csv", rows);
+          write_file(out + "/" + name + "/config.json", condition[0] == 'd' ? R"({"changes": [{"time": 5, "set": {"drones": 4}}]})" : "{}");
+        }
+    write_file(out + "/summary.csv", summary);
+    write_file(out + "/queue.json", R"({"tests": ["t0"], "configs_hash": "0123456789abcdef", "command": ["salsa", "run"], "reference": "f: alpha = 1"})");
+    CliResult r = run_salsa({"plot", out});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QCOMPARE(pngs(out + "/plots"), (QStringList{"comparison.png", "did.png", "found_boxplot.png", "found_over_time_5_drones.png", "found_vs_f_alpha.png"}));
+    for (const char* png : {"found_boxplot.png", "found_over_time_5_drones.png", "found_vs_f_alpha.png"})
+      check_png(out + "/plots/" + png, salsa::plots::plot_width, salsa::plots::plot_height);
+    // 3 against the reference under each of 2 conditions, each condition's rows under a heading.
+    check_png(out + "/plots/comparison.png", salsa::plots::plot_width, salsa::plots::comparison_plot_height(2 * (1 + 3)));
+    check_png(out + "/plots/did.png", salsa::plots::plot_width, salsa::plots::comparison_plot_height(1 + 3));
+    // The change at 5 s is a line of its own: without it the plot differs.
+    const QImage with_change(out + "/plots/found_over_time_5_drones.png");
+    for (int i = 0; i < k; ++i) write_file(out + "/t" + QByteArray::number(i) + "/config.json", "{}");
+    r = run_salsa({"plot", out});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QVERIFY(QImage(out + "/plots/found_over_time_5_drones.png") != with_change);
   }
 
   // The single-file mode stays: a summary.csv column over time into --out.

@@ -282,6 +282,112 @@ class TestQueue : public QObject {
 
   // ---- Bad input: one line naming the file, the position, the value and what is allowed.
 
+  // ---- Base and conditions
+
+  void base_is_inherited_by_every_test() {
+    // Explicit tests and sweep.test lay their fields over the base; objects merge key by key, and a
+    // plugin object of another kind replaces the base's.
+    const Queue q = load(R"({"base": {"drones": 7, "time": 30, "targets": {"kind": "tree", "count": 40, "params": {"radius": 2}},
+                                      "behavior": {"name": "flocking", "params": {"cohesion_weight": 2}}},
+                             "tests": [{"name": "own", "targets": {"count": 10}}, {"name": "walk", "behavior": {"name": "random_walk"}, "drones": 3}],
+                             "sweep": {"test": {"time": 20}, "set": {"behavior.params.alignment_weight": [0.5]}}})");
+    QCOMPARE(q.tests.size(), std::size_t(3));
+    QCOMPARE(q.tests[0].drone_total(), std::size_t(7));
+    QCOMPARE(q.tests[0].time, 30.0);
+    QCOMPARE(q.tests[0].targets, std::size_t(10));
+    QCOMPARE(q.tests[0].target.params.get("radius"), 2.0);
+    QCOMPARE(q.tests[0].groups[0].behavior.params.get("cohesion_weight"), 2.0);
+    QCOMPARE(q.tests[1].groups[0].behavior.name, std::string("random_walk"));
+    QCOMPARE(q.tests[1].drone_total(), std::size_t(3));
+    QCOMPARE(q.tests[2].time, 20.0);
+    QCOMPARE(q.tests[2].targets, std::size_t(40));
+    QCOMPARE(q.tests[2].groups[0].behavior.params.get("cohesion_weight"), 2.0);
+    QCOMPARE(q.tests[2].groups[0].behavior.params.get("alignment_weight"), 0.5);
+  }
+
+  void conditions_cross_every_test() {
+    const QByteArray conditions = R"("conditions": [{"name": "baseline"}, {"name": "dropout", "changes": [{"time": 20, "set": {"drones": 7}}]},
+                                                    {"name": "windy", "set": {"wind.velocity.x": 2}}, {"name": "big", "drones": 14}])";
+    const QByteArray rest = R"("repeats": 2, "base": {"drones": 10, "time": 30, "targets": {"count": 20}},
+                               "tests": [{"name": "solo", "behavior": "dynamic_space_partitioning"}],
+                               "sweep": {"behaviors": ["flocking", "random_walk"]})";
+    const Queue q = load("{" + rest + ", " + conditions + "}");
+    QCOMPARE(q.tests.size(), std::size_t(3 * 4 * 2));
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < 12; ++i) names.push_back(q.tests[i].name);
+    // Each test under each condition; in the sweep, conditions vary just slower than behaviors.
+    QCOMPARE(names, (std::vector<std::string>{"solo_baseline_r0", "solo_dropout_r0", "solo_windy_r0", "solo_big_r0",
+                                              "flocking_baseline_r0", "random_walk_baseline_r0", "flocking_dropout_r0", "random_walk_dropout_r0",
+                                              "flocking_windy_r0", "random_walk_windy_r0", "flocking_big_r0", "random_walk_big_r0"}));
+    std::map<std::string, const TestSpec*> by_name;
+    for (const TestSpec& t : q.tests) by_name[t.name] = &t;
+    const TestSpec& dropout = *by_name["flocking_dropout_r1"];
+    QCOMPARE(dropout.changes, (std::vector<Change>{{20, "drones", 7}}));
+    QCOMPARE(dropout.condition, std::string("dropout"));
+    QCOMPARE(dropout.condition_label, std::string("drones → 7 at 20 s"));
+    QCOMPARE(by_name["random_walk_windy_r0"]->wind.velocity.x, 2.0);
+    QCOMPARE(by_name["random_walk_windy_r0"]->condition_label, std::string("wind.velocity.x = 2"));
+    QCOMPARE(by_name["solo_big_r0"]->drone_total(), std::size_t(14));
+    QCOMPARE(by_name["solo_big_r0"]->condition_label, std::string("drones = 14"));
+    QCOMPARE(by_name["solo_baseline_r0"]->condition_label, std::string("no change"));
+    QCOMPARE(by_name["solo_baseline_r0"]->drone_total(), std::size_t(10));
+    // Only what changes the world moves the seed: a change at 20 s and the wind keep the baseline's
+    // worlds (the comparison across conditions is paired too), a larger swarm gets others. And the
+    // baseline's seeds are those of the queue without conditions.
+    const Queue plain = load("{" + rest + "}");
+    for (int r = 0; r < 2; ++r) {
+      const std::string k = "_r" + std::to_string(r);
+      const std::uint64_t seed = by_name["flocking_baseline" + k]->seed;
+      for (const char* name : {"random_walk_baseline", "flocking_dropout", "random_walk_windy", "solo_dropout"})
+        QCOMPARE(by_name[name + k]->seed, seed);
+      QVERIFY(by_name["flocking_big" + k]->seed != seed);
+      QCOMPARE(seeds_by_name(plain)["flocking" + k], seed);
+    }
+    // config.json holds the condition, and reads back to the same test.
+    const std::string config = resolved_json(dropout, *host_);
+    QVERIFY2(config.find(R"("condition": {)") != std::string::npos && config.find("drones → 7 at 20 s") != std::string::npos, config.c_str());
+    TestSpec back = parse_test(config, "config.json", *host_);
+    back.source = dropout.source, back.seed_given = dropout.seed_given;  // config.json gives the seed it ran with
+    QVERIFY(back == dropout);
+  }
+
+  void conditions_reach_any_test_field() {
+    // Failures, energy, comm, noise and wind settings, as fields or dotted keys; a drone given by name
+    // keeps its name's values under a condition's key.
+    const Queue q = load(R"({"base": {"behavior": "flocking", "drones": 6, "time": 20, "drone": "small"},
+      "tests": [{"name": "t"}],
+      "conditions": [{"name": "fail", "failures": {"drone_mtbf": 600}},
+                     {"name": "battery", "set": {"drone.battery_capacity": 50}},
+                     {"name": "radio", "comm": {"range": 40}},
+                     {"name": "gusty", "wind": {"gusts": {"strength": 1}}},
+                     {"name": "half", "changes": [{"time": 10, "set": {"fail.fraction": 0.5}}]}]})");
+    QCOMPARE(q.tests.size(), std::size_t(5));
+    QCOMPARE(q.tests[0].failures.drone_mtbf, 600.0);
+    QCOMPARE(q.tests[1].groups[0].drone.battery_capacity, 50.0);
+    QCOMPARE(q.tests[1].groups[0].drone.max_speed, builtin_drone_configs()[0].max_speed);
+    QVERIFY(q.tests[2].comm.on);
+    QCOMPARE(q.tests[3].wind.gust_strength, 1.0);
+    QCOMPARE(q.tests[4].condition_label, std::string("fail.fraction → 0.5 at 10 s"));
+  }
+
+  void reference_is_a_variant() {
+    const QByteArray sweep = R"("sweep": {"test": {"time": 10}, "behaviors": ["random_walk", {"name": "flocking", "params": {"cohesion_weight": [1, 2]}}]})";
+    QCOMPARE(load("{" + sweep + R"(, "reference": "random_walk"})").reference, std::string("random_walk (defaults)"));
+    QCOMPARE(load("{" + sweep + R"(, "reference": "flocking: cohesion_weight = 2"})").reference, std::string("flocking: cohesion_weight = 2"));
+    QCOMPARE(load("{" + sweep + R"(, "reference": "flocking"})").reference, std::string("flocking (defaults)"));  // cohesion_weight 1 is its default
+    QCOMPARE(load("{" + sweep + "}").reference, std::string());
+    const QString error = error_of("{" + sweep + R"(, "reference": "pheromone_avoidance"})");
+    QVERIFY2(error.contains("q.json: reference: \"pheromone_avoidance\" names no variant of the queue (allowed: random_walk (defaults); flocking (defaults); "
+                            "flocking: cohesion_weight = 2; or a behavior's name for its defaults)"),
+             qPrintable(error));
+  }
+
+  void variants_in_words() {
+    const Queue q = load(R"({"sweep": {"test": {"time": 10}, "behaviors": ["random_walk", {"name": "flocking", "params": {"cohesion_weight": [1.4], "alignment_weight": [2]}}]}})");
+    QCOMPARE(variant(q.tests[0], *host_), std::string("random_walk (defaults)"));
+    QCOMPARE(variant(q.tests[1], *host_), std::string("flocking: alignment_weight = 2, cohesion_weight = 1.4"));
+  }
+
   void errors_data() {
     QTest::addColumn<QByteArray>("queue");
     QTest::addColumn<QStringList>("expect");
@@ -341,7 +447,7 @@ class TestQueue : public QObject {
     QTest::newRow("unknown sweep key") << QByteArray(R"({"sweep": {"behaviours": ["flocking"]}})")
                                        << QStringList{"q.json: sweep.behaviours: unknown key (allowed: test, behaviors, maps, drones, targets, drone, set)"};
     QTest::newRow("unknown queue key") << QByteArray(R"({"sweep": {"behaviors": ["flocking"]}, "repeat": 3})")
-                                       << QStringList{"q.json: repeat: unknown key (allowed: seed, repeats, tests, sweep)"};
+                                       << QStringList{"q.json: repeat: unknown key (allowed: seed, repeats, base, conditions, reference, tests, sweep)"};
     QTest::newRow("unknown range key") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": {"from": 1, "to": 5, "by": 1}}})")
                                        << QStringList{"q.json: sweep.drones.by: unknown key (allowed: from, to, step, count)"};
     QTest::newRow("range without step or count") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": {"from": 1, "to": 5}}})")
@@ -693,10 +799,10 @@ class TestQueue : public QObject {
                qPrintable(lines[qsizetype(i) + 1]));
     }
     QVERIFY2(lines[2].split(' ', Qt::SkipEmptyParts) ==
-                 QStringList({"random_walk_d10_forest_clusters5_r0", "random_walk", "drones=10", "targets=0", "map=forest(clusters=5)",
+                 QStringList({"random_walk_d10_forest_clusters5_r0", "random_walk", "(defaults)", "drones=10", "targets=0", "map=forest(clusters=5)",
                               "drone=small", "repeat=0", "seed=" + QString::number(queue.tests[1].seed)}),
              qPrintable(lines[2]));
-    QVERIFY2(lines[3].contains(" flocking(cohesion_weight=2) "), qPrintable(lines[3]));
+    QVERIFY2(lines[3].contains(" flocking: cohesion_weight = 2 "), qPrintable(lines[3]));
 
     // --seed changes every seed; the names stay.
     const CliResult seeded = run_salsa({"queue", "expand", q(path), "--seed", "5"});
@@ -707,6 +813,17 @@ class TestQueue : public QObject {
       QCOMPARE(other[i].section(' ', 0, 0), lines[i].section(' ', 0, 0));
       QVERIFY(other[i].section("seed=", 1) != lines[i].section("seed=", 1));
     }
+  }
+
+  void cli_queue_expand_names_the_condition() {
+    const std::string path = file("cond.json", R"({"base": {"drones": 5, "time": 10}, "sweep": {"behaviors": ["flocking"]},
+                                                   "conditions": [{"name": "calm"}, {"name": "big", "drones": 6}]})");
+    const CliResult r = run_salsa({"queue", "expand", q(path)});
+    QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
+    const QStringList lines = non_empty_lines(r.out);
+    QCOMPARE(lines.size(), 3);
+    QVERIFY2(lines[1].startsWith("flocking_calm_r0 ") && lines[1].contains(" condition=calm ") && lines[1].contains("drones=5"), qPrintable(lines[1]));
+    QVERIFY2(lines[2].startsWith("flocking_big_r0 ") && lines[2].contains(" condition=big ") && lines[2].contains("drones=6"), qPrintable(lines[2]));
   }
 
   void cli_validate_and_yes() {

@@ -252,8 +252,8 @@ class TestQueueRun : public QObject {
     const auto rows = csv_rows(dir.filePath("out/summary.csv"));
     QCOMPARE(rows.size(), 5);
     const QStringList header = rows[0];
-    QCOMPARE(header.mid(0, 13), (QStringList{"name", "status", "error", "cell", "variant", "behavior", "repeat", "seed", "drones",
-                                              "targets", "target", "map", "time"}));
+    QCOMPARE(header.mid(0, 15), (QStringList{"name", "status", "error", "cell", "variant", "condition", "condition_label", "behavior",
+                                              "repeat", "seed", "drones", "targets", "target", "map", "time"}));
     // Wall times are in OUT/timing.csv, so identical runs write identical summary.csv files.
     QVERIFY(!header.contains("wall_seconds"));
     const auto timing = csv_rows(dir.filePath("out/timing.csv"));
@@ -267,9 +267,10 @@ class TestQueueRun : public QObject {
     QVERIFY(header.indexOf("map.size") < header.indexOf("drone.max_speed"));
     QVERIFY(header.indexOf("drone.max_speed") < header.indexOf("versions.behavior"));
     auto at = [&](int row, const char* column) { return rows[row][header.indexOf(column)]; };
-    QCOMPARE(at(1, "variant"), QString("flocking"));
-    QCOMPARE(at(2, "variant"), QString("flocking(cohesion_weight=2)"));
-    QCOMPARE(at(3, "variant"), QString("random_walk"));
+    QCOMPARE(at(1, "variant"), QString("flocking (defaults)"));
+    QCOMPARE(at(2, "variant"), QString("flocking: cohesion_weight = 2"));
+    QCOMPARE(at(3, "variant"), QString("random_walk (defaults)"));
+    QCOMPARE(at(1, "condition"), QString());  // a queue without conditions
     QCOMPARE(at(1, "seed"), QString("4"));
     QCOMPARE(at(1, "drones"), QString("5"));
     QCOMPARE(at(1, "targets"), QString("3"));
@@ -300,6 +301,50 @@ class TestQueueRun : public QObject {
     QCOMPARE(with_outcome[1].mid(h.size() - 4, 4), (QStringList{"3", "1", "0.333333", "0.5"}));
     QCOMPARE(with_outcome[2][h.indexOf("outcome.targets")], QString("3"));  // its own outcome.csv, without coverage
     QCOMPARE(with_outcome[2][h.indexOf("coverage")], QString());
+  }
+
+  // A queue with conditions, run for real: summary.csv names each test's condition in words; one cell
+  // holds every condition (what a condition sets is not the cell), so comparison.csv compares within
+  // each and did.csv across them, by world (a change at 1 s keeps the worlds) or by repeat (a larger
+  // swarm has its own).
+  void conditions_summary_comparison_did() {
+    QTemporaryDir dir;
+    write(dir.filePath("q.json"), R"({"repeats": 2, "reference": "random_walk",
+      "base": {"drones": 5, "time": 2, "targets": {"count": 20}, "metrics": []},
+      "sweep": {"behaviors": ["random_walk", "flocking"]},
+      "conditions": [{"name": "baseline"}, {"name": "dropout", "changes": [{"time": 1, "set": {"drones": 3}}]}, {"name": "big", "drones": 7}]})");
+    const CliResult r = run_salsa({"run", "q.json", "--out", "out", "-q", "--no-plots", "--no-drones-csv"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const auto rows = csv_rows(dir.filePath("out/summary.csv"));
+    QCOMPARE(rows.size(), 1 + 2 * 3 * 2);
+    const QStringList header = rows[0];
+    std::map<QString, QStringList> by_name;
+    for (qsizetype i = 1; i < rows.size(); ++i) by_name[rows[i][0]] = rows[i];
+    auto at = [&](const char* name, const char* column) { return by_name[name].value(header.indexOf(column)); };
+    QCOMPARE(at("flocking_dropout_r1", "condition"), QString("dropout"));
+    QCOMPARE(at("flocking_dropout_r1", "condition_label"), QString("drones → 3 at 1 s"));
+    QCOMPARE(at("flocking_big_r1", "condition_label"), QString("drones = 7"));
+    QCOMPARE(at("random_walk_baseline_r0", "condition_label"), QString("no change"));
+    QCOMPARE(at("random_walk_baseline_r0", "variant"), QString("random_walk (defaults)"));
+    QCOMPARE(at("flocking_big_r0", "drones"), QString("7"));
+    for (const char* name : {"flocking_dropout_r0", "random_walk_big_r1", "flocking_baseline_r1"})
+      QCOMPARE(at(name, "cell"), at("random_walk_baseline_r0", "cell"));
+    QCOMPARE(at("flocking_dropout_r0", "seed"), at("random_walk_baseline_r0", "seed"));
+    QVERIFY(at("flocking_big_r0", "seed") != at("random_walk_baseline_r0", "seed"));
+    // Within each condition: flocking against the reference.
+    const auto comparison = csv_rows(dir.filePath("out/comparison.csv"));
+    QCOMPARE(comparison.size(), 1 + 3);
+    for (qsizetype i = 1; i < comparison.size(); ++i) {
+      QCOMPARE(comparison[i].mid(8, 3), (QStringList{"flocking (defaults)", "random_walk (defaults)", "2"}));
+      QCOMPARE(comparison[i][1], (QStringList{"baseline", "dropout", "big"})[i - 1]);
+    }
+    // Across them: both conditions against the baseline, 2 repeats each.
+    const auto did = csv_rows(dir.filePath("out/did.csv"));
+    QCOMPARE(did.size(), 1 + 2);
+    QCOMPARE(did[1].mid(7, 5), (QStringList{"flocking (defaults)", "random_walk (defaults)", "baseline", "dropout", "2"}));
+    QCOMPARE(did[2].mid(9, 3), (QStringList{"baseline", "big", "2"}));
+    // did = diff_condition − diff_baseline, the two means of comparison.csv.
+    QVERIFY(std::abs(did[1][14].toDouble() - (comparison[2][13].toDouble() - comparison[1][13].toDouble())) < 1e-5);
   }
 
   void shards_cover_the_queue_once() {

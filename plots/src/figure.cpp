@@ -207,7 +207,7 @@ void Figure::save(const std::filesystem::path& file) {
     p.setPen(Qt::NoPen);
     p.setBrush(Qt::NoBrush);
     switch (e.kind) {
-      case LegendEntry::line: p.setPen(QPen(e.colour, 3)); p.drawLine(QPointF(symbol.left(), symbol.center().y()), QPointF(symbol.right(), symbol.center().y())); break;
+      case LegendEntry::line: p.setPen(QPen(e.colour, 3, e.style)); p.drawLine(QPointF(symbol.left(), symbol.center().y()), QPointF(symbol.right(), symbol.center().y())); break;
       case LegendEntry::band: p.fillRect(symbol, e.colour); break;
       case LegendEntry::dot: p.setBrush(e.colour); p.drawEllipse(symbol.center(), 6, 6); break;
       case LegendEntry::ring: p.setPen(QPen(e.colour, 2)); p.drawEllipse(symbol.center(), 6, 6); break;

@@ -32,6 +32,7 @@ struct LegendEntry {
   enum Kind { line, band, dot, ring, box, square, cross, note } kind;  // note: text only
   QColor colour;
   QString text;
+  Qt::PenStyle style = Qt::SolidLine;  // of a line
 };
 
 class Figure {

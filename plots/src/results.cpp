@@ -10,6 +10,9 @@
 #include <map>
 #include <numeric>
 #include <optional>
+#include <set>
+#include <charconv>
+#include <cctype>
 
 #include "figure.hpp"
 #include "salsa/core/experiments/comparison.hpp"
@@ -282,7 +285,8 @@ TestData read_test(const fs::path& folder, bool with_drones) {
 }
 
 // ---- Drawing helpers.
-void draw_line(Figure& f, const std::vector<double>& x, const std::vector<double>& y, const QColor& colour, double width = 2.5) {
+void draw_line(Figure& f, const std::vector<double>& x, const std::vector<double>& y, const QColor& colour, double width = 2.5,
+               Qt::PenStyle style = Qt::SolidLine) {
   QPainterPath path;
   bool pen_down = false;
   for (std::size_t i = 0; i < x.size(); ++i) {
@@ -294,7 +298,7 @@ void draw_line(Figure& f, const std::vector<double>& x, const std::vector<double
     pen_down = true;
   }
   f.painter().setBrush(Qt::NoBrush);
-  f.painter().setPen(QPen(colour, width, Qt::SolidLine, Qt::RoundCap, Qt::RoundJoin));
+  f.painter().setPen(QPen(colour, width, style, Qt::RoundCap, Qt::RoundJoin));
   f.painter().drawPath(path);
 }
 
@@ -627,11 +631,37 @@ void draw_test_plots(const fs::path& folder) {
 }
 
 // ---- Queue plots.
+
+bool natural_less(std::string_view a, std::string_view b) {
+  auto number_at = [](std::string_view s, std::size_t i) {  // a number starts at a digit, or a '-' before one after a non-letter
+    return i < s.size() && (std::isdigit(static_cast<unsigned char>(s[i])) ||
+                            (s[i] == '-' && i + 1 < s.size() && std::isdigit(static_cast<unsigned char>(s[i + 1])) &&
+                             (i == 0 || !std::isalnum(static_cast<unsigned char>(s[i - 1])))));
+  };
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    if (number_at(a, i) && number_at(b, j)) {
+      double x = 0, y = 0;
+      const char* ea = std::from_chars(a.data() + i, a.data() + a.size(), x).ptr;
+      const char* eb = std::from_chars(b.data() + j, b.data() + b.size(), y).ptr;
+      if (x != y) return x < y;
+      if (ea > a.data() + i && eb > b.data() + j) {
+        i = static_cast<std::size_t>(ea - a.data()), j = static_cast<std::size_t>(eb - b.data());
+        continue;
+      }
+    }
+    if (a[i] != b[j]) return a[i] < b[j];
+    ++i, ++j;
+  }
+  return a.size() - i < b.size() - j;
+}
+
 namespace {
 
 struct QueueRow {
-  std::string name, variant, drones;
+  std::string name, variant, drones, behavior, condition, condition_label;
   double size, found;  // drones as a number; found: %
+  std::map<std::string, double> params;  // the behavior's parameters: summary.csv's behavior.<p>
 };
 
 std::vector<std::string> in_order(const std::vector<QueueRow>& rows, std::string QueueRow::*key) {
@@ -649,28 +679,78 @@ std::vector<std::string> sizes_of(const std::vector<QueueRow>& rows) {
   return sizes;
 }
 
+/// Variants as the plots show them: behaviors in order of first appearance, each one's defaults first,
+/// then its other variants with numbers compared as numbers (alpha = 1 < 1.4 < 1.8 < 10).
+std::vector<std::string> variants_of(const std::vector<QueueRow>& rows) {
+  const auto behaviors = in_order(rows, &QueueRow::behavior);
+  std::map<std::string, std::size_t> place;  // variant → its behavior's place
+  for (const auto& r : rows)
+    place.emplace(r.variant, static_cast<std::size_t>(std::find(behaviors.begin(), behaviors.end(), r.behavior) - behaviors.begin()));
+  std::vector<std::string> out = in_order(rows, &QueueRow::variant);
+  std::stable_sort(out.begin(), out.end(), [&](const std::string& a, const std::string& b) {
+    if (place[a] != place[b]) return place[a] < place[b];
+    const bool da = a.ends_with(" (defaults)"), db = b.ends_with(" (defaults)");
+    if (da != db) return da;
+    return natural_less(a, b);
+  });
+  return out;
+}
+
+/// The conditions in order of first appearance ("" for a queue without conditions).
+std::vector<std::string> conditions_of(const std::vector<QueueRow>& rows) { return in_order(rows, &QueueRow::condition); }
+
+/// "dropout: drones → 14 at 200 s".
+QString condition_text(const std::vector<QueueRow>& rows, const std::string& condition) {
+  for (const auto& r : rows)
+    if (r.condition == condition) return QString::fromStdString(condition + (r.condition_label.empty() ? "" : ": " + r.condition_label));
+  return QString::fromStdString(condition);
+}
+
+/// A condition's line style: the first solid, then dashed, dotted...
+Qt::PenStyle condition_style(std::size_t i) {
+  constexpr Qt::PenStyle styles[] = {Qt::SolidLine, Qt::DashLine, Qt::DotLine, Qt::DashDotLine, Qt::DashDotDotLine};
+  return styles[i % std::size(styles)];
+}
+
+/// Legend entries naming each condition by what it changes (none without conditions).
+void condition_notes(const std::vector<QueueRow>& rows, std::vector<LegendEntry>& legend, bool with_lines) {
+  const auto conditions = conditions_of(rows);
+  if (conditions.size() < 2 && conditions.front().empty()) return;
+  for (std::size_t c = 0; c < conditions.size(); ++c)
+    legend.push_back({with_lines ? LegendEntry::line : LegendEntry::note, QColor(90, 90, 90), condition_text(rows, conditions[c]), condition_style(c)});
+}
+
 void box_plot(const std::vector<QueueRow>& rows, const fs::path& file) {
-  const auto variants = in_order(rows, &QueueRow::variant);
+  const auto variants = variants_of(rows);
   const auto sizes = sizes_of(rows);
+  const auto conditions = conditions_of(rows);
+  const bool by_condition = conditions.size() > 1;
+  // One category per swarm size and condition.
+  std::vector<std::pair<std::string, std::string>> categories;
   std::vector<QString> names;
-  for (const auto& s : sizes) names.push_back(QString::fromStdString(s));
-  Figure f("Targets found per behavior and swarm size", plot_width, plot_height);
-  f.x_categories("swarm size (drones)", names);
+  for (const auto& s : sizes)
+    for (const auto& c : conditions) {
+      categories.emplace_back(s, c);
+      names.push_back(QString::fromStdString(!by_condition ? s : sizes.size() > 1 ? s + " · " + c : c));
+    }
+  Figure f(by_condition ? "Targets found per behavior, swarm size and condition" : "Targets found per behavior and swarm size", plot_width, plot_height);
+  f.x_categories(!by_condition ? "swarm size (drones)" : sizes.size() > 1 ? "swarm size (drones) · condition" : "condition (" + QString::fromStdString(sizes.front()) + " drones)", names);
   double lo = 100, hi = 0;
   for (const auto& r : rows) lo = std::min(lo, r.found), hi = std::max(hi, r.found);
   f.y_axis("targets found at the end (%)", std::max(0.0, lo - 5), std::min(100.0, hi + 5));
   std::vector<LegendEntry> legend;
   for (std::size_t v = 0; v < variants.size(); ++v) legend.push_back({LegendEntry::box, palette(v), QString::fromStdString(variants[v])});
   legend.push_back({LegendEntry::ring, Qt::black, "outlier (beyond 1.5 IQR)"});
+  condition_notes(rows, legend, false);
   f.legend(legend);
   QPainter& p = f.begin();
   const double slot = 0.8 / static_cast<double>(variants.size());  // of a category's width
-  const double half = slot * 0.35 * f.plot_area().width() / static_cast<double>(sizes.size());
-  for (std::size_t s = 0; s < sizes.size(); ++s)
+  const double half = slot * 0.35 * f.plot_area().width() / static_cast<double>(categories.size());
+  for (std::size_t s = 0; s < categories.size(); ++s)
     for (std::size_t v = 0; v < variants.size(); ++v) {
       std::vector<double> values;
       for (const auto& r : rows)
-        if (r.drones == sizes[s] && r.variant == variants[v]) values.push_back(r.found);
+        if (r.drones == categories[s].first && r.condition == categories[s].second && r.variant == variants[v]) values.push_back(r.found);
       if (values.empty()) continue;
       const BoxStats b = box_stats(values);
       const double cx = static_cast<double>(s) - 0.4 + slot * (static_cast<double>(v) + 0.5);
@@ -705,94 +785,125 @@ struct Measure {
 const Measure found_measure{"fraction_found", 100, 100.0, false, "Targets found over time", "targets found (%)", "found_over_time"};
 const Measure alive_measure{"alive", 1, std::nullopt, true, "Drones alive over time", "drones flying", "alive_over_time"};
 
-// The mean of a measure over time per variant with a 95 % t-interval over the repeats, for one swarm size.
+/// The times of a test's timed changes (config.json's "changes"; none without config.json).
+std::vector<double> change_times(const fs::path& folder) {
+  std::vector<double> out;
+  if (!is_file(folder / "config.json")) return out;
+  const json config = read_json(folder / "config.json", "a test's config.json");
+  if (config.is_object() && config.contains("changes") && config["changes"].is_array())
+    for (const json& c : config["changes"])
+      if (c.is_object() && c.contains("time") && c["time"].is_number()) out.push_back(c["time"].get<double>());
+  return out;
+}
+
+// The mean of a measure over time per variant and condition (colour: variant; line style: condition) with
+// a 95 % t-interval over the repeats, for one swarm size; a dashed vertical line at each timed change.
 void over_time(const fs::path& out, const std::vector<QueueRow>& rows, const std::string& size, const Measure& m) {
-  const auto variants = in_order(rows, &QueueRow::variant);
+  const auto variants = variants_of(rows);
+  const auto conditions = conditions_of(rows);
   struct Mean { std::vector<double> time, mean, lo, hi; };
-  std::vector<std::pair<std::size_t, Mean>> lines;
+  struct Drawn { std::size_t variant, condition; Mean mean; };
+  std::vector<Drawn> lines;
+  std::map<double, std::set<std::size_t>> changes;  // time → the conditions with a change then
   double t0 = 1e300, t1 = -1e300, top = 0;
-  for (std::size_t v = 0; v < variants.size(); ++v) {
-    std::map<double, std::vector<double>> at;  // time → the value of each repeat
-    for (const auto& r : rows) {
-      if (r.drones != size || r.variant != variants[v]) continue;
-      CsvReader in(out / r.name / "summary.csv");
-      if (m.optional && !in.find(m.column)) continue;
-      const std::size_t c_time = in.column("time"), c_value = in.column(m.column);
-      while (in.next()) at[in.number(c_time)].push_back(in.number(c_value) * m.scale);
+  for (std::size_t c = 0; c < conditions.size(); ++c)
+    for (std::size_t v = 0; v < variants.size(); ++v) {
+      std::map<double, std::vector<double>> at;  // time → the value of each repeat
+      for (const auto& r : rows) {
+        if (r.drones != size || r.variant != variants[v] || r.condition != conditions[c]) continue;
+        CsvReader in(out / r.name / "summary.csv");
+        if (m.optional && !in.find(m.column)) continue;
+        const std::size_t c_time = in.column("time"), c_value = in.column(m.column);
+        while (in.next()) at[in.number(c_time)].push_back(in.number(c_value) * m.scale);
+        for (double t : change_times(out / r.name)) changes[t].insert(c);
+      }
+      if (at.empty()) continue;
+      double highest = 0;
+      for (const auto& [time, values] : at) highest = std::max(highest, *std::max_element(values.begin(), values.end()));
+      Mean l;
+      for (const auto& [time, values] : at) {
+        const double n = static_cast<double>(values.size());
+        const double mean = std::accumulate(values.begin(), values.end(), 0.0) / n;
+        double ss = 0;
+        for (double x : values) ss += (x - mean) * (x - mean);
+        const double half = values.size() > 1 ? t_half_width(values.size(), std::sqrt(ss / (n - 1))) : 0;
+        l.time.push_back(time), l.mean.push_back(mean), l.lo.push_back(std::max(0.0, mean - half)), l.hi.push_back(std::min(m.top.value_or(highest), mean + half));
+        t0 = std::min(t0, time), t1 = std::max(t1, time), top = std::max(top, l.hi.back());
+      }
+      lines.push_back({v, c, std::move(l)});
     }
-    if (at.empty()) continue;
-    double highest = 0;
-    for (const auto& [time, values] : at) highest = std::max(highest, *std::max_element(values.begin(), values.end()));
-    Mean l;
-    for (const auto& [time, values] : at) {
-      const double n = static_cast<double>(values.size());
-      const double mean = std::accumulate(values.begin(), values.end(), 0.0) / n;
-      double ss = 0;
-      for (double x : values) ss += (x - mean) * (x - mean);
-      const double half = values.size() > 1 ? t_half_width(values.size(), std::sqrt(ss / (n - 1))) : 0;
-      l.time.push_back(time), l.mean.push_back(mean), l.lo.push_back(std::max(0.0, mean - half)), l.hi.push_back(std::min(m.top.value_or(highest), mean + half));
-      t0 = std::min(t0, time), t1 = std::max(t1, time), top = std::max(top, l.hi.back());
-    }
-    lines.emplace_back(v, std::move(l));
-  }
   if (lines.empty()) return;
   Figure f(QString(m.title) + ", " + QString::fromStdString(size) + " drones (mean, 95 % CI over repeats)", plot_width, plot_height);
   f.x_axis("simulated time (s)", t0, t1);
   f.y_axis(m.y_label, 0, m.top.value_or(top * 1.04));  // room above a flat line at the top
   std::vector<LegendEntry> legend;
-  for (const auto& [v, l] : lines) legend.push_back({LegendEntry::line, palette(v), QString::fromStdString(variants[v])});
+  std::set<std::size_t> shown;
+  for (const auto& l : lines)
+    if (shown.insert(l.variant).second) legend.push_back({LegendEntry::line, palette(l.variant), QString::fromStdString(variants[l.variant])});
   legend.push_back({LegendEntry::band, QColor(0, 0, 0, 40), "95 % confidence interval"});
+  condition_notes(rows, legend, true);
+  if (!changes.empty()) legend.push_back({LegendEntry::line, QColor(120, 120, 120), "a timed change", Qt::DashLine});
   f.legend(legend);
-  f.begin();
-  for (const auto& [v, l] : lines) {
-    QColor band = palette(v);
-    band.setAlpha(55);
-    draw_band(f, l.time, l.lo, l.hi, band);
+  QPainter& p = f.begin();
+  for (const auto& l : lines) {
+    QColor band = palette(l.variant);
+    band.setAlpha(conditions.size() > 1 ? 35 : 55);
+    draw_band(f, l.mean.time, l.mean.lo, l.mean.hi, band);
   }
-  for (const auto& [v, l] : lines) draw_line(f, l.time, l.mean, palette(v));
+  for (const auto& l : lines) draw_line(f, l.mean.time, l.mean.mean, palette(l.variant), 2.5, condition_style(l.condition));
+  // Each change time once, named by the conditions that change then (all of them: no names).
+  p.setFont(font(14));
+  for (const auto& [time, which] : changes) {
+    const double x = f.at(time, 0).x();
+    p.setPen(QPen(QColor(120, 120, 120), 1.5, Qt::DashLine));
+    p.drawLine(QPointF(x, f.plot_area().top()), QPointF(x, f.plot_area().bottom()));
+    QString names;
+    if (which.size() < conditions.size())
+      for (std::size_t c : which) names += (names.isEmpty() ? "" : ", ") + QString::fromStdString(conditions[c]);
+    p.setPen(QColor(80, 80, 80));
+    p.drawText(QRectF(x + 5, f.plot_area().top() + 4, 400, 20), Qt::AlignLeft | Qt::AlignTop,
+               (names.isEmpty() ? QString() : names + ": ") + "change at " + QString::number(time, 'g', 6) + " s");
+  }
   f.save(out / "plots" / (m.file + "_" + size + "_drones.png"));
 }
 
-// A forest plot of comparison.csv: one row per pair of variants, mean difference and its 95 % interval.
-void forest(const fs::path& csv, const fs::path& file) {
-  CsvReader in(csv);
-  const std::size_t c_a = in.column("variant_a"), c_b = in.column("variant_b"), c_n = in.column("n"), c_mean = in.column("mean_diff"),
-                    c_lo = in.column("ci_low"), c_hi = in.column("ci_high"), c_win = in.column("win_rate_a"),
-                    c_drones = in.column("drones"), c_metric = in.column("metric");
-  struct Row { QString label, note; std::optional<double> mean, lo, hi; };
-  std::vector<Row> rows;
-  std::string metric;
-  while (in.next()) {
-    metric = std::string(in[c_metric]);
-    const double scale = metric.starts_with("fraction") ? 100 : 1;
-    auto scaled = [&](std::size_t c) { auto v = in.optional_number(c); return v ? std::optional(*v * scale) : v; };
-    const auto win = in.optional_number(c_win);
-    rows.push_back({QString::fromStdString(std::string(in[c_a]) + " − " + std::string(in[c_b]) + ", " + std::string(in[c_drones]) + " drones"),
-                    "n = " + QString::fromUtf8(in[c_n].data(), static_cast<qsizetype>(in[c_n].size())) +
-                        (win ? ", A higher in " + QString::number(*win * 100, 'f', 0) + " %" : QString()),
-                    scaled(c_mean), scaled(c_lo), scaled(c_hi)});
+// One row of an interval plot: a label on the left, the mean as a square with its 95 % interval, a note
+// on the right; under a heading (what the rows share: condition, swarm size).
+struct IntervalRow {
+  QString heading, label, note;
+  std::optional<double> mean, lo, hi;
+};
+
+// Rows of estimates with their 95 % intervals against a dashed line at 0 (comparison.png, did.png),
+// grouped under their headings in order of first appearance.
+void interval_plot(const std::vector<IntervalRow>& given, const QString& title, const QString& x_label, const fs::path& file) {
+  if (given.empty()) return;
+  std::vector<IntervalRow> rows;
+  std::vector<QString> headings;
+  for (const auto& r : given)
+    if (std::find(headings.begin(), headings.end(), r.heading) == headings.end()) headings.push_back(r.heading);
+  for (const QString& h : headings) {
+    rows.push_back({h, h + ":", "", {}, {}, {}});
+    for (const auto& r : given)
+      if (r.heading == h) rows.push_back({h, "    " + r.label, r.note, r.mean, r.lo, r.hi});
   }
-  if (rows.empty()) return;
   double lo = 0, hi = 0;
   for (const auto& r : rows)
     for (const auto& v : {r.mean, r.lo, r.hi})
       if (v) lo = std::min(lo, *v), hi = std::max(hi, *v);
   std::vector<QString> labels;
   for (const auto& r : rows) labels.push_back(r.label);
-  const bool percent = metric.starts_with("fraction");
   const double pad = 0.05 * std::max(hi - lo, 1e-9);  // keeps 0 off the border
   lo -= pad, hi += pad;
-  Figure f("Paired differences A − B in " + QString::fromStdString(metric == "fraction_found" ? "targets found" : metric) +
-               " (mean, 95 % CI)",
-           plot_width, comparison_plot_height(rows.size()));
-  f.x_axis(percent ? "difference A − B (percentage points)" : "difference A − B (" + QString::fromStdString(metric) + ")", lo, hi);
+  Figure f(title, plot_width, comparison_plot_height(rows.size()));
+  f.x_axis(x_label, lo, hi);
   f.y_categories(labels);
   f.reserve_right(200);
   QPainter& p = f.begin();
   p.setPen(QPen(Qt::black, 1.5, Qt::DashLine));
   p.drawLine(QPointF(f.at(0, 0).x(), f.plot_area().top()), QPointF(f.at(0, 0).x(), f.plot_area().bottom()));
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    const Row& r = rows[i];
+    const IntervalRow& r = rows[i];
     const double y = static_cast<double>(i);
     const QColor c = palette(0).darker(120);
     if (r.lo && r.hi) {
@@ -815,6 +926,131 @@ void forest(const fs::path& csv, const fs::path& file) {
   f.save(file);
 }
 
+QString text_of(std::string_view v) { return QString::fromUtf8(v.data(), static_cast<qsizetype>(v.size())); }
+
+/// "dropout (drones → 14 at 200 s)"; a queue without conditions: "".
+using ConditionLabels = std::map<std::string, std::string>;
+QString condition_words(const ConditionLabels& labels, const std::string& condition) {
+  const auto it = labels.find(condition);
+  return QString::fromStdString(condition + (it == labels.end() || it->second.empty() ? "" : " (" + it->second + ")"));
+}
+QString metric_words(const std::string& metric) { return QString::fromStdString(metric == "fraction_found" ? "targets found" : metric); }
+
+// comparison.png: one row per pair of variants in a cell and condition.
+void forest(const fs::path& csv, const fs::path& file, const ConditionLabels& labels) {
+  CsvReader in(csv);
+  const std::size_t c_a = in.column("variant_a"), c_b = in.column("variant_b"), c_n = in.column("n"), c_mean = in.column("mean_diff"),
+                    c_lo = in.column("ci_low"), c_hi = in.column("ci_high"), c_win = in.column("win_rate_a"),
+                    c_drones = in.column("drones"), c_metric = in.column("metric");
+  const auto c_condition = in.find("condition");
+  std::vector<IntervalRow> rows;
+  std::string metric;
+  while (in.next()) {
+    metric = std::string(in[c_metric]);
+    const double scale = metric.starts_with("fraction") ? 100 : 1;
+    auto scaled = [&](std::size_t c) { auto v = in.optional_number(c); return v ? std::optional(*v * scale) : v; };
+    const auto win = in.optional_number(c_win);
+    const std::string condition(c_condition ? in[*c_condition] : std::string_view{});
+    rows.push_back({(condition.empty() ? "" : condition_words(labels, condition) + ", ") + text_of(in[c_drones]) + " drones",
+                    text_of(in[c_a]) + " − " + text_of(in[c_b]), "n = " + text_of(in[c_n]) + (win ? ", A higher in " + QString::number(*win * 100, 'f', 0) + " %" : QString()),
+                    scaled(c_mean), scaled(c_lo), scaled(c_hi)});
+  }
+  const bool percent = metric.starts_with("fraction");
+  interval_plot(rows, "Paired differences A − B in " + metric_words(metric) + " (mean, 95 % CI)",
+                percent ? "difference A − B (percentage points)" : "difference A − B (" + QString::fromStdString(metric) + ")", file);
+}
+
+// did.png: one row per pair of variants and condition: (A − B | condition) − (A − B | baseline).
+void did_plot(const fs::path& csv, const fs::path& file, const ConditionLabels& labels) {
+  CsvReader in(csv);
+  const std::size_t c_a = in.column("variant_a"), c_b = in.column("variant_b"), c_base = in.column("baseline"), c_cond = in.column("condition"),
+                    c_n = in.column("n"), c_did = in.column("did"), c_lo = in.column("ci_low"), c_hi = in.column("ci_high"),
+                    c_drones = in.column("drones"), c_metric = in.column("metric");
+  std::vector<IntervalRow> rows;
+  std::string metric;
+  while (in.next()) {
+    metric = std::string(in[c_metric]);
+    const double scale = metric.starts_with("fraction") ? 100 : 1;
+    auto scaled = [&](std::size_t c) { auto v = in.optional_number(c); return v ? std::optional(*v * scale) : v; };
+    rows.push_back({condition_words(labels, std::string(in[c_cond])) + " against " + text_of(in[c_base]) + ", " + text_of(in[c_drones]) + " drones",
+                    text_of(in[c_a]) + " − " + text_of(in[c_b]), "n = " + text_of(in[c_n]) + " repeats", scaled(c_did), scaled(c_lo), scaled(c_hi)});
+  }
+  const bool percent = metric.starts_with("fraction");
+  interval_plot(rows, "How a condition changes A − B in " + metric_words(metric) + " (mean, 95 % CI)",
+                percent ? "change of A − B (percentage points)" : "change of A − B (" + QString::fromStdString(metric) + ")", file);
+}
+
+// found_vs_<behavior>_<p>.png: for each behavior parameter the queue sweeps, targets found against its
+// value (mean and 95 % interval over the repeats), a line per condition, swarm size and value of the
+// behavior's other swept parameters.
+void score_plots(const std::vector<QueueRow>& rows, const fs::path& dir) {
+  const auto sizes = sizes_of(rows);
+  for (const std::string& behavior : in_order(rows, &QueueRow::behavior)) {
+    std::map<std::string, std::set<double>> values;  // parameter → its values among the behavior's tests
+    for (const auto& r : rows)
+      if (r.behavior == behavior)
+        for (const auto& [p, v] : r.params) values[p].insert(v);
+    for (const auto& [param, xs] : values) {
+      if (xs.size() < 2) continue;
+      // A line per (condition, size, the other swept parameters), points by value.
+      std::map<std::string, std::map<double, std::vector<double>>> lines;
+      std::vector<std::string> order;
+      for (const auto& r : rows) {
+        if (r.behavior != behavior || !r.params.count(param)) continue;
+        std::string key = r.condition;
+        if (sizes.size() > 1) key += (key.empty() ? "" : ", ") + r.drones + " drones";
+        for (const auto& [other, v] : r.params)
+          if (other != param && values[other].size() > 1) key += (key.empty() ? "" : ", ") + other + " = " + Parameter::format(v);
+        if (!lines.count(key)) order.push_back(key);
+        lines[key][r.params.at(param)].push_back(r.found);
+      }
+      std::sort(order.begin(), order.end(), [](const std::string& a, const std::string& b) { return natural_less(a, b); });
+      Figure f("Targets found against " + QString::fromStdString(param) + " (" + QString::fromStdString(behavior) + "; mean, 95 % CI over repeats)",
+               plot_width, plot_height);
+      const double span = *xs.rbegin() - *xs.begin();
+      f.x_axis(QString::fromStdString(behavior + "." + param), *xs.begin() - 0.03 * span, *xs.rbegin() + 0.03 * span);
+      double lo = 100, hi = 0;
+      struct Point { double x, mean, lo, hi; };
+      std::vector<std::vector<Point>> drawn;
+      for (const std::string& key : order) {
+        std::vector<Point>& points = drawn.emplace_back();
+        for (const auto& [x, found] : lines[key]) {
+          const double n = static_cast<double>(found.size());
+          const double mean = std::accumulate(found.begin(), found.end(), 0.0) / n;
+          double ss = 0;
+          for (double v : found) ss += (v - mean) * (v - mean);
+          const double half = found.size() > 1 ? t_half_width(found.size(), std::sqrt(ss / (n - 1))) : 0;
+          points.push_back({x, mean, std::max(0.0, mean - half), std::min(100.0, mean + half)});
+          lo = std::min(lo, points.back().lo), hi = std::max(hi, points.back().hi);
+        }
+      }
+      f.y_axis("targets found at the end (%)", std::max(0.0, lo - 5), std::min(100.0, hi + 5));
+      std::vector<LegendEntry> legend;
+      for (std::size_t k = 0; k < order.size(); ++k)
+        legend.push_back({LegendEntry::line, palette(k), order[k].empty() ? QString("mean, 95 % CI") : QString::fromStdString(order[k])});
+      f.legend(legend);
+      QPainter& p = f.begin();
+      for (std::size_t k = 0; k < drawn.size(); ++k) {
+        // Lines side by side by 1 % of the axis, so that their intervals at one value do not hide each other.
+        const double dodge = 0.01 * span * (static_cast<double>(k) - static_cast<double>(drawn.size() - 1) / 2);
+        for (Point& pt : drawn[k]) pt.x += dodge;
+        std::vector<double> x, mean;
+        for (const Point& pt : drawn[k]) x.push_back(pt.x), mean.push_back(pt.mean);
+        draw_line(f, x, mean, palette(k), 2);
+        p.setPen(QPen(palette(k).darker(130), 2));
+        p.setBrush(palette(k));
+        for (const Point& pt : drawn[k]) {
+          p.drawLine(f.at(pt.x, pt.lo), f.at(pt.x, pt.hi));
+          p.drawLine(f.at(pt.x, pt.lo) + QPointF(-6, 0), f.at(pt.x, pt.lo) + QPointF(6, 0));
+          p.drawLine(f.at(pt.x, pt.hi) + QPointF(-6, 0), f.at(pt.x, pt.hi) + QPointF(6, 0));
+          p.drawEllipse(f.at(pt.x, pt.mean), 5, 5);
+        }
+      }
+      f.save(dir / ("found_vs_" + behavior + "_" + param + ".png"));
+    }
+  }
+}
+
 }  // namespace
 
 void start_plotting() { ensure_application(); }
@@ -824,11 +1060,20 @@ void draw_queue_plots(const fs::path& out) {
   const std::size_t c_name = in.column("name"), c_status = in.column("status"), c_variant = in.column("variant"),
                     c_drones = in.column("drones");
   const auto c_found = in.find("fraction_found");  // absent when every test failed: nothing to draw then
+  const auto c_behavior = in.find("behavior"), c_condition = in.find("condition"), c_label = in.find("condition_label");
+  std::vector<std::pair<std::string, std::size_t>> c_params;  // the single form's behavior.<p>
+  for (std::size_t c = 0; c < in.header().size(); ++c)
+    if (in.header()[c].starts_with("behavior.")) c_params.emplace_back(in.header()[c].substr(9), c);
+  auto text = [&](std::optional<std::size_t> c) { return c ? std::string(in[*c]) : std::string(); };
   std::vector<QueueRow> rows;
   while (in.next())
-    if (in[c_status] == "ok")
-      rows.push_back({std::string(in[c_name]), std::string(in[c_variant]), std::string(in[c_drones]), in.number(c_drones),
-                      in.number(c_found ? *c_found : in.column("fraction_found")) * 100});
+    if (in[c_status] == "ok") {
+      QueueRow r{std::string(in[c_name]), std::string(in[c_variant]), std::string(in[c_drones]), text(c_behavior), text(c_condition),
+                 text(c_label), in.number(c_drones), in.number(c_found ? *c_found : in.column("fraction_found")) * 100, {}};
+      for (const auto& [p, c] : c_params)
+        if (const auto v = in.optional_number(c)) r.params[p] = *v;
+      rows.push_back(std::move(r));
+    }
   const fs::path dir = out / "plots";
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -837,7 +1082,11 @@ void draw_queue_plots(const fs::path& out) {
   box_plot(rows, dir / "found_boxplot.png");
   for (const auto& size : sizes_of(rows))
     for (const Measure* m : {&found_measure, &alive_measure}) over_time(out, rows, size, *m);
-  if (is_file(out / "comparison.csv")) forest(out / "comparison.csv", dir / "comparison.png");
+  ConditionLabels labels;
+  for (const auto& r : rows) labels.emplace(r.condition, r.condition_label);
+  if (is_file(out / "comparison.csv")) forest(out / "comparison.csv", dir / "comparison.png", labels);
+  if (is_file(out / "did.csv")) did_plot(out / "did.csv", dir / "did.png", labels);
+  score_plots(rows, dir);
 }
 
 }  // namespace salsa::plots

@@ -2,12 +2,14 @@
 #include "salsa/core/experiments/queue_summary.hpp"
 
 #include <boost/math/distributions/students_t.hpp>
+#include <nlohmann/json.hpp>
 
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <limits>
 #include <map>
+#include <sstream>
 #include <vector>
 
 #include "salsa/core/files/csv_reader.hpp"
@@ -24,6 +26,49 @@ double t_half_width(std::size_t n, double sd) {
   return boost::math::quantile(boost::math::complement(t, 0.025)) * sd / std::sqrt(static_cast<double>(n));
 }
 
+PairedStats paired_stats(const std::map<std::string, double>& a, const std::map<std::string, double>& b) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  PairedStats s{0, nan, nan, nan, nan, nan, nan};
+  std::vector<double> diffs;
+  double sum_a = 0, sum_b = 0, wins = 0;
+  for (const auto& [key, x] : a) {
+    const auto y = b.find(key);
+    if (y == b.end()) continue;
+    diffs.push_back(x - y->second);
+    sum_a += x, sum_b += y->second;
+    wins += x > y->second ? 1 : x == y->second ? 0.5 : 0;
+  }
+  s.n = diffs.size();
+  if (s.n == 0) return s;
+  const double n = static_cast<double>(s.n);
+  s.mean_a = sum_a / n, s.mean_b = sum_b / n, s.win_rate_a = wins / n;
+  s.mean_diff = 0;
+  for (double d : diffs) s.mean_diff += d;
+  s.mean_diff /= n;
+  if (s.n > 1) {
+    double ss = 0;
+    for (double d : diffs) ss += (d - s.mean_diff) * (d - s.mean_diff);
+    const double half = t_half_width(s.n, std::sqrt(ss / (n - 1)));
+    s.ci_low = s.mean_diff - half, s.ci_high = s.mean_diff + half;
+  }
+  return s;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> compared_pairs(const std::vector<std::string>& variants, const std::string& reference) {
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  auto ref = std::find(variants.begin(), variants.end(), reference);
+  if (ref == variants.end() && variants.size() > max_all_pairs) ref = variants.begin();
+  if (ref != variants.end()) {
+    const auto r = static_cast<std::size_t>(ref - variants.begin());
+    for (std::size_t v = 0; v < variants.size(); ++v)
+      if (v != r) out.emplace_back(v, r);
+    return out;
+  }
+  for (std::size_t a = 0; a < variants.size(); ++a)
+    for (std::size_t b = a + 1; b < variants.size(); ++b) out.emplace_back(a, b);
+  return out;
+}
+
 namespace {
 
 // Six significant digits, whatever the locale: the file is compared byte for byte.
@@ -38,89 +83,145 @@ std::string number(double v) {
 // The columns of summary.csv that describe a cell, copied into each comparison row.
 constexpr const char* description[] = {"drones", "targets", "target", "map", "time"};
 
-struct Cell {
-  std::string id;
+using Values = std::map<std::string, double>;  // "repeat/seed" → the metric
+
+/// The ok tests of one cell under one condition.
+struct Group {
+  std::string cell, condition;
   std::vector<std::string> description;
-  std::vector<std::string> variants;                             // in order of first appearance
-  std::map<std::string, std::map<std::string, double>> values;   // variant → (repeat, seed) → metric
+  std::vector<std::string> variants;        // in order of first appearance
+  std::map<std::string, Values> values;     // variant → its tests
 };
+
+/// The comparison's reference, as OUT/queue.json records the queue's "reference"; "" when none.
+std::string recorded_reference(const fs::path& out) {
+  std::ifstream in(out / "queue.json", std::ios::binary);
+  if (!in) return "";
+  std::stringstream text;
+  text << in.rdbuf();
+  try {
+    const auto j = nlohmann::json::parse(text.str());
+    if (j.is_object() && j.contains("reference") && j["reference"].is_string()) return j["reference"].get<std::string>();
+  } catch (const std::exception&) {
+  }
+  return "";
+}
+
+/// The per-pair differences A − B of a group, by "repeat/seed".
+Values differences(const Group& g, const std::string& a, const std::string& b) {
+  Values out;
+  const Values& va = g.values.at(a);
+  const Values& vb = g.values.at(b);
+  for (const auto& [key, x] : va)
+    if (const auto y = vb.find(key); y != vb.end()) out[key] = x - y->second;
+  return out;
+}
+
+/// The same differences keyed by repeat alone (a condition that changes the world changes the seeds),
+/// or empty when a repeat is there twice.
+Values by_repeat(const Values& v) {
+  Values out;
+  for (const auto& [key, x] : v)
+    if (!out.emplace(key.substr(0, key.find('/')), x).second) return {};
+  return out;
+}
 
 }  // namespace
 
 void write_comparison(const fs::path& out, const std::string& metric) {
-  // ---- Read: the ok tests' metric, by cell, variant and (repeat, seed).
+  // ---- Read: the ok tests' metric, by cell and condition, variant and (repeat, seed).
   CsvReader in(out / "summary.csv");
   const std::size_t c_cell = in.column("cell"), c_variant = in.column("variant"), c_status = in.column("status"),
                     c_seed = in.column("seed");
   // A queue whose tests all failed has no outcome columns: nothing to compare then.
   const auto c_metric_found = in.find(metric);
   const auto c_repeat = in.find("repeat");
+  const auto c_condition = in.find("condition");  // summaries written before conditions have none
   std::vector<std::optional<std::size_t>> c_description;
   for (const char* name : description) c_description.push_back(in.find(name));
-  std::vector<Cell> cells;
-  std::map<std::string, std::size_t> cell_index;
+  std::vector<Group> groups;
+  std::map<std::pair<std::string, std::string>, std::size_t> group_index;
   while (in.next()) {
     if (in[c_status] != "ok") continue;
     const std::size_t c_metric = c_metric_found ? *c_metric_found : in.column(metric);  // throws: names the header
     const auto value = in.optional_number(c_metric);
     if (!value) continue;
-    const std::string id(in[c_cell]), variant(in[c_variant]);
-    auto [it, added] = cell_index.try_emplace(id, cells.size());
+    const std::string id(in[c_cell]), variant(in[c_variant]), condition(c_condition ? in[*c_condition] : std::string_view{});
+    auto [it, added] = group_index.try_emplace({id, condition}, groups.size());
     if (added) {
-      Cell& c = cells.emplace_back();
-      c.id = id;
-      for (const auto& k : c_description) c.description.emplace_back(k ? in[*k] : std::string_view{});
+      Group& g = groups.emplace_back();
+      g.cell = id, g.condition = condition;
+      for (const auto& k : c_description) g.description.emplace_back(k ? in[*k] : std::string_view{});
     }
-    Cell& c = cells[it->second];
-    auto& by_seed = c.values[variant];
-    if (by_seed.empty()) c.variants.push_back(variant);
+    Group& g = groups[it->second];
+    auto& by_seed = g.values[variant];
+    if (by_seed.empty()) g.variants.push_back(variant);
     const std::string key = std::string(c_repeat ? in[*c_repeat] : std::string_view{}) + "/" + std::string(in[c_seed]);
     if (!by_seed.emplace(key, *value).second)
       throw InputError(in.file().string() + ": line " + std::to_string(in.line()) + ": a second test of " + variant +
-                       " in cell " + id + " with seed " + std::string(in[c_seed]) + " (each pair needs one of each)");
+                       " in cell " + id + (condition.empty() ? "" : " under condition " + condition) + " with seed " +
+                       std::string(in[c_seed]) + " (each pair needs one of each)");
   }
+  const std::string reference = recorded_reference(out);
+  const auto put = [](std::string& text, const std::string& field) { (text += ',') += field; };
+  auto put_numbers = [&](std::string& text, std::initializer_list<double> values) {
+    for (double v : values) put(text, number(v));
+  };
 
-  // ---- Pair and write.
-  std::string text = "cell";
+  // ---- comparison.csv: the pairs within each cell and condition.
+  std::string text = "cell,condition";
   for (const char* name : description) text += std::string(",") + name;
   text += ",metric,variant_a,variant_b,n,mean_a,mean_b,mean_diff,ci_low,ci_high,win_rate_a\n";
-  for (const Cell& c : cells)
-    for (std::size_t a = 0; a < c.variants.size(); ++a)
-      for (std::size_t b = a + 1; b < c.variants.size(); ++b) {
-        const auto& va = c.values.at(c.variants[a]);
-        const auto& vb = c.values.at(c.variants[b]);
-        std::vector<double> diffs;
-        double sum_a = 0, sum_b = 0, wins = 0;
-        for (const auto& [key, x] : va) {
-          const auto y = vb.find(key);
-          if (y == vb.end()) continue;
-          diffs.push_back(x - y->second);
-          sum_a += x, sum_b += y->second;
-          wins += x > y->second ? 1 : x == y->second ? 0.5 : 0;
-        }
-        const auto n = diffs.size();
-        const double nan = std::numeric_limits<double>::quiet_NaN();
-        double mean = nan, half = nan;
-        if (n > 0) {
-          mean = 0;
-          for (double d : diffs) mean += d;
-          mean /= static_cast<double>(n);
-          if (n > 1) {
-            double ss = 0;
-            for (double d : diffs) ss += (d - mean) * (d - mean);
-            half = t_half_width(n, std::sqrt(ss / static_cast<double>(n - 1)));
-          }
-        }
-        const double dn = static_cast<double>(n);
-        const auto put = [&](const std::string& field) { (text += ',') += field; };
-        text += csv_field(c.id);
-        for (const auto& d : c.description) put(csv_field(d));
-        for (const auto* v : {&metric, &c.variants[a], &c.variants[b]}) put(csv_field(*v));
-        put(std::to_string(n));
-        for (double v : {n ? sum_a / dn : nan, n ? sum_b / dn : nan, mean, mean - half, mean + half, n ? wins / dn : nan}) put(number(v));
-        text += '\n';
-      }
+  for (const Group& g : groups)
+    for (const auto& [a, b] : compared_pairs(g.variants, reference)) {
+      const PairedStats s = paired_stats(g.values.at(g.variants[a]), g.values.at(g.variants[b]));
+      text += csv_field(g.cell);
+      put(text, csv_field(g.condition));
+      for (const auto& d : g.description) put(text, csv_field(d));
+      for (const auto* v : {&metric, &g.variants[a], &g.variants[b]}) put(text, csv_field(*v));
+      put(text, std::to_string(s.n));
+      put_numbers(text, {s.mean_a, s.mean_b, s.mean_diff, s.ci_low, s.ci_high, s.win_rate_a});
+      text += '\n';
+    }
   replace_file(out / "comparison.csv", text);
+
+  // ---- did.csv: within each cell, whether A − B changes from the first condition to each other one.
+  std::string did = "cell";
+  for (const char* name : description) did += std::string(",") + name;
+  did += ",metric,variant_a,variant_b,baseline,condition,n,diff_baseline,diff_condition,did,ci_low,ci_high\n";
+  std::vector<std::string> cells;                           // in order of first appearance
+  std::map<std::string, std::vector<std::size_t>> in_cell;  // cell → its groups, the baseline first
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    auto& list = in_cell[groups[i].cell];
+    if (list.empty()) cells.push_back(groups[i].cell);
+    list.push_back(i);
+  }
+  bool any = false;
+  for (const std::string& cell : cells) {
+    const std::vector<std::size_t>& list = in_cell[cell];
+    const Group& base = groups[list.front()];
+    for (std::size_t k = 1; k < list.size(); ++k) {
+      const Group& other = groups[list[k]];
+      any = true;
+      for (const auto& [a, b] : compared_pairs(base.variants, reference)) {
+        const std::string &va = base.variants[a], &vb = base.variants[b];
+        if (!other.values.count(va) || !other.values.count(vb)) continue;
+        Values d0 = differences(base, va, vb), d1 = differences(other, va, vb);
+        // Paired by repeat and seed when the condition keeps the worlds, else by repeat.
+        if (std::none_of(d1.begin(), d1.end(), [&](const auto& e) { return d0.count(e.first); })) d0 = by_repeat(d0), d1 = by_repeat(d1);
+        const PairedStats s = paired_stats(d1, d0);
+        did += csv_field(base.cell);
+        for (const auto& d : base.description) put(did, csv_field(d));
+        for (const auto* v : {&metric, &va, &vb, &base.condition, &other.condition}) put(did, csv_field(*v));
+        put(did, std::to_string(s.n));
+        put_numbers(did, {s.mean_b, s.mean_a, s.mean_diff, s.ci_low, s.ci_high});
+        did += '\n';
+      }
+    }
+  }
+  std::error_code ec;
+  if (any) replace_file(out / "did.csv", did);
+  else fs::remove(out / "did.csv", ec);  // a queue without conditions has none (one left from an earlier queue goes)
 }
 
 }  // namespace salsa

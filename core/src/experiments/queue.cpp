@@ -95,11 +95,23 @@ std::string describe_choice(const PluginChoice& choice, const Parameters& schema
   return changed.empty() ? choice.name : choice.name + "(" + changed + ")";
 }
 
+std::string variant_label(const std::string& behavior, const std::vector<std::pair<std::string, std::string>>& changed) {
+  if (changed.empty()) return behavior + " (defaults)";
+  std::string out = behavior + ":";
+  for (std::size_t i = 0; i < changed.size(); ++i) out += (i ? ", " : " ") + changed[i].first + " = " + changed[i].second;
+  return out;
+}
+
 std::string variant(const TestSpec& t, const PluginHost& host) {
-  if (t.groups.size() == 1) return describe_choice(t.groups[0].behavior, host.behavior(t.groups[0].behavior.name).factory.parameters);
-  std::string out;  // "scouts=flocking / base=random_walk(speed=2)"
-  for (const GroupSpec& g : t.groups)
-    out += (out.empty() ? "" : " / ") + g.name + "=" + describe_choice(g.behavior, host.behavior(g.behavior.name).factory.parameters);
+  auto one = [&](const PluginChoice& b) {
+    std::vector<std::pair<std::string, std::string>> changed;
+    for (const Parameter& p : host.behavior(b.name).factory.parameters)
+      if (b.params.has(p.name) && b.params.get(p.name) != p.value) changed.emplace_back(p.name, num(b.params.get(p.name)));
+    return variant_label(b.name, changed);
+  };
+  if (t.groups.size() == 1) return one(t.groups[0].behavior);
+  std::string out;  // "scouts=flocking (defaults) / base=random_walk: speed = 2"
+  for (const GroupSpec& g : t.groups) out += (out.empty() ? "" : " / ") + g.name + "=" + one(g.behavior);
   return out;
 }
 
@@ -272,27 +284,6 @@ struct SweptPlugin {
   }
 };
 
-/// The sweep of a queue file, read and checked, not yet multiplied out.
-struct Sweep {
-  json base = json::object();  // sweep.test
-  std::vector<SweptPlugin> behaviors, maps;
-  std::vector<Point> drones, targets, drone;
-  std::vector<std::vector<Point>> set;  // one axis per key of sweep.set, in key order; each point sets {key: value}
-
-  /// Tests per repeat (a double: the product can be far too large, and is refused then).
-  double size() const {
-    auto sum = [](const std::vector<SweptPlugin>& entries) {
-      double n = 0;
-      for (const auto& e : entries) n += e.size();
-      return entries.empty() ? 1.0 : n;
-    };
-    auto count = [](const std::vector<Point>& points) { return points.empty() ? 1.0 : static_cast<double>(points.size()); };
-    double n = sum(behaviors) * sum(maps) * count(drones) * count(targets) * count(drone);
-    for (const auto& axis : set) n *= count(axis);
-    return n;
-  }
-};
-
 // ---- sweep.set: any number of the test, by the dotted key timed changes use
 
 const char* const set_key_forms =
@@ -329,12 +320,18 @@ std::string entry_names(const json& list) {
   return out.empty() ? "none" : out;
 }
 
+void check_key(const std::string& key, const std::string& field, const Reader& r) {
+  for (const std::string& part : key_parts(key))
+    if (part.empty() || !std::all_of(part.begin(), part.end(), [](unsigned char c) { return std::isalnum(c) || c == '_' || c == '-'; }))
+      r.fail(field, "not a dotted key of letters, digits, '_' and '-' (allowed: " + std::string(set_key_forms) + ")");
+}
+
 /// Where `key` points in `test`, made to exist: a missing object is added, a list is entered by an
 /// entry's name (groups.scouts: the group named "scouts"), and a choice given by name becomes the object
 /// that can hold the number ("large" → {"base": "large"} for a drone, "flocking" → {"name": "flocking"},
-/// a map file → {"file": ...}). Fails, naming sweep.set.<key>, where the path cannot go on.
-json& place(json& test, const std::string& key, const Reader& r) {
-  const std::string field = Reader::join("sweep.set", key);
+/// a map file → {"file": ...}). Fails, naming `field` (sweep.set.<key>), where the path cannot go on;
+/// `owner` names `test` in messages (sweep.test).
+json& place(json& test, const std::string& key, const Reader& r, const std::string& field, const std::string& owner_name) {
   const std::vector<std::string> parts = key_parts(key);
   json* at = &test;
   std::string walked;  // "groups.scouts", for messages
@@ -346,16 +343,16 @@ json& place(json& test, const std::string& key, const Reader& r) {
       *at = owner == "drone" ? json{{"base", name}} : owner == "map" && name.ends_with(".json") ? json{{"file", name}} : json{{"name", name}};
     }
     if (i == 1 && parts[0] == "groups" && !at->is_array())
-      r.fail(field, "sweep.test has no \"groups\" (allowed: groups.<name>.<key> with the groups given in sweep.test)");
+      r.fail(field, owner_name + " has no \"groups\" (allowed: groups.<name>.<key> with the groups given in " + owner_name + ")");
     if (at->is_null()) *at = json::object();
     if (at->is_array()) {
       const auto it = std::find_if(at->begin(), at->end(), [&](const json& e) { return entry_name(e) == part; });
-      if (it == at->end()) r.fail(field, "no '" + part + "' in sweep.test." + walked + " (allowed: " + entry_names(*at) + ")");
+      if (it == at->end()) r.fail(field, "no '" + part + "' in " + owner_name + "." + walked + " (allowed: " + entry_names(*at) + ")");
       at = &*it;
     } else if (at->is_object()) {
       at = &(*at)[part];
     } else {
-      r.fail(field, "sweep.test." + walked + " is " + show(*at) + ", which holds no " + part + " (allowed: " + set_key_forms + ")");
+      r.fail(field, owner_name + "." + walked + " is " + show(*at) + ", which holds no " + part + " (allowed: " + set_key_forms + ")");
     }
     walked += (walked.empty() ? "" : ".") + part;
   }
@@ -363,7 +360,7 @@ json& place(json& test, const std::string& key, const Reader& r) {
 }
 
 /// sweep.set, checked against sweep.test and the other axes: one axis per key, in key order.
-std::vector<std::vector<Point>> set_axes(const json& set, const json& s, const json& base, const Reader& r) {
+std::vector<std::vector<Point>> set_axes(const json& set, const json& s, const json& base, const json& own, const Reader& r) {
   if (!set.is_object() || set.empty())
     r.fail("sweep.set", show(set) + " must be an object of keys and their values, e.g. {\"drone.max_speed\": [5, 10], "
                                     "\"groups.scouts.drones\": {\"from\": 2, \"to\": 8, \"step\": 2}}");
@@ -378,9 +375,7 @@ std::vector<std::vector<Point>> set_axes(const json& set, const json& s, const j
   for (std::size_t k = 0; k < keys.size(); ++k) {
     const std::string& key = keys[k];
     const std::string field = Reader::join("sweep.set", key);
-    for (const std::string& part : key_parts(key))
-      if (part.empty() || !std::all_of(part.begin(), part.end(), [](unsigned char c) { return std::isalnum(c) || c == '_' || c == '-'; }))
-        r.fail(field, "not a dotted key of letters, digits, '_' and '-' (allowed: " + std::string(set_key_forms) + ")");
+    check_key(key, field, r);
     for (const auto& [axis, owns] : axes)
       if (s.contains(axis) && within(key, owns)) r.fail(field, std::string("also swept by sweep.") + axis + " (allowed: one or the other)");
     for (std::size_t o = 0; o < k; ++o)  // sorted: an enclosing key comes first
@@ -388,8 +383,9 @@ std::vector<std::vector<Point>> set_axes(const json& set, const json& s, const j
     static const char* const single_form[] = {"behavior", "drone", "drones", "spawn"};
     if (base.contains("groups") && base["groups"].is_array() && std::ranges::count(single_form, key_parts(key)[0]))
       r.fail(field, "sweep.test has \"groups\", each with its own (allowed: groups.<name>." + key + ", <name> one of: " + entry_names(base["groups"]) + ")");
-    json& leaf = place(trial, key, r);
-    if (leaf.is_number()) r.fail(Reader::join("sweep.test", key), "also swept by " + field + " (allowed: one or the other)");
+    json& leaf = place(trial, key, r, field, "sweep.test");
+    if (leaf.is_number())
+      r.fail(Reader::join(own.contains(key_parts(key)[0]) ? "sweep.test" : "base", key), "also swept by " + field + " (allowed: one or the other)");
     if (!leaf.is_null()) r.fail(field, "sweep.test." + key + " is " + show(leaf) + ", not a number (allowed: " + set_key_forms + ")");
   }
 
@@ -414,6 +410,181 @@ std::vector<std::vector<Point>> set_axes(const json& set, const json& s, const j
   }
   return out;
 }
+
+// ---- The base and the conditions
+
+/// `over` laid on `base`: objects merge key by key, recursively; anything else replaces the base's value,
+/// and so does an object naming another plugin or drone configuration (its "name", "kind", "file" or
+/// "base" differ). `top`: test objects, whose "name" is the test's.
+json merged(const json& base, const json& over, bool top = false) {
+  if (!base.is_object() || !over.is_object()) return over;
+  if (!top) {
+    auto id = [](const json& o) {
+      json out = json::object();
+      for (const char* key : {"name", "kind", "file", "base"})
+        if (o.contains(key)) out[key] = o[key];
+      return out;
+    };
+    if (const json mine = id(over); !mine.empty() && mine != id(base)) return over;
+  }
+  json out = base;
+  for (const auto& [key, value] : over.items()) out[key] = out.contains(key) ? merged(out[key], value) : value;
+  return out;
+}
+
+/// The dotted paths of what a test object sets: its leaves (an object's keys, recursively; a list or
+/// an empty object is a leaf).
+void leaf_paths(const json& v, const std::string& at, std::vector<std::string>& out) {
+  if (v.is_object() && !v.empty()) {
+    for (const auto& [key, value] : v.items()) leaf_paths(value, at.empty() ? key : at + "." + key, out);
+    return;
+  }
+  if (!at.empty()) out.push_back(at);
+}
+
+/// Whether two dotted paths set the same thing: equal, or one inside the other.
+bool overlaps(const std::string& a, const std::string& b) { return a == b || a.starts_with(b + ".") || b.starts_with(a + "."); }
+
+/// A JSON value in words: numbers as config.json writes them, strings bare.
+std::string words(const json& v) {
+  if (v.is_number()) return num(v.get<double>());
+  if (v.is_string()) return v.get<std::string>();
+  return show(v);
+}
+
+/// One entry of "conditions": test fields laid over the base, and dotted keys set as sweep.set's are.
+/// The queue's tests are each run under every condition; a queue without conditions has one unnamed.
+struct Condition {
+  std::string name, label;       // label: what it changes from the base, in words
+  std::string at;                // "conditions[1]"
+  json fields = json::object();  // test keys
+  json set = json::object();     // dotted key -> value
+  std::vector<std::string> paths;  // what it sets: the leaves of `fields` and the keys of `set`
+
+  /// `test` with the condition laid over it (its fields, then its keys) and its labels; `owner` names
+  /// the test in messages.
+  void apply(json& test, const Reader& r, const std::string& owner) const {
+    if (name.empty() || !test.is_object()) return;  // not a test object: the test reader says so
+    test = merged(test, fields, true);
+    for (const auto& [key, value] : set.items()) place(test, key, r, Reader::join(at + ".set", key), owner) = value;
+    test["condition"] = {{"name", name}, {"label", label}};
+  }
+  /// Refuses a condition that sets what a test or the sweep sets itself: (path, where it is set), e.g.
+  /// ("drones", "sweep.drones"), ("changes", "tests[0].changes").
+  void check_apart(const std::vector<std::pair<std::string, std::string>>& theirs, const Reader& r) const {
+    for (const std::string& mine : paths)
+      for (const auto& [other, by] : theirs)
+        if (overlaps(mine, other))
+          r.fail(at + "." + mine, "also set by " + by + " (allowed: one or the other; a condition changes the base, not what a test or the sweep sets)");
+  }
+};
+
+/// "drones → 14 at 200 s, wind.velocity.x = 3": what a condition changes, in words; "no change" when nothing.
+std::string condition_label(const json& fields, const json& set) {
+  std::string out;
+  auto add = [&](const std::string& part) { out += (out.empty() ? "" : ", ") + part; };
+  std::vector<std::string> leaves;
+  leaf_paths(fields, "", leaves);
+  for (const std::string& path : leaves) {
+    if (path == "changes" && fields["changes"].is_array()) {
+      for (const json& change : fields["changes"])
+        if (change.is_object() && change.contains("set") && change["set"].is_object())
+          for (const auto& [key, value] : change["set"].items())
+            add(key + " → " + words(value) + (change.contains("time") ? " at " + words(change["time"]) + " s" : ""));
+      continue;
+    }
+    const json* v = &fields;
+    for (const std::string& part : key_parts(path)) v = &(*v)[part];
+    add(path + " = " + words(*v));
+  }
+  for (const auto& [key, value] : set.items()) add(key + " = " + words(value));
+  return out.empty() ? "no change" : out;
+}
+
+std::vector<Condition> read_conditions(const json& list, const Reader& r) {
+  if (!list.is_array() || list.empty())
+    r.fail("conditions", show(list) + " must be a non-empty list of conditions, e.g. [{\"name\": \"baseline\"}, "
+                                      "{\"name\": \"dropout\", \"changes\": [{\"time\": 200, \"set\": {\"drones\": 14}}]}]");
+  std::vector<const char*> allowed{"name", "set"};
+  for (const char* key : detail::test_keys)  // the test's own: its name, seed, repeat and provenance are not a condition's
+    if (std::string_view(key) != "name" && std::string_view(key) != "seed" && std::string_view(key) != "repeat" &&
+        std::string_view(key) != "condition" && std::string_view(key) != "versions")
+      allowed.push_back(key);
+  std::vector<Condition> out;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    Condition c;
+    c.at = "conditions[" + std::to_string(i) + "]";
+    const json& entry = list[i];
+    r.only_keys(entry, c.at, allowed);
+    if (!entry.contains("name")) r.fail(c.at + ".name", "missing (a condition's name goes into its tests' names and the plots)");
+    c.name = r.string(entry["name"], c.at + ".name");
+    if (name_safe(c.name) != c.name)
+      r.fail(c.at + ".name", show(entry["name"]) + " has characters a test name cannot hold (allowed: letters, digits, '_', '-' and '.')");
+    for (const Condition& earlier : out)
+      if (earlier.name == c.name) r.fail(c.at + ".name", show(entry["name"]) + " is already the name of " + earlier.at + " (allowed: each name once)");
+    for (const auto& [key, value] : entry.items())
+      if (key != "name" && key != "set") c.fields[key] = value;
+    if (entry.contains("set")) {
+      c.set = entry["set"];
+      if (!c.set.is_object() || c.set.empty())
+        r.fail(c.at + ".set", show(c.set) + " must be an object of dotted keys and their values, e.g. {\"groups.scouts.drones\": 4}");
+      for (const auto& [key, value] : c.set.items()) {
+        check_key(key, Reader::join(c.at + ".set", key), r);
+        c.paths.push_back(key);
+      }
+    }
+    leaf_paths(c.fields, "", c.paths);
+    for (std::size_t a = 0; a < c.paths.size(); ++a)  // a key set twice: in the fields and in "set"
+      for (std::size_t b = a + 1; b < c.paths.size(); ++b)
+        if (overlaps(c.paths[a], c.paths[b])) r.fail(c.at + "." + c.paths[b], "also set by " + c.at + "." + c.paths[a] + " (allowed: once)");
+    c.label = condition_label(c.fields, c.set);
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+/// The queue's base and conditions; without "conditions", one unnamed condition that changes nothing.
+struct Shared {
+  json base = json::object();
+  std::vector<Condition> conditions{Condition{}};
+  bool named() const { return !conditions.front().name.empty(); }
+};
+
+Shared read_shared(const json& j, const Reader& r) {
+  Shared out;
+  if (j.contains("base")) {
+    out.base = j["base"];
+    if (!out.base.is_object()) r.fail("base", show(out.base) + " must be a test object (the fields every test of the queue shares)");
+    if (out.base.contains("name")) r.fail("base.name", "a test's name is its own (allowed: a name in each test, or sweep.test's for the sweep's)");
+  }
+  if (j.contains("conditions")) {
+    out.conditions = read_conditions(j["conditions"], r);
+    if (out.base.contains("condition")) r.fail("base.condition", "set by the queue's conditions (allowed: leave it out)");
+  }
+  return out;
+}
+
+/// The sweep of a queue file, read and checked, not yet multiplied out.
+struct Sweep {
+  json base = json::object();  // sweep.test
+  std::vector<SweptPlugin> behaviors, maps;
+  std::vector<Point> drones, targets, drone;
+  std::vector<std::vector<Point>> set;  // one axis per key of sweep.set, in key order; each point sets {key: value}
+  std::vector<Condition> conditions;     // the queue's, each laid over every swept test
+
+  /// Tests per repeat (a double: the product can be far too large, and is refused then).
+  double size() const {
+    auto sum = [](const std::vector<SweptPlugin>& entries) {
+      double n = 0;
+      for (const auto& e : entries) n += e.size();
+      return entries.empty() ? 1.0 : n;
+    };
+    auto count = [](const std::vector<Point>& points) { return points.empty() ? 1.0 : static_cast<double>(points.size()); };
+    double n = sum(behaviors) * sum(maps) * count(drones) * count(targets) * count(drone);
+    for (const auto& axis : set) n *= count(axis);
+    return n * static_cast<double>(conditions.size());
+  }
+};
 
 const json& list_axis(const json& v, const std::string& field, const Reader& r, const char* example) {
   if (!v.is_array()) r.fail(field, show(v) + " must be a list, e.g. " + example);
@@ -478,18 +649,22 @@ std::vector<SweptPlugin> plugin_axis(const json& axis, const std::string& field,
   return out;
 }
 
-Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host) {
+Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host, const Shared& shared) {
   r.only_keys(s, "sweep", {"test", "behaviors", "maps", "drones", "targets", "drone", "set"});
   Sweep sweep;
+  json own = json::object();  // sweep.test as given; sweep.base is it laid over the queue's base
   if (s.contains("test")) {
-    sweep.base = s["test"];
-    if (!sweep.base.is_object()) r.fail("sweep.test", show(sweep.base) + " must be a test object (the fields every swept test shares)");
+    own = s["test"];
+    if (!own.is_object()) r.fail("sweep.test", show(own) + " must be a test object (the fields every swept test shares)");
+    if (shared.named() && own.contains("condition")) r.fail("sweep.test.condition", "set by the queue's conditions (allowed: leave it out)");
   }
+  sweep.base = merged(shared.base, own, true);
+  sweep.conditions = shared.conditions;
   const json& base = sweep.base;
-  // A key is given once: in sweep.test, or by the axis that sweeps it.
+  auto origin = [&](const std::string& key) { return (own.contains(key) ? "sweep.test." : "base.") + key; };
+  // A key is given once: in sweep.test (or the base), or by the axis that sweeps it.
   auto once = [&](const char* axis, const char* key) {
-    if (s.contains(axis) && base.contains(key))
-      r.fail(std::string("sweep.test.") + key, std::string("also swept by sweep.") + axis + " (allowed: one or the other)");
+    if (s.contains(axis) && base.contains(key)) r.fail(origin(key), std::string("also swept by sweep.") + axis + " (allowed: one or the other)");
   };
   once("behaviors", "behavior");
   once("maps", "map");
@@ -529,7 +704,7 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host) {
     const json& axis = s["targets"];
     if (axis.is_object()) {
       if (base.contains("targets") && base["targets"].is_object() && base["targets"].contains("count"))
-        r.fail("sweep.test.targets.count", "also swept by sweep.targets (allowed: one or the other)");
+        r.fail(origin("targets") + ".count", "also swept by sweep.targets (allowed: one or the other)");
       for (const double x : range_values(axis, "sweep.targets", r)) {
         if (x != std::floor(x) || x < 0 || x > 10'000'000)
           r.fail("sweep.targets", show(axis) + " gives " + num(x) + ", which is out of range (allowed: whole number in [0, 10000000])");
@@ -540,7 +715,7 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host) {
         const std::string at = "sweep.targets[" + std::to_string(i) + "]";
         Point p{json::object(), "", "targets[" + std::to_string(i++) + "]"};
         if (item.is_object()) {
-          if (base.contains("targets")) r.fail("sweep.test.targets", "also swept by " + at + " (allowed: one or the other; or sweep counts only)");
+          if (base.contains("targets")) r.fail(origin("targets"), "also swept by " + at + " (allowed: one or the other; or sweep counts only)");
           r.only_keys(item, at, {"kind", "count", "params"});
           const std::uint64_t count = item.contains("count") ? r.integer(item["count"], at + ".count", 0, 10'000'000) : 0;
           const std::string kind = item.contains("kind") ? r.string(item["kind"], at + ".kind") : "tree";
@@ -558,7 +733,7 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host) {
           p.set["targets"] = item;
         } else {
           if (base.contains("targets") && base["targets"].is_object() && base["targets"].contains("count"))
-            r.fail("sweep.test.targets.count", "also swept by sweep.targets (allowed: one or the other)");
+            r.fail(origin("targets") + ".count", "also swept by sweep.targets (allowed: one or the other)");
           const std::uint64_t count = r.integer(item, at, 0, 10'000'000);
           p.set["targets"] = {{"count", count}};
           p.token = "t" + std::to_string(count);
@@ -580,7 +755,24 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host) {
       sweep.drone.push_back({{{"drone", item}}, name_safe(d.name), "drone[" + std::to_string(i++) + "]"});
     }
   }
-  if (s.contains("set")) sweep.set = set_axes(s["set"], s, base, r);
+  if (s.contains("set")) sweep.set = set_axes(s["set"], s, base, own, r);
+
+  // What the sweep sets is its own: a condition changes the base only.
+  if (shared.named()) {
+    std::vector<std::pair<std::string, std::string>> swept;  // (path, where)
+    for (const auto& [axis, key] : {std::pair{"behaviors", "behavior"}, {"maps", "map"}, {"drones", "drones"}, {"drone", "drone"}})
+      if (s.contains(axis)) swept.emplace_back(key, std::string("sweep.") + axis);
+    for (const Point& p : sweep.targets)  // counts keep the base's kind and parameters
+      swept.emplace_back(p.set["targets"].size() == 1 ? "targets.count" : "targets", "sweep.targets");
+    for (const auto& axis : sweep.set) {
+      const std::string key = axis.front().set.begin().key();
+      swept.emplace_back(key, "sweep.set." + key);
+    }
+    std::vector<std::string> leaves;
+    leaf_paths(own, "", leaves);
+    for (const std::string& leaf : leaves) swept.emplace_back(leaf, "sweep.test." + leaf);
+    for (const Condition& c : sweep.conditions) c.check_apart(swept, r);
+  }
   return sweep;
 }
 
@@ -633,7 +825,8 @@ std::string behavior_name(const json& test) {
 
 /// Visits the sweep's tests in the order they run within a repeat, one at a time (a million test objects
 /// at once would take gigabytes): maps outer, then drone configurations, drone counts, targets,
-/// sweep.set's keys (the last faster), and behaviors fastest, so that the tests of one world are neighbours.
+/// sweep.set's keys (the last faster), conditions, and behaviors fastest, so that the tests of one world
+/// are neighbours.
 template <class Visit>
 void multiply(const Sweep& sweep, const Reader& r, Visit visit) {
   auto points = [](const std::vector<SweptPlugin>& entries, const char* key) {
@@ -668,6 +861,7 @@ void multiply(const Sweep& sweep, const Reader& r, Visit visit) {
       for (const Point& n : drones)
         for (const Point& tg : targets)
           for (const Point& st : sets)
+            for (const Condition& c : sweep.conditions)
             for (const Point& b : behaviors) {
               Swept t{sweep.base, prefix, ""};
               for (const Point* p : {&b, &n, &tg, &m, &dc}) {
@@ -678,10 +872,13 @@ void multiply(const Sweep& sweep, const Reader& r, Visit visit) {
                     t.test[key] = value;
                 }
               }
-              for (const auto& [key, value] : st.set.items()) place(t.test, key, r) = value;
+              for (const auto& [key, value] : st.set.items()) place(t.test, key, r, Reader::join("sweep.set", key), "sweep.test") = value;
+              c.apply(t.test, r, "sweep.test");
               join(t.name, b.token.empty() ? behavior_name(t.test) : b.token, "_");
               for (const Point* p : {&n, &tg, &m, &dc, &st}) join(t.name, p->token, "_");
+              join(t.name, c.name, "_");
               for (const Point* p : {&b, &n, &tg, &m, &dc, &st}) join(t.at, p->at, ", ");
+              join(t.at, c.at, ", ");
               visit(std::move(t));
             }
 }
@@ -697,12 +894,12 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
   queue.source = shown_file;
 
   // ---- The file's shape: a queue object, a list of tests, or one test.
-  const bool is_queue = j.is_object() && (j.contains("tests") || j.contains("sweep") || j.contains("repeats"));
+  const bool is_queue = j.is_object() && (j.contains("tests") || j.contains("sweep") || j.contains("repeats") || j.contains("conditions"));
   const json* tests = nullptr;
   std::string list_field;  // "tests", or "" for a top-level list
   std::size_t repeats = 1;
   if (is_queue) {
-    r.only_keys(j, "", {"seed", "repeats", "tests", "sweep"});
+    r.only_keys(j, "", {"seed", "repeats", "base", "conditions", "reference", "tests", "sweep"});
     if (!j.contains("tests") && !j.contains("sweep"))
       r.fail("tests", "missing (a queue holds \"tests\", a \"sweep\", or both)");
     if (j.contains("seed")) queue.seed = r.integer(j["seed"], "seed", 0, 9007199254740992.0);
@@ -715,6 +912,7 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
   } else if (j.is_array()) {
     tests = &j;
   }
+  const Shared shared = is_queue ? read_shared(j, r) : Shared{};
   if (options.seed) queue.seed = *options.seed;
   if (tests && tests->empty()) throw InputError(shown_file + ": " + (list_field.empty() ? "the list" : list_field) + " holds no tests");
 
@@ -728,14 +926,32 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
   }
   if (tests)
     for (std::size_t i = 0; i < tests->size(); ++i) {
-      const std::string where = shown_file + ": " + list_field + "[" + std::to_string(i) + "]";
-      Config c{detail::parse_test((*tests)[i], Reader(where, file.parent_path()), host), where, "", ""};
-      c.test.source = where;
-      name_after_file(c.test, stem + "-" + std::to_string(i + 1));
-      configs.push_back(std::move(c));
+      // The test laid over the base, under each condition (conditions vary faster).
+      const std::string at = list_field + "[" + std::to_string(i) + "]";
+      const json& own = (*tests)[i];
+      std::vector<std::string> leaves;
+      leaf_paths(own, "", leaves);
+      std::vector<std::pair<std::string, std::string>> own_paths;  // what the test sets itself
+      for (const std::string& leaf : leaves) own_paths.emplace_back(leaf, at + "." + leaf);
+      if (shared.named() && own.is_object() && own.contains("condition"))
+        r.fail(at + ".condition", "set by the queue's conditions (allowed: leave it out)");
+      for (const Condition& condition : shared.conditions) {
+        const std::string where = shown_file + ": " + at + (condition.name.empty() ? "" : " (" + condition.at + ")");
+        const Reader reader(where, file.parent_path());
+        json test = j.contains("base") ? merged(shared.base, own, true) : own;
+        if (!condition.name.empty()) {
+          condition.check_apart(own_paths, r);
+          condition.apply(test, reader, at);
+        }
+        Config c{detail::parse_test(test, reader, host), where, "", ""};
+        c.test.source = where;
+        name_after_file(c.test, stem + "-" + std::to_string(i + 1));
+        if (!condition.name.empty()) c.test.name = fitted(c.test.name + "_" + condition.name, "");
+        configs.push_back(std::move(c));
+      }
     }
   std::optional<Sweep> sweep;
-  if (is_queue && j.contains("sweep")) sweep = read_sweep(j["sweep"], r, host);
+  if (is_queue && j.contains("sweep")) sweep = read_sweep(j["sweep"], r, host, shared);
 
   const double per_repeat = static_cast<double>(configs.size()) + (sweep ? sweep->size() : 0);
   const double total = per_repeat * static_cast<double>(repeats);
@@ -753,11 +969,28 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
     const std::string base_where = shown_file + ": sweep.test";
     const Reader base_reader(base_where, file.parent_path());
     multiply(*sweep, r, [&](Swept&& s) {
-      const Reader reader = sweep->set.empty() ? base_reader : Reader(shown_file + ": sweep (" + s.at + ")", file.parent_path());
+      const Reader reader = s.at.empty() || (sweep->set.empty() && !shared.named()) ? base_reader
+                                                                                 : Reader(shown_file + ": sweep (" + s.at + ")", file.parent_path());
       Config c{detail::parse_test(s.test, reader, host), base_where, std::move(s.name), s.at};
       c.test.source = shown_file + ": sweep" + (s.at.empty() ? "" : " (" + s.at + ")");
       configs.push_back(std::move(c));
     });
+  }
+
+  // ---- The comparison's reference: a variant of the queue, or a behavior's name for its defaults.
+  if (is_queue && j.contains("reference")) {
+    const std::string given = r.string(j["reference"], "reference");
+    std::vector<std::string> labels;
+    for (const Config& c : configs)
+      if (std::string v = variant(c.test, host); std::find(labels.begin(), labels.end(), v) == labels.end()) labels.push_back(std::move(v));
+    for (const std::string& wanted : {given, variant_label(given, {})})
+      if (queue.reference.empty() && std::find(labels.begin(), labels.end(), wanted) != labels.end()) queue.reference = wanted;
+    if (queue.reference.empty()) {
+      std::string allowed;
+      for (std::size_t i = 0; i < labels.size() && i < 20; ++i) allowed += (i ? "; " : "") + labels[i];
+      r.fail("reference", show(j["reference"]) + " names no variant of the queue (allowed: " + allowed +
+                              (labels.size() > 20 ? "; ..." : "") + "; or a behavior's name for its defaults)");
+    }
   }
 
   // ---- Seeds: the paired seed unless the test gives its own (--seed overrides those too).
@@ -821,7 +1054,7 @@ std::vector<SweptTest> expand_sweep(const fs::path& file, const PluginHost& host
   const json j = detail::read_json_file(file, "a queue {\"sweep\": {...}}");
   const Reader r(strict_json::printable(file.string(), 200), file.parent_path());
   if (!j.is_object() || !j.contains("sweep")) r.fail("sweep", "missing (a queue with a \"sweep\")");
-  const Sweep sweep = read_sweep(j["sweep"], r, host);
+  const Sweep sweep = read_sweep(j["sweep"], r, host, read_shared(j, r));
   if (sweep.size() > static_cast<double>(max_queue_tests))
     r.fail("sweep", "expands to " + grouped(sweep.size()) + " tests (allowed: at most " + grouped(max_queue_tests) + ")");
   std::vector<SweptTest> out;

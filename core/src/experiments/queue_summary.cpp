@@ -17,6 +17,7 @@
 #include <set>
 #include <sstream>
 
+#include "salsa/core/experiments/queue.hpp"
 #include "salsa/core/files/csv_writer.hpp"
 #include "salsa/core/files/names.hpp"
 #include "salsa/core/files/output_folder.hpp"
@@ -110,7 +111,7 @@ struct Row {
   std::string name, status, error;
   std::string wall_seconds;                  // timing.json's, for OUT/timing.csv
   std::map<std::string, std::string> cells;  // column -> text
-  json behavior_params;                      // for the variant
+  std::vector<std::pair<std::string, json>> behaviors;  // for the variant: (group name with groups, else "", behavior object)
   std::string behavior;
 };
 
@@ -186,6 +187,9 @@ std::vector<std::pair<std::string, std::string>> inputs_of(const json& config) {
         if (g.contains("drones") && g["drones"].is_number_unsigned()) drones += g["drones"].get<std::uint64_t>();
       }
       out.emplace_back("drones", std::to_string(drones));
+    } else if (key == "condition" && value.is_object()) {
+      out.emplace_back("condition", cell_text(value.value("name", json())));
+      out.emplace_back("condition_label", cell_text(value.value("label", json())));
     } else if (key == "versions" && value.is_object()) {
       for (const auto& [k, v] : value.items()) out.emplace_back("versions." + k, version_text(v));
     } else {
@@ -195,8 +199,51 @@ std::vector<std::pair<std::string, std::string>> inputs_of(const json& config) {
   return out;
 }
 
-const std::vector<std::string> fixed_columns{"name", "status", "error", "cell", "variant", "behavior", "repeat",
-                                             "seed", "drones", "targets", "target", "map", "time"};
+const std::vector<std::string> fixed_columns{"name", "status", "error", "cell", "variant", "condition", "condition_label", "behavior",
+                                             "repeat", "seed", "drones", "targets", "target", "map", "time"};
+
+/// Whether a column describes the behavior (what the paired comparison compares), not the cell.
+bool behavior_column(const std::string& c) {
+  if (c == "behavior" || c.starts_with("behavior.") || c == "versions.behavior" || c == "versions.behaviors") return true;
+  if (!c.starts_with("groups.")) return false;
+  const std::size_t dot = c.find('.', 7);
+  return dot != std::string::npos && (c.compare(dot, std::string::npos, ".behavior") == 0 || c.compare(dot + 1, 9, "behavior.") == 0);
+}
+
+/// With conditions, the cell is the setting apart from the behavior and the condition: a hash of the
+/// input columns but the behavior's, name, seed, repeat and those a condition sets (seen as the columns
+/// that are the same within each condition and differ between conditions). So the cells of two conditions
+/// are the same where the sweep gave them the same values, and the comparison pairs across them.
+void cells_apart_from_conditions(std::vector<Row>& rows, const std::vector<std::string>& input_columns) {
+  std::set<std::string> conditions;
+  for (const Row& r : rows)
+    if (r.status == "ok") conditions.insert(r.cells.count("condition") ? r.cells.at("condition") : "");
+  if (conditions.size() < 2) return;
+  std::vector<std::string> columns;
+  for (const char* c : {"drones", "targets", "target", "map", "time"}) columns.push_back(c);
+  columns.insert(columns.end(), input_columns.begin(), input_columns.end());
+  auto text = [](const Row& r, const std::string& c) {
+    const auto it = r.cells.find(c);
+    return it == r.cells.end() ? std::string() : it->second;
+  };
+  std::sort(columns.begin(), columns.end());  // the same ids whichever tests are done
+  std::vector<std::string> kept;
+  for (const std::string& c : columns) {
+    if (behavior_column(c) || c == "condition_label") continue;
+    std::map<std::string, std::set<std::string>> by_condition;
+    std::set<std::string> all;
+    for (const Row& r : rows)
+      if (r.status == "ok") by_condition[text(r, "condition")].insert(text(r, c)), all.insert(text(r, c));
+    const bool condition_set = all.size() > 1 && std::all_of(by_condition.begin(), by_condition.end(), [](const auto& v) { return v.second.size() == 1; });
+    if (!condition_set) kept.push_back(c);
+  }
+  for (Row& r : rows) {
+    if (r.status != "ok") continue;
+    std::uint64_t h = fnv1a("cell apart from conditions");
+    for (const std::string& c : kept) h = fnv1a(c + '\0' + text(r, c) + '\0', h);
+    r.cells["cell"] = hex(h, 12);
+  }
+}
 
 /// Where an input column goes: behavior.*, map.*, drone.*, the other inputs, versions.*.
 int group_of(const std::string& column) {
@@ -346,7 +393,9 @@ QueueRecord queue_record(const std::vector<TestSpec>& tests, const PluginHost& h
 namespace {
 
 json record_json(const QueueRecord& record) {
-  return {{"tests", record.tests}, {"configs_hash", record.configs_hash}, {"command", record.command}};
+  json out = {{"tests", record.tests}, {"configs_hash", record.configs_hash}, {"command", record.command}};
+  if (!record.reference.empty()) out["reference"] = record.reference;  // only then: queue.json as before references
+  return out;
 }
 
 /// Whether OUT/queue.json exists, and then whether it records the same queue.
@@ -355,7 +404,7 @@ std::optional<bool> same_queue(const fs::path& file, const json& record, std::op
   if (!fs::exists(fs::symlink_status(file, ec))) return std::nullopt;
   there = read_json(file);
   return there && there->is_object() && there->value("tests", json()) == record["tests"] &&
-         there->value("configs_hash", json()) == record["configs_hash"];
+         there->value("configs_hash", json()) == record["configs_hash"] && there->value("reference", json()) == record.value("reference", json());
 }
 
 }  // namespace
@@ -436,15 +485,17 @@ void write_queue_summary(const fs::path& out, const PluginHost* host) {
       }
       if (config->contains("behavior") && (*config)["behavior"].is_object()) {
         row.behavior = (*config)["behavior"].value("name", "");
-        row.behavior_params = (*config)["behavior"].value("params", json::object());
+        row.behaviors.emplace_back("", (*config)["behavior"]);
       } else if (config->contains("groups") && (*config)["groups"].is_array()) {
         // Groups: the behaviors of every group, "scouts=flocking / base=random_walk"; their parameters
         // are in the groups.<name>.behavior.<p> columns.
         const json& groups = (*config)["groups"];
         for (const json& g : groups)
-          if (g.is_object() && g.contains("behavior") && g["behavior"].is_object())
-            row.behavior += (row.behavior.empty() ? "" : " / ") + (groups.size() > 1 ? cell_text(g.value("name", json())) + "=" : "") +
-                            cell_text(g["behavior"].value("name", json()));
+          if (g.is_object() && g.contains("behavior") && g["behavior"].is_object()) {
+            const std::string group = groups.size() > 1 ? cell_text(g.value("name", json())) : "";
+            row.behavior += (row.behavior.empty() ? "" : " / ") + (group.empty() ? "" : group + "=") + cell_text(g["behavior"].value("name", json()));
+            row.behaviors.emplace_back(group, g["behavior"]);
+          }
         row.cells["behavior"] = row.behavior;
       }
       if (const auto outcome = read_text(folder / "outcome.csv")) {
@@ -469,32 +520,43 @@ void write_queue_summary(const fs::path& out, const PluginHost* host) {
     rows.push_back(std::move(row));
   }
 
-  // The variant: the behavior and its non-default parameters (the plugin's defaults when the host
-  // has it, else the parameters whose values differ within the queue).
+  // The variant: each behavior and its non-default parameters (the plugin's defaults when the host
+  // has it, else the parameters whose values differ within the queue), as variant_label words them.
   std::map<std::string, std::map<std::string, std::set<std::string>>> values_seen;  // behavior -> param -> values
+  auto params_of = [](const json& behavior) { return behavior.value("params", json::object()); };
   for (const auto& r : rows)
-    for (const auto& [p, v] : r.behavior_params.items()) values_seen[r.behavior][p].insert(v.dump());
+    for (const auto& [group, b] : r.behaviors) {
+      const json params = params_of(b);
+      for (const auto& [p, v] : params.items()) values_seen[cell_text(b.value("name", json()))][p].insert(v.dump());
+    }
   for (auto& r : rows) {
     if (r.status != "ok") continue;
-    const Parameters* declared = nullptr;
-    if (host) try {
-        declared = &host->behavior(r.behavior).factory.parameters;
-      } catch (const std::exception&) {
+    std::string label;
+    for (const auto& [group, b] : r.behaviors) {
+      const std::string behavior = cell_text(b.value("name", json()));
+      const Parameters* declared = nullptr;
+      if (host) try {
+          declared = &host->behavior(behavior).factory.parameters;
+        } catch (const std::exception&) {
+        }
+      std::vector<std::pair<std::string, std::string>> changed;
+      const json params = params_of(b);
+      for (const auto& [p, v] : params.items()) {
+        bool differs = values_seen[behavior][p].size() > 1;
+        if (declared) {
+          const std::string& name = p;  // clang 14 cannot capture a structured binding
+          const auto d = std::find_if(declared->begin(), declared->end(), [&](const Parameter& x) { return x.name == name; });
+          differs = d == declared->end() || !v.is_number() || v.get<double>() != d->value;
+        }
+        if (differs) changed.emplace_back(p, v.is_number() ? Parameter::format(v.get<double>()) : cell_text(v));
       }
-    std::string shown;
-    for (const auto& [p, v] : r.behavior_params.items()) {
-      bool differs = values_seen[r.behavior][p].size() > 1;
-      if (declared) {
-        const std::string& name = p;  // clang 14 cannot capture a structured binding
-        const auto d = std::find_if(declared->begin(), declared->end(), [&](const Parameter& x) { return x.name == name; });
-        differs = d == declared->end() || !v.is_number() || v.get<double>() != d->value;
-      }
-      if (!differs) continue;
-      const std::string text = v.is_number() ? Parameter::format(v.get<double>()) : cell_text(v);
-      shown += (shown.empty() ? "" : ";") + p + "=" + text;
+      // Without the plugin's declarations the defaults are unknown: the bare name, not "(defaults)".
+      const std::string one = declared || !changed.empty() ? variant_label(behavior, changed) : behavior;
+      label += (label.empty() ? "" : " / ") + (group.empty() ? "" : group + "=") + one;
     }
-    r.cells["variant"] = r.behavior + (shown.empty() ? "" : "(" + shown + ")");
+    r.cells["variant"] = label;
   }
+  cells_apart_from_conditions(rows, input_columns);
 
   std::stable_sort(input_columns.begin(), input_columns.end(),
                    [](const std::string& a, const std::string& b) { return group_of(a) < group_of(b); });

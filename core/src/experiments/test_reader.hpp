@@ -29,6 +29,9 @@ class Reader {
     throw InputError(where_ + ": " + field + ": " + strict_json::printable(message, 1000));
   }
   void only_keys(const json& obj, const std::string& field, std::initializer_list<const char*> allowed) const {
+    only_keys(obj, field, std::vector<const char*>(allowed));
+  }
+  void only_keys(const json& obj, const std::string& field, const std::vector<const char*>& allowed) const {
     if (!obj.is_object()) fail(field.empty() ? "(top level)" : field, show(obj) + " must be an object");
     for (const auto& [key, value] : obj.items()) {
       bool ok = false;
@@ -92,6 +95,12 @@ class Reader {
   std::string where_;
   std::filesystem::path base_;
 };
+
+/// The keys of a test object.
+inline const std::vector<const char*> test_keys{
+    "name", "behavior", "drone", "drone_configs", "drones", "groups", "failures", "comm", "wind", "map", "spawn", "targets",
+    "contact_handlers", "metrics", "time", "dt", "log_interval", "velocity_iterations", "position_iterations", "decision_lag",
+    "seed", "repeat", "changes", "condition", "versions"};
 
 /// Every JSON file salsa reads comes through here: strict (see strict_json.hpp), one line per problem.
 json read_json_file(const std::filesystem::path& file, std::string_view expected);

@@ -220,9 +220,7 @@ CommSetup parse_comm(const json& c, const Reader& r) {
 }
 
 TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
-  r.only_keys(j, "", {"name", "behavior", "drone", "drone_configs", "drones", "groups", "failures", "comm", "wind", "map", "spawn", "targets",
-                      "contact_handlers", "metrics", "time", "dt", "log_interval", "velocity_iterations",
-                      "position_iterations", "decision_lag", "seed", "repeat", "changes", "versions"});
+  r.only_keys(j, "", test_keys);
   TestSpec t;
   if (j.contains("name")) {
     t.name = r.string(j["name"], "name");
@@ -357,6 +355,13 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
   if (j.contains("position_iterations")) t.position_iterations = static_cast<int>(r.integer(j["position_iterations"], "position_iterations", 1, 100));
   if (j.contains("decision_lag")) t.decision_lag = static_cast<int>(r.integer(j["decision_lag"], "decision_lag", 0, 1));
   if (j.contains("repeat")) t.repeat = r.integer(j["repeat"], "repeat", 0, 1'000'000);
+  if (j.contains("condition")) {
+    const json& c = j["condition"];
+    r.only_keys(c, "condition", {"name", "label"});
+    t.condition = r.string(c.value("name", json()), "condition.name");
+    if (c.contains("label") && !c["label"].is_string()) r.fail("condition.label", show(c["label"]) + " must be a string");
+    t.condition_label = c.value("label", "");
+  }
   t.seed_given = j.contains("seed");
   t.seed = t.seed_given ? r.integer(j["seed"], "seed", 0, 9007199254740992.0) : paired_seed(1, t.repeat, world_key(t));
 
@@ -479,6 +484,7 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   j["decision_lag"] = t.decision_lag;
   j["seed"] = t.seed;
   j["repeat"] = t.repeat;
+  if (!t.condition.empty()) j["condition"] = {{"name", t.condition}, {"label", t.condition_label}};
   if (!t.changes.empty()) {  // only when there are some: earlier tests keep their config.json bytes
     json changes = json::array();
     for (const Change& c : t.changes) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <filesystem>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -56,5 +57,9 @@ struct BoxStats {
   std::vector<double> outliers;
 };
 BoxStats box_stats(std::vector<double> values);
+
+/// Text order with the numbers in it compared as numbers: "alpha = 1.4" < "alpha = 10", "d5" < "d20"
+/// (how the queue plots order variants and lines).
+bool natural_less(std::string_view a, std::string_view b);
 
 }  // namespace salsa::plots

@@ -1,19 +1,43 @@
 #pragma once
-// The paired comparison of behaviors: tests that share a cell (everything but the behavior) and a seed
-// are pairs, so the difference between two variants is measured on the same worlds. See
-// docs/output-format.md (comparison.csv).
+// The paired comparison of behaviors: tests that share a cell (everything but the behavior and the
+// condition), a condition and a seed are pairs, so the difference between two variants is measured on
+// the same worlds; and the difference-in-differences between conditions. See docs/output-format.md
+// (comparison.csv, did.csv).
+#include <cstddef>
 #include <filesystem>
+#include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace salsa {
 
-/// Reads OUT/summary.csv and writes OUT/comparison.csv: for each cell and each pair of variants (A, B)
-/// in it, in order of first appearance, the pairs' mean difference A − B of `metric` with its 95 %
-/// t-interval and A's win rate. Throws InputError (one line naming the file) on bad input.
+/// Reads OUT/summary.csv and writes OUT/comparison.csv: for each cell and condition and each pair of
+/// variants (A, B) compared in it (compared_pairs), in order of first appearance, the pairs' mean
+/// difference A − B of `metric` with its 95 % t-interval and A's win rate. When a cell has two or more
+/// conditions, also OUT/did.csv: for each pair, (A − B | condition) − (A − B | the cell's first
+/// condition), paired by repeat and seed (by repeat when the condition changes the world), with its
+/// 95 % t-interval over the per-repeat values. The reference is OUT/queue.json's "reference". Throws
+/// InputError (one line naming the file) on bad input.
 void write_comparison(const std::filesystem::path& out, const std::string& metric = "fraction_found");
 
 /// Half the width of the two-sided 95 % t-interval of a mean of `n` values with sample standard
 /// deviation `sd`: t_{0.975, n-1} · sd / √n. NaN for n < 2.
 double t_half_width(std::size_t n, double sd);
+
+/// A paired comparison of two sets of values by key (NaN where undefined: means for n = 0, the
+/// interval for n < 2).
+struct PairedStats {
+  std::size_t n;      ///< keys both have
+  double mean_a, mean_b, mean_diff, ci_low, ci_high, win_rate_a;
+};
+PairedStats paired_stats(const std::map<std::string, double>& a, const std::map<std::string, double>& b);
+
+/// A cell with more variants than this compares each against one (the first, without a reference).
+inline constexpr std::size_t max_all_pairs = 4;
+/// The pairs (A, B) of `variants` (indices) a comparison shows: each variant against `reference` when
+/// it is one of them; else every pair (A first appeared first) for up to max_all_pairs variants, and
+/// each against the first beyond that.
+std::vector<std::pair<std::size_t, std::size_t>> compared_pairs(const std::vector<std::string>& variants, const std::string& reference);
 
 }  // namespace salsa

@@ -27,9 +27,10 @@ struct Queue {
   std::vector<TestSpec> tests;
   std::uint64_t seed = 1;  ///< the queue seed (the file's "seed", or QueueOptions::seed)
   std::string source;      ///< the file, as messages name it
+  std::string reference;   ///< the file's "reference": the variant the comparison sets the others against; "": the default
 };
 
-/// Reads a queue file: {"seed", "repeats", "tests", "sweep"}, or a plain test file (one test object, a
+/// Reads a queue file: {"seed", "repeats", "base", "conditions", "reference", "tests", "sweep"}, or a plain test file (one test object, a
 /// list of tests, {"tests": [...]}). Every test is validated as a test file's; names are unique; the
 /// count is checked before the sweep is expanded. Throws InputError (one line: file, position, key,
 /// value, what is allowed).
@@ -62,8 +63,12 @@ std::string world_key(const TestSpec& test);
 
 /// A plugin choice and its parameters that differ from `schema`'s defaults: "forest(clusters=20)".
 std::string describe_choice(const PluginChoice& choice, const Parameters& schema);
-/// The behavior and its parameters that differ from the declared defaults, in declaration order:
-/// "flocking", "flocking(cohesion_weight=2 alignment_weight=0.5)".
+/// How a variant reads in summary.csv, comparison.csv and the plots: a behavior and its parameters that
+/// differ from the declared defaults (name, value as text), "flocking (defaults)",
+/// "flocking: cohesion_weight = 2, alignment_weight = 0.5".
+std::string variant_label(const std::string& behavior, const std::vector<std::pair<std::string, std::string>>& changed);
+/// The test's variant: variant_label of its behavior, in declaration order; with groups, each group's
+/// as "scouts=flocking (defaults) / base=random_walk: speed = 2".
 std::string variant(const TestSpec& test, const PluginHost& host);
 
 }  // namespace salsa

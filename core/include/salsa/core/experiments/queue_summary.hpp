@@ -17,6 +17,7 @@ struct QueueRecord {
   std::vector<std::string> tests;
   std::string configs_hash;  ///< 16 hex digits
   std::vector<std::string> command;
+  std::string reference;  ///< the queue's "reference" (the comparison's); "": none
 };
 
 QueueRecord queue_record(const std::vector<TestSpec>& tests, const PluginHost& host, std::vector<std::string> command);

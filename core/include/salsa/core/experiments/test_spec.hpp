@@ -68,6 +68,10 @@ struct TestSpec {
   bool seed_given = false;          ///< "seed" was in the file: it wins over the paired seed (queue.hpp)
   std::size_t repeat = 0;           ///< which repeat of its configuration in a queue (0 first)
   std::vector<Change> changes;      ///< timed live changes, in time order (salsa/core/experiments/changes.hpp)
+  /// The queue's condition the test belongs to (docs/test-format.md, "Conditions"): its name and what it
+  /// changes from the queue's base in words ("drones → 14 at 200 s"). Labels for the summary and the
+  /// plots: the run never reads them. Empty: none (config.json then has no "condition").
+  std::string condition, condition_label;
 
   std::size_t steps() const;
   std::size_t log_every() const;

@@ -17,7 +17,7 @@ std::string name_problem(std::string_view name);
 /// The names of the files and folders a queue writes at its output folder's top level (plots/,
 /// summary.csv, queue.json, comparison.csv, timing.json, timing.csv); the lock file and markers start with '.',
 /// which name_problem refuses already.
-inline constexpr const char* reserved_names[] = {"plots", "summary.csv", "queue.json", "comparison.csv", "timing.json", "timing.csv"};
+inline constexpr const char* reserved_names[] = {"plots", "summary.csv", "queue.json", "comparison.csv", "did.csv", "timing.json", "timing.csv"};
 
 /// name_problem() for a test's name (it names OUT/<name>/): also refuses the reserved names, in any
 /// case and with any ".<suffix>" (the temporary files salsa writes beside them), e.g. "\"plots\" is a
