@@ -107,6 +107,39 @@ class TestExamples : public QObject {
     if (!big) QVERIFY(QFileInfo(out.path() + "/plots/found_boxplot.png").size() > 0);
   }
 
+  void tune_file_runs_data() {
+    QTest::addColumn<QString>("file");
+    QDirIterator it(q(source_dir() / "examples" / "tune"), {"*.json"}, QDir::Files);
+    while (it.hasNext()) {
+      const QString f = it.next();
+      QTest::newRow(qPrintable(QFileInfo(f).fileName())) << f;
+    }
+  }
+  void tune_file_runs() {
+    // Shrunk to seconds: 5 s tests, 2 worlds, 8 evaluations, 1 held-out world; the rest as shipped.
+    QFETCH(QString, file);
+    QTemporaryDir out;
+    QJsonObject tune = QJsonDocument::fromJson(read_file(file)).object();
+    QVERIFY(!tune.isEmpty());
+    QJsonObject test = tune["test"].toObject();
+    test["time"] = 5;
+    tune["test"] = test;
+    tune["worlds"] = 2;
+    tune["budget"] = QJsonObject{{"evaluations", 8}};
+    tune["validation"] = QJsonObject{{"worlds", 1}, {"candidates", 1}};
+    tune["racing"] = false;
+    const QString small = out.filePath("tune.json");
+    QVERIFY(write_file(small, QJsonDocument(tune).toJson()));
+    const CliResult r = run_salsa({"tune", small, "--out", out.filePath("results")});
+    QVERIFY2(!r.crashed && r.exit_code == 0, describe(r));
+    QVERIFY2(r.err.trimmed().isEmpty(), describe(r));
+    for (const char* f : {"tune.csv", "candidates.csv", "best.json", "report.txt", "plots/convergence.png"})
+      QVERIFY2(QFileInfo(out.filePath(QString("results/") + f)).size() > 0, f);
+    const QString csv = QString::fromUtf8(read_file(out.filePath("results/tune.csv")));
+    QCOMPARE(csv.count(",tuning,"), 8);  // the budget, spent in full
+    QVERIFY(csv.count(",validation,") >= 1);
+  }
+
   void map_file_validates_data() { add_rows(true); }
   void map_file_validates() {
     QFETCH(QString, file);
