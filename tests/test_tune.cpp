@@ -89,7 +89,7 @@ class TestTune : public QObject {
     QTest::addColumn<QString>("algorithm");
     QTest::addColumn<int>("evaluations");
     for (const char* a : {"cmaes", "xnes", "pso", "de", "bobyqa", "neldermead", "random", "lhs", "grid"})
-      QTest::newRow(a) << a << 160;
+      QTest::newRow(a) << a << 100;
   }
   void algorithm_finds_the_optimum() {
     QFETCH(QString, algorithm);
