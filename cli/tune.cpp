@@ -91,8 +91,10 @@ struct Evaluation {
 
 class Tuner {
  public:
-  Tuner(const TuneSpec& spec, const PluginHost& host, RunOptions run_options, QueueRunOptions queue, MpiRun* mpi)
-      : spec_(spec), host_(host), options_(std::move(run_options)), queue_(std::move(queue)), mpi_(mpi), start_(Clock::now()) {}
+  /// `chatty`: a line per generation on stdout (not under --quiet, and from rank 0 only).
+  Tuner(const TuneSpec& spec, const PluginHost& host, RunOptions run_options, QueueRunOptions queue, MpiRun* mpi, bool chatty)
+      : spec_(spec), host_(host), options_(std::move(run_options)), queue_(std::move(queue)), mpi_(mpi), chatty_(chatty),
+        start_(Clock::now()) {}
 
   /// The defaults (the base test's values), then the search, then the local finish.
   std::string tune() {
@@ -460,7 +462,7 @@ class Tuner {
     return s.str();
   }
   void say_generation() const {
-    if (queue_.quiet || (mpi_ && mpi_->rank() != 0)) return;
+    if (!chatty_) return;
     std::size_t count = 0;
     for (const Candidate& c : candidates_) count += c.generation == generation_ - 1;
     std::ostringstream s;
@@ -649,6 +651,7 @@ class Tuner {
   RunOptions options_;
   QueueRunOptions queue_;
   MpiRun* mpi_;
+  bool chatty_;
   Clock::time_point start_;
   std::vector<Candidate> candidates_;
   std::map<std::vector<double>, std::size_t> index_;
@@ -744,7 +747,7 @@ int cmd_tune(int argc, char** argv) {
   queue.plots = false;  // per-test plots of hundreds of evaluations: `salsa plot OUT/<test>` draws any of them
   queue.terminal = !world && ::isatty(STDOUT_FILENO);
   stop_may_exit(false);
-  Tuner tuner(spec, host, options, queue, world ? &*world : nullptr);
+  Tuner tuner(spec, host, options, queue, world ? &*world : nullptr, !quiet && root);
   try {
     const std::string why = tuner.tune();
     tuner.validate();
