@@ -594,7 +594,7 @@ class Tuner {
             mine.push_back(c.held_out[v][o]);
             if (v < d.held_out.size() && !d.held_out[v].empty()) diffs.push_back(c.held_out[v][o] - d.held_out[v][o]);
           }
-          s << ": " << obj.name() << " " << obj.aggregate_name() << " " << six(obj.aggregate_of(mine));
+          s << (o ? "; " : ": ") << obj.name() << " " << obj.aggregate_name() << " " << six(obj.aggregate_of(mine));
           if (mine.size() < spec_.validation_worlds) s << " (" << spec_.validation_worlds - mine.size() << " failed)";
           if (id != 0 && !diffs.empty()) {
             double m = 0, ss = 0;
