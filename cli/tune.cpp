@@ -633,9 +633,10 @@ class Tuner {
     p.winner = std::numeric_limits<std::size_t>::max();
     for (const TuneParameter& param : spec_.parameters) p.parameters.push_back({param.key, param.log, {}});
     for (const Candidate& c : candidates_) {
-      if (c.status != Candidate::complete) continue;
+      if (c.status != Candidate::complete && c.status != Candidate::dropped) continue;
       for (std::size_t k = 0; k < c.values.size(); ++k) p.parameters[k].values.push_back(c.values[k]);
       p.scores.push_back(shown(0, c.score[0]));
+      p.dropped.push_back(c.status == Candidate::dropped);
       if (c.id == winner) p.winner = p.scores.size() - 1;
       if (spec_.objectives.size() > 1) {
         p.second_objective = spec_.objectives[1].name();

@@ -72,10 +72,20 @@ void parameter(const fs::path& file, const TunePlot& p, const TunePlot::Paramete
   const auto [y0, y1] = span(p.scores);
   f.x_axis(param.log ? "log10 " + q(param.key) : q(param.key), x0, x1);
   f.y_axis(q(p.objective), y0, y1);
-  f.legend({{LegendEntry::dot, candidate_colour, "candidate (complete)"}, {LegendEntry::dot, best_colour, "best"}});
-  f.begin();
-  for (std::size_t i = 0; i < x.size(); ++i)
-    if (i != p.winner) dot(f, x[i], p.scores[i], candidate_colour);
+  f.legend({{LegendEntry::dot, candidate_colour, "candidate (every tuning world)"},
+            {LegendEntry::ring, candidate_colour, "dropped by racing (estimate)"},
+            {LegendEntry::dot, best_colour, "best"}});
+  QPainter& painter = f.begin();
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (i == p.winner) continue;
+    if (i < p.dropped.size() && p.dropped[i]) {
+      painter.setPen(QPen(candidate_colour, 1.5));
+      painter.setBrush(Qt::NoBrush);
+      painter.drawEllipse(f.at(x[i], p.scores[i]), 4.5, 4.5);
+    } else {
+      dot(f, x[i], p.scores[i], candidate_colour);
+    }
+  }
   if (p.winner < x.size()) dot(f, x[p.winner], p.scores[p.winner], best_colour, 7);
   f.save(file);
 }

@@ -22,7 +22,8 @@ struct TunePlot {
     std::vector<double> values;  ///< one per scored candidate
   };
   std::vector<Parameter> parameters;
-  std::vector<double> scores;  ///< the scored (complete) candidates' first objective
+  std::vector<double> scores;  ///< the scored candidates' first objective (a dropped one's: its estimate)
+  std::vector<bool> dropped;   ///< per scored candidate: dropped by racing (drawn as a ring)
   std::size_t winner = 0;      ///< index into scores
   std::string second_objective;  ///< two objectives or more: the second's name, its scores, the front
   std::vector<double> second;
