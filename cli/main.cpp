@@ -18,6 +18,7 @@ const char* usage = R"(usage: salsa <command> [options]
 commands:
   run FILE...        run tests (a test, a list of tests, or a queue with a sweep) and write their data
   summarize OUT      write OUT/summary.csv (one row per test), comparison and plots from a queue's output folder
+  tune FILE          tune a test's parameters (pagmo2, NLopt; racing, held-out validation): tune.csv, best.json
   validate FILE...   check test, queue and map files without running them
   queue expand FILE  print the tests a queue expands to (count, then one line each)
   plugins            list the plugins found, the folders searched and the files refused
@@ -60,7 +61,8 @@ int main(int argc, char** argv) {
     if (command == "bench") return cmd_bench(argc - 1, argv + 1);
     if (command == "plot") return cmd_plot(argc - 1, argv + 1);
     if (command == "new-plugin") return cmd_new_plugin(argc - 1, argv + 1);
-    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, summarize, validate, queue, plugins, describe, bench, plot, new-plugin)\n";
+    if (command == "tune") return cmd_tune(argc - 1, argv + 1);
+    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, tune, summarize, validate, queue, plugins, describe, bench, plot, new-plugin)\n";
     return 2;
   } catch (const po::error& e) {
     std::cerr << "salsa " << command << ": " << e.what() << " (see 'salsa " << command << " --help')\n";

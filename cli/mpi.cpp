@@ -99,6 +99,8 @@ bool MpiRun::agree(bool ok_on_rank0) {
   return ok == 1;
 }
 
+void MpiRun::barrier() { MPI_Barrier(MPI_COMM_WORLD); }
+
 std::unique_ptr<Dispatch> MpiRun::dispatch(std::size_t tests) {
   if (rank_ == 0) return std::make_unique<RootDispatch>(*this, tests);
   return std::make_unique<RankDispatch>();
@@ -110,6 +112,7 @@ bool mpi_built() { return false; }
 MpiRun::MpiRun() { throw std::logic_error("salsa was built without MPI"); }
 MpiRun::~MpiRun() = default;
 bool MpiRun::agree(bool ok) { return ok; }
+void MpiRun::barrier() {}
 std::unique_ptr<Dispatch> MpiRun::dispatch(std::size_t) { return nullptr; }
 
 #endif

@@ -30,6 +30,8 @@ class MpiRun {
   /// Rank 0's verdict (it checks the output folder) given to every rank; false on every rank when
   /// rank 0 said no.
   bool agree(bool ok_on_rank0);
+  /// Waits until every rank is here (salsa tune: a batch's tests are all done before any rank reads them).
+  void barrier();
   /// Rank 0: hands out 0..tests-1 to itself and the others; other ranks: asks rank 0.
   std::unique_ptr<Dispatch> dispatch(std::size_t tests);
   /// Rank 0, after the run: how many tests failed on the other ranks.

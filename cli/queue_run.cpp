@@ -118,6 +118,7 @@ class Progress {
     const double wall = std::chrono::duration<double>(now - start_).count();
     const double rate = wall > 0 ? simulated / wall : 0;
     std::ostringstream s;
+    s << options_.label;
     const std::size_t width = 20, filled = total_ ? width * (done + failed) / total_ : width;
     s << "[" << std::string(filled, '#') << std::string(width - filled, '-') << "] " << done + failed << "/" << total_ << " tests";
     if (failed) s << ", " << failed << " failed";

@@ -48,6 +48,7 @@ struct QueueRunOptions {
   bool plots = true;          ///< draw each finished test's plots (plots::draw_test_plots)
   bool terminal = false;      ///< progress as a live bar (else one line per finished test)
   std::size_t expected = 0;   ///< tests this process expects to run, for the progress (0: all)
+  std::string label;          ///< shown before the live bar (salsa tune: where the tune stands)
   /// --isolate: runs one test in its own process and returns (wait status, what it wrote on stderr).
   std::function<std::pair<int, std::string>(const TestSpec&)> isolated;
 };

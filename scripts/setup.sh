@@ -9,6 +9,7 @@ packages=(
   nlohmann-json3-dev libtbb-dev libssl-dev
   qt6-base-dev qt6-charts-dev libqt6opengl6-dev libgl-dev
   libopenmpi-dev openmpi-bin
+  libpagmo-dev libnlopt-cxx-dev  # salsa tune's algorithms (pagmo2, NLopt)
   libbenchmark-dev
   clang libclang-rt-14-dev
 )

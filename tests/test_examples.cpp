@@ -43,8 +43,10 @@ class TestExamples : public QObject {
     while (it.hasNext()) files << it.next();
     files.sort();
     for (const QString& f : files)
-      // examples/plugin/'s queue needs the example plugins built: out_of_tree_plugin.sh runs it.
-      if (is_map_file(f) == maps && !QDir(root).relativeFilePath(f).startsWith("plugin/")) QTest::newRow(qPrintable(QDir(root).relativeFilePath(f))) << f;
+      // examples/plugin/'s queue needs the example plugins built: out_of_tree_plugin.sh runs it; tune
+      // files (examples/tune/) are not test files: tune_file_runs runs them.
+      if (const QString rel = QDir(root).relativeFilePath(f); is_map_file(f) == maps && !rel.startsWith("plugin/") && !rel.startsWith("tune/"))
+        QTest::newRow(qPrintable(rel)) << f;
   }
 
  private Q_SLOTS:
@@ -105,6 +107,39 @@ class TestExamples : public QObject {
     QCOMPARE(rows.size(), names.size() + 1);
     for (qsizetype i = 1; i < rows.size(); ++i) QVERIFY2(rows[i].contains(",ok,"), qPrintable(rows[i]));
     if (!big) QVERIFY(QFileInfo(out.path() + "/plots/found_boxplot.png").size() > 0);
+  }
+
+  void tune_file_runs_data() {
+    QTest::addColumn<QString>("file");
+    QDirIterator it(q(source_dir() / "examples" / "tune"), {"*.json"}, QDir::Files);
+    while (it.hasNext()) {
+      const QString f = it.next();
+      QTest::newRow(qPrintable(QFileInfo(f).fileName())) << f;
+    }
+  }
+  void tune_file_runs() {
+    // Shrunk to seconds: 5 s tests, 2 worlds, 8 evaluations, 1 held-out world; the rest as shipped.
+    QFETCH(QString, file);
+    QTemporaryDir out;
+    QJsonObject tune = QJsonDocument::fromJson(read_file(file)).object();
+    QVERIFY(!tune.isEmpty());
+    QJsonObject test = tune["test"].toObject();
+    test["time"] = 5;
+    tune["test"] = test;
+    tune["worlds"] = 2;
+    tune["budget"] = QJsonObject{{"evaluations", 8}};
+    tune["validation"] = QJsonObject{{"worlds", 1}, {"candidates", 1}};
+    tune["racing"] = false;
+    const QString small = out.filePath("tune.json");
+    QVERIFY(write_file(small, QJsonDocument(tune).toJson()));
+    const CliResult r = run_salsa({"tune", small, "--out", out.filePath("results")});
+    QVERIFY2(!r.crashed && r.exit_code == 0, describe(r));
+    QVERIFY2(r.err.trimmed().isEmpty(), describe(r));
+    for (const char* f : {"tune.csv", "candidates.csv", "best.json", "report.txt", "plots/convergence.png"})
+      QVERIFY2(QFileInfo(out.filePath(QString("results/") + f)).size() > 0, f);
+    const QString csv = QString::fromUtf8(read_file(out.filePath("results/tune.csv")));
+    QCOMPARE(csv.count(",tuning,"), 8);  // the budget, spent in full
+    QVERIFY(csv.count(",validation,") >= 1);
   }
 
   void map_file_validates_data() { add_rows(true); }

@@ -1062,6 +1062,14 @@ std::vector<SweptTest> expand_sweep(const fs::path& file, const PluginHost& host
   return out;
 }
 
+std::string set_numbers(const std::string& test_json, const std::vector<std::pair<std::string, double>>& values,
+                        const std::string& where) {
+  json test = json::parse(test_json);
+  const Reader r(where, {});
+  for (const auto& [key, value] : values) place(test, key, r) = as_json(value);
+  return test.dump();
+}
+
 std::vector<TestSpec> load_tests(const fs::path& file, const PluginHost& host) { return load_queue(file, host, {}).tests; }
 
 }  // namespace salsa

@@ -48,6 +48,12 @@ struct SweptTest {
 /// Throws InputError.
 std::vector<SweptTest> expand_sweep(const std::filesystem::path& file, const PluginHost& host);
 
+/// The test object `test_json` (JSON text) with each dotted key set to its number exactly as sweep.set
+/// sets it, for `salsa tune`'s candidates. The values are checked when the test is read. Throws
+/// InputError (naming `where`) where a key cannot lead to a number of the test.
+std::string set_numbers(const std::string& test_json, const std::vector<std::pair<std::string, double>>& values,
+                        const std::string& where);
+
 /// The seed of a test without its own: the same for every behavior facing the same world in the same
 /// repeat, whatever else the queue holds. In [0, 2^53), so that JSON holds it exactly:
 ///   splitmix64(fnv1a64(world_key) ^ splitmix64(queue_seed ^ splitmix64(repeat))) & (2^53 - 1)

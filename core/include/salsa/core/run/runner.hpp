@@ -46,6 +46,13 @@ struct Interrupted : std::runtime_error {
   int signal;
 };
 
+/// The columns of summary.csv and outcome.csv a run of `test` writes, known before it runs: salsa's,
+/// the metrics', then the models' (docs/output-format.md). Throws InputError for a bad metric list.
+struct DataColumns {
+  std::vector<std::string> summary, outcome;
+};
+DataColumns data_columns(const TestSpec& test, const PluginHost& host);
+
 /// Runs one test into `options.out / test.name`, written in a hidden ".partial" folder first and moved
 /// into place only when complete, with timing.json (wall seconds and steps). Throws InputError,
 /// TestFailure, WriteError or Interrupted; after TestFailure and WriteError the .partial folder holds

@@ -1,0 +1,408 @@
+// Reading a tune file: strict JSON, every field checked against what the base test and the plugins
+// declare, before anything runs.
+#include "tune_file.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <variant>
+
+#include "salsa/core/experiments/queue.hpp"
+#include "salsa/core/model/comm.hpp"
+#include "salsa/core/model/drone_config.hpp"
+#include "salsa/core/model/wind.hpp"
+#include "salsa/core/run/runner.hpp"
+#include "strict_json.hpp"
+
+namespace salsa::cli {
+
+namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
+
+namespace {
+
+std::string num(double v) { return Parameter::format(v); }
+std::string show(const json& v) { return strict_json::shown(v); }
+
+/// One-line refusals: "<file>: <field>: <message>".
+struct Refuse {
+  std::string file;
+  [[noreturn]] void operator()(const std::string& field, const std::string& message) const {
+    throw InputError(file + ": " + field + ": " + strict_json::printable(message, 1000));
+  }
+  void only_keys(const json& obj, const std::string& field, std::initializer_list<const char*> allowed) const {
+    std::string list;
+    for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+    if (!obj.is_object()) (*this)(field, show(obj) + " must be an object with: " + list);
+    for (const auto& item : obj.items())
+      if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return item.key() == a; }))
+        (*this)(field.empty() ? item.key() : field + "." + item.key(), "unknown key (allowed: " + list + ")");
+  }
+  double number(const json& v, const std::string& field, double lo, double hi) const {
+    const std::string range = "[" + num(lo) + ", " + num(hi) + "]";
+    if (!v.is_number()) (*this)(field, show(v) + " is not a number (allowed: " + range + ")");
+    const double x = v.get<double>();
+    if (!(x >= lo && x <= hi)) (*this)(field, show(v) + " is out of range (allowed: " + range + ")");
+    return x;
+  }
+  std::uint64_t whole(const json& v, const std::string& field, double lo, double hi) const {
+    const std::string range = "whole number in [" + num(lo) + ", " + num(hi) + "]";
+    if (!v.is_number() || v.get<double>() != std::floor(v.get<double>()))
+      (*this)(field, show(v) + " is not a whole number (allowed: " + range + ")");
+    if (!(v.get<double>() >= lo && v.get<double>() <= hi)) (*this)(field, show(v) + " is out of range (allowed: " + range + ")");
+    return static_cast<std::uint64_t>(v.get<double>());
+  }
+  std::string string(const json& v, const std::string& field, const std::string& allowed) const {
+    if (!v.is_string() || v.get<std::string>().empty()) (*this)(field, show(v) + " must be a non-empty string (allowed: " + allowed + ")");
+    return v.get<std::string>();
+  }
+};
+
+/// A tunable number of the test: its declaration and the base test's value.
+struct Declared {
+  Parameter spec;
+  double value = 0;
+};
+
+std::string names_of(const Parameters& schema) {
+  std::string out;
+  for (const Parameter& p : schema) out += (out.empty() ? "" : ", ") + p.name;
+  return out.empty() ? "none" : out;
+}
+
+/// What `key` names in `test`, or why it names no tunable number. The keys are sweep.set's (and
+/// timed changes'), plus map.params.<p>, targets.count and targets.params.<p>.
+std::variant<Declared, std::string> declared(const TestSpec& test, const std::string& key, const PluginHost& host) {
+  auto in_schema = [&](const Parameters& schema, std::string_view name, const ParameterValues& values,
+                       const std::string& owner) -> std::variant<Declared, std::string> {
+    for (const Parameter& p : schema)
+      if (p.name == name) return Declared{p, values.has(p.name) ? values.get(p.name) : p.value};
+    return "unknown parameter of " + owner + " (declared: " + names_of(schema) + ")";
+  };
+  std::string_view rest = key;
+  const GroupSpec* group = test.groups.size() == 1 ? &test.groups[0] : nullptr;
+  if (rest.starts_with("groups.")) {
+    rest.remove_prefix(7);
+    const std::string name(rest.substr(0, rest.find('.')));
+    const int g = test.group_index(name);
+    if (g < 0) return "unknown group '" + name + "'";
+    group = &test.groups[static_cast<std::size_t>(g)];
+    rest.remove_prefix(std::min(rest.size(), name.size() + 1));
+  }
+  const bool group_key = rest == "drones" || rest.starts_with("behavior.params.") || rest.starts_with("drone.");
+  if (group_key && !group) return "the test has " + std::to_string(test.groups.size()) + " groups: say whose, groups.<name>." + std::string(rest);
+  if (rest.starts_with("behavior.params."))
+    return in_schema(host.behavior(group->behavior.name).factory.parameters, rest.substr(16), group->behavior.params,
+                     "behavior '" + group->behavior.name + "'");
+  if (rest == "drones") return Declared{{"drones", 0, 1, 1e6, "", "", 1}, static_cast<double>(group->drones)};
+  if (rest.starts_with("drone.")) {
+    const DroneProperty* p = find_drone_property(rest.substr(6));
+    if (!p) return "unknown drone property (allowed: " + drone_property_names() + ")";
+    return Declared{p->spec, p->get(group->drone)};
+  }
+  if (key != rest) return "unknown key (allowed: groups.<name>.drones, groups.<name>.drone.<property>, groups.<name>.behavior.params.<p>)";
+  if (rest.starts_with("comm.")) {
+    const CommField* f = find_comm_field(rest.substr(5));
+    if (!f) return "unknown comm field (allowed: " + comm_field_names() + ")";
+    if (!test.comm.on) return "the test has no \"comm\" (allowed: comm.<field> in a test with a \"comm\" object)";
+    return Declared{f->spec, f->get(test.comm)};
+  }
+  if (rest.starts_with("wind.field.params.")) {
+    if (test.wind_field.name.empty()) return "the test has no wind field";
+    return in_schema(host.wind(test.wind_field.name).factory.parameters, rest.substr(18), test.wind_field.params,
+                     "wind '" + test.wind_field.name + "'");
+  }
+  if (rest.starts_with("wind.")) {
+    const WindProperty* p = find_wind_property(rest.substr(5));
+    if (!p) return "unknown wind key (allowed: wind." + wind_property_names() + ", wind.field.params.<p>)";
+    return Declared{p->spec, p->get(test.wind)};
+  }
+  if (rest == "failures.drone_mtbf") return Declared{{"drone_mtbf", 0, 0, 1e9, "s", "", 0}, test.failures.drone_mtbf};
+  if (rest == "failures.camera_mtbf") return Declared{{"camera_mtbf", 0, 0, 1e9, "s", "", 0}, test.failures.camera_mtbf};
+  if (rest.starts_with("map.params."))
+    return in_schema(host.map(test.map.name).factory.parameters, rest.substr(11), test.map.params, "map '" + test.map.name + "'");
+  if (rest == "targets.count") return Declared{{"count", 0, 0, 1e7, "", "", 1}, static_cast<double>(test.targets)};
+  if (rest.starts_with("targets.params."))
+    return in_schema(host.target_kind(test.target.name).factory.parameters, rest.substr(15), test.target.params,
+                     "target kind '" + test.target.name + "'");
+  return "not a number of the test that can be tuned (allowed: behavior.params.<p>, drones, drone.<property>, "
+         "groups.<name>.<any of those>, comm.<field>, wind.<property>, wind.field.params.<p>, failures.drone_mtbf, "
+         "failures.camera_mtbf, map.params.<p>, targets.count, targets.params.<p>)";
+}
+
+/// The rule for a scale nobody chose: a range of positive numbers spanning a factor of 100 or more is
+/// searched on a log scale (0.1 to 100 s: each decade as likely as the next), others linearly.
+bool log_by_default(const Parameter& p) { return p.min > 0 && p.max / p.min >= 100 && !p.is_integer(); }
+
+Objective read_objective(const json& v, const std::string& field, const Refuse& refuse, const DataColumns& columns, const TestSpec& base) {
+  refuse.only_keys(v, field, {"column", "goal", "at", "aggregate"});
+  Objective o;
+  if (!v.contains("column")) refuse(field + ".column", "missing (a column of outcome.csv or summary.csv, e.g. \"targets_found\")");
+  o.column = refuse.string(v["column"], field + ".column", "a column of outcome.csv or summary.csv");
+  if (v.contains("goal")) {
+    const std::string goal = refuse.string(v["goal"], field + ".goal", "max, min");
+    if (goal != "max" && goal != "min") refuse(field + ".goal", show(v["goal"]) + " is not a goal (allowed: max, min)");
+    o.maximise = goal == "max";
+  }
+  if (v.contains("at")) o.at = refuse.number(v["at"], field + ".at", 0, base.time);
+  if (v.contains("aggregate")) {
+    const json& a = v["aggregate"];
+    if (a == "mean") o.aggregate = Objective::Aggregate::mean;
+    else if (a == "median") o.aggregate = Objective::Aggregate::median;
+    else if (a.is_object() && a.contains("quantile") && a.size() == 1) {
+      o.aggregate = Objective::Aggregate::quantile;
+      o.quantile = refuse.number(a["quantile"], field + ".aggregate.quantile", 0, 1);
+    } else {
+      refuse(field + ".aggregate", show(a) + " is not an aggregate (allowed: \"mean\", \"median\", {\"quantile\": q} with q in [0, 1])");
+    }
+  }
+  auto has = [&](const std::vector<std::string>& list) { return std::find(list.begin(), list.end(), o.column) != list.end(); };
+  auto listed = [](const std::vector<std::string>& list) {
+    std::string out;
+    for (const std::string& c : list) out += (out.empty() ? "" : ", ") + c;
+    return out;
+  };
+  if (o.at) {
+    if (!has(columns.summary))
+      refuse(field + ".column", show(v["column"]) + " is not a column of summary.csv, which \"at\" reads (allowed: " + listed(columns.summary) + ")");
+    o.from_summary = true;
+  } else if (!has(columns.outcome)) {
+    if (!has(columns.summary) || o.column == "time")
+      refuse(field + ".column", show(v["column"]) + " is not a column of outcome.csv or summary.csv for this test (allowed: " +
+                                    listed(columns.outcome) + "; or of summary.csv: " + listed(columns.summary) + ")");
+    o.from_summary = true;
+  }
+  return o;
+}
+
+}  // namespace
+
+std::string Objective::name() const { return at ? column + "@" + num(*at) : column; }
+
+std::string Objective::aggregate_name() const {
+  switch (aggregate) {
+    case Aggregate::mean: return "mean";
+    case Aggregate::median: return "median";
+    case Aggregate::quantile: return "quantile " + num(quantile);
+  }
+  return "";
+}
+
+double Objective::aggregate_of(std::vector<double> v) const {
+  if (v.empty()) return std::nan("");
+  if (aggregate == Aggregate::mean) {
+    double sum = 0;
+    for (const double x : v) sum += x;
+    return sum / static_cast<double>(v.size());
+  }
+  std::sort(v.begin(), v.end());
+  const double where = (aggregate == Aggregate::median ? 0.5 : quantile) * static_cast<double>(v.size() - 1);
+  const auto below = static_cast<std::size_t>(std::floor(where));
+  const std::size_t above = std::min(below + 1, v.size() - 1);
+  return v[below] + (where - static_cast<double>(below)) * (v[above] - v[below]);
+}
+
+const std::vector<std::string>& tune_algorithms() {
+  static const std::vector<std::string> names{"random", "lhs", "grid", "cmaes", "xnes", "pso", "de", "nsga2", "bobyqa", "neldermead"};
+  return names;
+}
+
+TuneSpec load_tune(const fs::path& file, const PluginHost& host, std::optional<std::uint64_t> seed) {
+  TuneSpec spec;
+  spec.source = strict_json::printable(file.string(), 200);
+  const Refuse refuse{spec.source};
+  json j;
+  try {
+    j = strict_json::read_file<json>(file, "a tune file {\"test\", \"parameters\", \"objective\", \"algorithm\", \"budget\", ...}");
+  } catch (const strict_json::Error& e) {
+    throw InputError(e.what());
+  }
+  refuse.only_keys(j, "", {"test", "parameters", "objective", "objectives", "algorithm", "population", "local", "seed", "budget",
+                           "worlds", "validation", "racing"});
+
+  // ---- The base test: an object, or a test file beside the tune file.
+  spec.base_dir = file.parent_path();
+  if (!j.contains("test")) refuse("test", "missing (the test to tune: a test object, or a test file's path)");
+  json test = j["test"];
+  std::string test_where = spec.source + ": test";
+  if (test.is_string()) {
+    const fs::path path = spec.base_dir / refuse.string(test, "test", "a test file's path");
+    try {
+      test = strict_json::read_file<json>(path, "a test object");
+    } catch (const strict_json::Error& e) {
+      throw InputError(spec.source + ": test: " + e.what());
+    }
+    spec.base_dir = path.parent_path();
+    test_where = strict_json::printable(path.string(), 200);
+  }
+  if (!test.is_object() || test.contains("tests") || test.contains("sweep"))
+    refuse("test", "must be one test object (a queue or a list of tests cannot be tuned; tune one test, its worlds are the repeats)");
+  if (test.contains("seed")) refuse("test.seed", show(test["seed"]) + " would give every world the same seed (allowed: no seed; the tune's \"seed\" pairs the worlds)");
+  if (test.contains("repeat")) refuse("test.repeat", "given (allowed: none; the tune's worlds are the repeats)");
+  if (!test.contains("name")) test["name"] = file.stem().string();
+  spec.test_json = test.dump();
+  spec.base = parse_test(spec.test_json, test_where, host, spec.base_dir);
+
+  // ---- Parameters: the given keys with their ranges, or every declared parameter of the behavior.
+  json params = j.value("parameters", json());
+  if (params.is_null()) {
+    if (spec.base.groups.size() != 1) refuse("parameters", "missing (the test has groups: name the parameters to tune, e.g. groups.<name>.behavior.params.<p>)");
+    params = json::object();
+    for (const Parameter& p : host.behavior(spec.base.groups[0].behavior.name).factory.parameters)
+      params["behavior.params." + p.name] = json::object();
+    if (params.empty()) refuse("parameters", "missing, and behavior '" + spec.base.groups[0].behavior.name + "' declares no parameters");
+  }
+  if (!params.is_object() || params.empty())
+    refuse("parameters", show(params) + " must be an object of dotted keys, e.g. {\"behavior.params.cohesion_weight\": {\"min\": 0, \"max\": 5}}");
+  for (const auto& item : params.items()) {
+    const std::string& key = item.key();
+    const std::string field = "parameters." + strict_json::printable(key);
+    const auto found = declared(spec.base, key, host);
+    if (const auto* why = std::get_if<std::string>(&found)) refuse(field, *why);
+    const Declared& d = std::get<Declared>(found);
+    refuse.only_keys(item.value(), field, {"min", "max", "log"});
+    TuneParameter p{key, d.spec.min, d.spec.max, d.spec.is_integer(), log_by_default(d.spec), d.value, d.spec.unit};
+    const std::string declared_range = d.spec.range();
+    for (const char* end : {"min", "max"}) {
+      if (!item.value().contains(end)) continue;
+      const json& v = item.value()[end];
+      if (!v.is_number()) refuse(field + "." + end, show(v) + " is not a number (allowed: " + declared_range + ")");
+      if (const std::string why = d.spec.check(v.get<double>()); !why.empty())
+        refuse(field + "." + end, show(v) + " is outside the declared range (allowed: " + declared_range + ")");
+      (std::string(end) == "min" ? p.min : p.max) = v.get<double>();
+    }
+    if (!(p.min < p.max))
+      refuse(field, "[" + num(p.min) + ", " + num(p.max) + "] is an empty range (allowed: min < max within " + declared_range + ")");
+    if (item.value().contains("log")) {
+      if (!item.value()["log"].is_boolean()) refuse(field + ".log", show(item.value()["log"]) + " is not true or false");
+      p.log = item.value()["log"].get<bool>();
+      if (p.log && !(p.min > 0)) refuse(field + ".log", "true needs a range of positive numbers, and min is " + num(p.min) + " (allowed: min > 0)");
+    }
+    if (spec.parameters.size() == 64) refuse("parameters", "more than 64 parameters (allowed: at most 64)");
+    spec.parameters.push_back(p);
+  }
+
+  // ---- Objectives: one, or a list (two or more: a Pareto front).
+  if (j.contains("objective") == j.contains("objectives"))
+    refuse("objective", j.contains("objective") ? "given with \"objectives\" (allowed: one or the other)"
+                                                : "missing (e.g. {\"column\": \"targets_found\", \"goal\": \"max\"})");
+  const DataColumns columns = data_columns(spec.base, host);
+  if (j.contains("objective")) {
+    spec.objectives.push_back(read_objective(j["objective"], "objective", refuse, columns, spec.base));
+  } else {
+    const json& list = j["objectives"];
+    if (!list.is_array() || list.empty() || list.size() > 8)
+      refuse("objectives", show(list) + " must be a list of 1 to 8 objectives");
+    for (std::size_t i = 0; i < list.size(); ++i)
+      spec.objectives.push_back(read_objective(list[i], "objectives[" + std::to_string(i) + "]", refuse, columns, spec.base));
+  }
+  const bool several = spec.objectives.size() > 1;
+
+  // ---- The algorithm and its settings.
+  auto algorithm_of = [&](const json& v, const std::string& field) {
+    std::string allowed;
+    for (const std::string& a : tune_algorithms()) allowed += (allowed.empty() ? "" : ", ") + a;
+    const std::string name = refuse.string(v, field, allowed);
+    if (std::find(tune_algorithms().begin(), tune_algorithms().end(), name) == tune_algorithms().end())
+      refuse(field, show(v) + " is not an algorithm (allowed: " + allowed + ")");
+    return name;
+  };
+  spec.algorithm = j.contains("algorithm") ? algorithm_of(j["algorithm"], "algorithm") : several ? "nsga2" : "cmaes";
+  if (several && spec.algorithm != "nsga2" && spec.algorithm != "random" && spec.algorithm != "lhs" && spec.algorithm != "grid")
+    refuse("algorithm", "\"" + spec.algorithm + "\" optimises one objective, and the file has " + std::to_string(spec.objectives.size()) +
+                            " (allowed with several: nsga2, random, lhs, grid)");
+  if (!several && spec.algorithm == "nsga2") refuse("algorithm", "\"nsga2\" needs two or more objectives (allowed with one: cmaes, xnes, pso, de, bobyqa, neldermead, random, lhs, grid)");
+  if (j.contains("population")) {
+    spec.population = refuse.whole(j["population"], "population", 5, 10000);
+    if (spec.algorithm == "nsga2" && spec.population % 4 != 0)
+      refuse("population", show(j["population"]) + " is not a multiple of 4 (allowed for nsga2: 8, 12, 16, ...)");
+  }
+  if (j.contains("local")) {
+    const json& l = j["local"];
+    refuse.only_keys(l, "local", {"algorithm", "evaluations"});
+    if (several) refuse("local", "a local finish optimises one objective, and the file has " + std::to_string(spec.objectives.size()));
+    if (!l.contains("algorithm") || !l.contains("evaluations")) refuse("local", "needs \"algorithm\" (bobyqa, neldermead) and \"evaluations\"");
+    spec.local = algorithm_of(l["algorithm"], "local.algorithm");
+    if (spec.local != "bobyqa" && spec.local != "neldermead") refuse("local.algorithm", show(l["algorithm"]) + " is not a local method (allowed: bobyqa, neldermead)");
+    spec.local_evaluations = refuse.whole(l["evaluations"], "local.evaluations", 1, 1e9);
+  }
+  if (j.contains("seed")) spec.seed = refuse.whole(j["seed"], "seed", 0, 9007199254740992.0);
+  if (seed) spec.seed = *seed;
+
+  // ---- Budget, worlds, validation, racing.
+  if (!j.contains("budget")) refuse("budget", "missing (e.g. {\"evaluations\": 400} or {\"seconds\": 3600}, or both)");
+  refuse.only_keys(j["budget"], "budget", {"evaluations", "seconds"});
+  const json& budget = j["budget"];
+  if (budget.empty()) refuse("budget", "{} gives no budget (allowed: \"evaluations\", \"seconds\" or both)");
+  if (budget.contains("evaluations")) spec.evaluations = refuse.whole(budget["evaluations"], "budget.evaluations", 1, 1e9);
+  if (budget.contains("seconds")) {
+    spec.seconds = refuse.number(budget["seconds"], "budget.seconds", 0, 1e9);
+    if (spec.seconds == 0) refuse("budget.seconds", "0 is no budget (allowed: a number of seconds > 0)");
+  }
+  if (j.contains("worlds")) spec.worlds = refuse.whole(j["worlds"], "worlds", 1, 100000);
+  if (j.contains("validation")) {
+    refuse.only_keys(j["validation"], "validation", {"worlds", "candidates"});
+    const json& v = j["validation"];
+    if (v.contains("worlds")) spec.validation_worlds = refuse.whole(v["worlds"], "validation.worlds", 0, 100000);
+    if (v.contains("candidates")) spec.validation_candidates = refuse.whole(v["candidates"], "validation.candidates", 1, 100);
+  }
+  spec.racing.on = !several && spec.worlds > 1;
+  if (j.contains("racing")) {
+    const json& r = j["racing"];
+    if (r.is_boolean()) {
+      spec.racing.on = r.get<bool>();
+    } else {
+      refuse.only_keys(r, "racing", {"level", "first_test"});
+      spec.racing.on = true;
+      if (r.contains("level")) spec.racing.level = refuse.number(r["level"], "racing.level", 1e-6, 0.5);
+      if (r.contains("first_test")) spec.racing.first_test = refuse.whole(r["first_test"], "racing.first_test", 2, 100000);
+    }
+    if (spec.racing.on && several) refuse("racing", "racing compares one objective, and the file has " + std::to_string(spec.objectives.size()) + " (allowed: false)");
+    if (spec.racing.on && spec.worlds < 2) refuse("racing", "racing needs 2 or more worlds, and \"worlds\" is " + std::to_string(spec.worlds));
+  }
+  spec.racing.first_test = std::min(spec.racing.first_test, spec.worlds);
+  if (spec.evaluations == 0) {
+    // Without a count of evaluations these would never end, or know their size.
+    if (spec.algorithm == "lhs" || spec.algorithm == "grid")
+      refuse("budget", "\"" + spec.algorithm + "\" sizes its design from budget.evaluations, and there is none (allowed: give \"evaluations\")");
+    if (!spec.local.empty()) refuse("budget", "a local finish takes its share of budget.evaluations, and there is none (allowed: give \"evaluations\")");
+  }
+  const std::size_t smallest = spec.racing.on ? spec.racing.first_test : spec.worlds;
+  if (spec.evaluations > 0 && spec.evaluations < smallest + spec.local_evaluations)
+    refuse("budget.evaluations", std::to_string(spec.evaluations) + " cannot run one candidate (allowed: at least " +
+                                     std::to_string(smallest + spec.local_evaluations) + ": " + std::to_string(smallest) + " worlds" +
+                                     (spec.local_evaluations ? " plus local.evaluations" : "") + ")");
+
+  // Every candidate must make a test the reader accepts: the defaults, and each range's ends.
+  std::vector<double> values;
+  for (const TuneParameter& p : spec.parameters) values.push_back(p.base);
+  candidate_test(spec, values, "check", 0, host);
+  for (std::size_t k = 0; k < spec.parameters.size(); ++k)
+    for (const double end : {spec.parameters[k].min, spec.parameters[k].max}) {
+      std::vector<double> v = values;
+      v[k] = end;
+      candidate_test(spec, v, "check", 0, host);
+    }
+
+  json canonical = j;
+  canonical["test"] = json::parse(spec.test_json);
+  canonical["seed"] = spec.seed;
+  spec.canonical = canonical.dump(2);
+  return spec;
+}
+
+TestSpec candidate_test(const TuneSpec& spec, const std::vector<double>& values, const std::string& name, std::size_t world,
+                        const PluginHost& host) {
+  std::vector<std::pair<std::string, double>> set;
+  for (std::size_t k = 0; k < spec.parameters.size(); ++k) set.emplace_back(spec.parameters[k].key, values[k]);
+  json test = json::parse(set_numbers(spec.test_json, set, spec.source + ": parameters"));
+  test["name"] = name;
+  TestSpec t = parse_test(test.dump(), spec.source + ": test (" + name + ")", host, spec.base_dir);
+  t.repeat = world;
+  t.seed = paired_seed(spec.seed, world, world_key(t));
+  return t;
+}
+
+}  // namespace salsa::cli

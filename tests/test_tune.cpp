@@ -1,0 +1,316 @@
+// salsa tune through the CLI, on the test_bowl behavior (tests/plugins/tune_bowl.cpp): its mean speed
+// is a known smooth function of a, b and c plus seed noise, with its optimum 8 at a = 6, b = 1, c = 8.
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QtTest>
+
+#include <signal.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "common.hpp"
+
+using namespace salsa_test;
+
+namespace {
+
+QString bowl_dir() { return q(test_plugins_dir() / "tune-bowl"); }
+
+/// A tune of test_bowl's a and b (c at its optimum, 8), or of a, b and c (from c's default, 15): 5
+/// drones spread over an empty map (they never meet) flying 1 s, mean_speed maximised.
+QJsonObject bowl_tune(const QString& algorithm, int evaluations, int worlds = 2, bool with_c = false) {
+  QJsonObject behavior{{"name", "test_bowl"}};
+  if (!with_c) behavior["params"] = QJsonObject{{"c", 8}};
+  QJsonObject test{{"name", "bowl"},
+                   {"behavior", behavior},
+                   {"drones", 5},
+                   {"spawn", QJsonObject{{"mode", "uniform"}}},
+                   {"map", QJsonObject{{"name", "empty"}, {"params", QJsonObject{{"size", 1000}}}}},
+                   {"time", 1},
+                   {"dt", 0.1},
+                   {"log_interval", 0.5},
+                   {"metrics", QJsonArray{}}};
+  QJsonObject params{{"behavior.params.a", QJsonObject{}}, {"behavior.params.b", QJsonObject{}}};
+  if (with_c) params["behavior.params.c"] = QJsonObject{};
+  return QJsonObject{{"test", test},
+                     {"parameters", params},
+                     {"objective", QJsonObject{{"column", "mean_speed"}, {"goal", "max"}}},
+                     {"algorithm", algorithm},
+                     {"seed", 3},
+                     {"budget", QJsonObject{{"evaluations", evaluations}}},
+                     {"worlds", worlds},
+                     {"validation", QJsonObject{{"worlds", 3}, {"candidates", 2}}},
+                     {"racing", false}};
+}
+
+QString write_tune(const QTemporaryDir& dir, const QJsonObject& tune, const QString& name = "bowl-tune.json") {
+  const QString file = dir.filePath(name);
+  write_file(file, QJsonDocument(tune).toJson());
+  return file;
+}
+
+CliResult tune(const QString& file, const QString& out, QStringList more = {}) {
+  return run_salsa(QStringList{"tune", file, "--out", out, "--plugin-dir", bowl_dir(), "--no-plots"} + more);
+}
+
+/// A CSV file as rows of column → text.
+QList<QMap<QString, QString>> csv_rows(const QString& file) {
+  const QStringList lines = non_empty_lines(QString::fromUtf8(read_file(file)));
+  QList<QMap<QString, QString>> rows;
+  if (lines.isEmpty()) return rows;
+  const QStringList header = lines[0].split(',');
+  for (qsizetype i = 1; i < lines.size(); ++i) {
+    const QStringList cells = lines[i].split(',');
+    QMap<QString, QString> row;
+    for (qsizetype k = 0; k < header.size(); ++k) row[header[k]] = cells.value(k);
+    rows << row;
+  }
+  return rows;
+}
+
+/// The winner's row of candidates.csv: the complete candidate with the best mean_speed.
+QMap<QString, QString> winner(const QString& out) {
+  QMap<QString, QString> best;
+  for (const auto& row : csv_rows(out + "/candidates.csv"))
+    if (row["status"] == "complete" && (best.isEmpty() || row["mean_speed"].toDouble() > best["mean_speed"].toDouble())) best = row;
+  return best;
+}
+
+}  // namespace
+
+class TestTune : public QObject {
+  Q_OBJECT
+
+ private Q_SLOTS:
+  void algorithm_finds_the_optimum_data() {
+    QTest::addColumn<QString>("algorithm");
+    QTest::addColumn<int>("evaluations");
+    for (const char* a : {"cmaes", "xnes", "pso", "de", "bobyqa", "neldermead", "random", "lhs", "grid"})
+      QTest::newRow(a) << a << 100;
+  }
+  void algorithm_finds_the_optimum() {
+    QFETCH(QString, algorithm);
+    QFETCH(int, evaluations);
+    QTemporaryDir dir;
+    const QString out = dir.filePath("out");
+    const CliResult r = tune(write_tune(dir, bowl_tune(algorithm, evaluations)), out, {"--jobs", "2"});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const auto best = winner(out);
+    // The optimum is 8 (a = 6, b = 1); within 0.5 of it means |a − 6| < 1.6 and |log10 b| < 0.58.
+    QVERIFY2(best["mean_speed"].toDouble() > 7.5, describe(r) + "\nbest: " + best["behavior.params.a"].toUtf8() + " " +
+                                                        best["behavior.params.b"].toUtf8() + " " + best["mean_speed"].toUtf8());
+    int evaluations_run = 0;
+    for (const auto& row : csv_rows(out + "/tune.csv")) evaluations_run += row["phase"] == "tuning";
+    QVERIFY2(evaluations_run <= evaluations, describe(r));
+    QVERIFY2(r.out.contains("validation on 3 held-out worlds"), describe(r));
+  }
+
+  void whole_numbers_and_log_scale() {
+    // c is a whole number; b's declared range [0.01, 100] spans four decades, so it is searched on a
+    // log scale: random points fall below 1 as often as above.
+    QTemporaryDir dir;
+    const QString out = dir.filePath("out");
+    const CliResult r = tune(write_tune(dir, bowl_tune("random", 120, 2, true)), out);
+    QVERIFY2(r.exit_code == 0, describe(r));
+    int below = 0, above = 0;
+    for (const auto& row : csv_rows(out + "/candidates.csv")) {
+      const double c = row["behavior.params.c"].toDouble();
+      QCOMPARE(c, std::round(c));
+      (row["behavior.params.b"].toDouble() < 1 ? below : above)++;
+    }
+    QVERIFY2(below >= 15 && above >= 15, qPrintable(QString("%1 below 1, %2 above").arg(below).arg(above)));
+  }
+
+  void cmaes_three_parameters() {
+    QTemporaryDir dir;
+    const QString out = dir.filePath("out");
+    const CliResult r = tune(write_tune(dir, bowl_tune("cmaes", 300, 2, true)), out);
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const auto best = winner(out);
+    QVERIFY2(std::fabs(best["behavior.params.c"].toDouble() - 8) <= 3, describe(r));
+    QVERIFY2(best["mean_speed"].toDouble() > 7.5, describe(r));
+  }
+
+  void racing_drops_a_clearly_worse_candidate() {
+    QTemporaryDir dir;
+    const QString out = dir.filePath("out");
+    QJsonObject t = bowl_tune("random", 200, 8);
+    t["racing"] = QJsonObject{{"level", 0.05}, {"first_test", 3}};
+    const CliResult r = tune(write_tune(dir, t), out);
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const auto rows = csv_rows(out + "/candidates.csv");
+    const double best = winner(out)["mean_speed"].toDouble();
+    int dropped = 0;
+    for (const auto& row : rows) {
+      if (row["status"] != "dropped") continue;
+      ++dropped;
+      // Dropped after fewer worlds than a complete candidate runs, and worse than the best.
+      QVERIFY2(row["worlds"].toInt() < 8, qPrintable(row["candidate"]));
+      QVERIFY2(row["mean_speed"].toDouble() < best, qPrintable(row["candidate"]));
+    }
+    QVERIFY2(dropped >= 5, describe(r));
+    // The defaults (mean speed about 0.5, the optimum 8) are clearly worse than the best: a candidate
+    // as bad as them never runs all eight worlds once a good one is known.
+    for (const auto& row : rows)
+      if (row["candidate"] != "0" && row["status"] == "complete") QVERIFY2(row["mean_speed"].toDouble() > 1, qPrintable(row["candidate"]));
+    QVERIFY2(r.out.contains("dropped by racing (paired t-test, one-sided level 0.05"), describe(r));
+  }
+
+  void validation_worlds_are_disjoint_from_tuning_worlds() {
+    QTemporaryDir dir;
+    const QString out = dir.filePath("out");
+    const CliResult r = tune(write_tune(dir, bowl_tune("lhs", 40, 4)), out);
+    QVERIFY2(r.exit_code == 0, describe(r));
+    std::set<QString> tuning_seeds, validation_seeds;
+    std::set<int> tuning_worlds, validation_worlds;
+    std::map<QString, std::set<QString>> seeds_per_world;
+    int validation_rows = 0;
+    for (const auto& row : csv_rows(out + "/tune.csv")) {
+      const bool v = row["phase"] == "validation";
+      (v ? validation_seeds : tuning_seeds).insert(row["seed"]);
+      (v ? validation_worlds : tuning_worlds).insert(row["world"].toInt());
+      seeds_per_world[row["world"]].insert(row["seed"]);
+      validation_rows += v;
+    }
+    QCOMPARE(tuning_worlds, (std::set<int>{0, 1, 2, 3}));
+    QCOMPARE(validation_worlds, (std::set<int>{4, 5, 6}));
+    for (const QString& s : validation_seeds) QVERIFY2(!tuning_seeds.count(s), qPrintable(s));
+    // Fair: every candidate faces the same seed on the same world.
+    for (const auto& [world, seeds] : seeds_per_world) QVERIFY2(seeds.size() == 1, qPrintable(world));
+    QCOMPARE(validation_rows, 3 * 3);  // the best two and the defaults, three worlds each
+  }
+
+  void jobs_1_and_2_give_the_same_tune() {
+    QTemporaryDir dir;
+    const QString file = write_tune(dir, bowl_tune("cmaes", 60));
+    const CliResult one = tune(file, dir.filePath("one"), {"--jobs", "1"});
+    const CliResult two = tune(file, dir.filePath("two"), {"--jobs", "2"});
+    QVERIFY2(one.exit_code == 0 && two.exit_code == 0, describe(one) + describe(two));
+    for (const char* f : {"tune.csv", "candidates.csv", "best.json"})
+      QVERIFY2(read_file(dir.filePath(QString("one/") + f)) == read_file(dir.filePath(QString("two/") + f)), f);
+    QVERIFY(!read_file(dir.filePath("one/tune.csv")).isEmpty());
+  }
+
+  void resume_after_sigkill_gives_the_same_tune() {
+    QTemporaryDir dir;
+    QJsonObject t = bowl_tune("cmaes", 120);
+    t["racing"] = QJsonObject{{"first_test", 2}};
+    t["worlds"] = 4;
+    const QString file = write_tune(dir, t);
+    const CliResult whole = tune(file, dir.filePath("whole"), {"--jobs", "2"});
+    QVERIFY2(whole.exit_code == 0, describe(whole));
+
+    // The same tune killed (SIGKILL: no chance to clean up) once some of its tests are done.
+    const QString out = dir.filePath("killed");
+    QProcess p;
+    QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+    env.remove("SALSA_PLUGIN_PATH");
+    p.setProcessEnvironment(env);
+    p.start(salsa_executable(), {"tune", file, "--out", out, "--plugin-dir", bowl_dir(), "--no-plots", "--jobs", "2"});
+    QVERIFY(p.waitForStarted());
+    QElapsedTimer timer;
+    timer.start();
+    while (QDir(out).entryList({"c*_w*"}, QDir::Dirs).size() < 30 && timer.elapsed() < 60000 && p.state() == QProcess::Running)
+      QTest::qWait(5);
+    QVERIFY2(p.state() == QProcess::Running, "the tune ended before it could be killed");
+    ::kill(static_cast<pid_t>(p.processId()), SIGKILL);
+    p.waitForFinished();
+    QVERIFY(!QFile::exists(out + "/tune.csv"));
+
+    const CliResult resumed = tune(file, out, {"--jobs", "2", "--resume"});
+    QVERIFY2(resumed.exit_code == 0, describe(resumed));
+    for (const char* f : {"tune.csv", "candidates.csv", "best.json"})
+      QVERIFY2(read_file(dir.filePath(QString("whole/") + f)) == read_file(out + "/" + f), f);
+    // Without --resume the folder is refused, naming it.
+    const CliResult again = tune(file, out);
+    QCOMPARE(again.exit_code, 2);
+    QVERIFY2(again.err.contains("--resume"), describe(again));
+  }
+
+  void best_json_replays_to_its_score() {
+    QTemporaryDir dir;
+    const QString out = dir.filePath("out");
+    const CliResult r = tune(write_tune(dir, bowl_tune("cmaes", 40, 3)), out);
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const CliResult replay = run_salsa({"run", out + "/best.json", "--out", dir.filePath("replay"), "--plugin-dir", bowl_dir(), "--no-plots"});
+    QVERIFY2(replay.exit_code == 0, describe(replay));
+    double sum = 0;
+    for (int w = 0; w < 3; ++w) {
+      const auto rows = csv_rows(dir.filePath(QString("replay/best_r%1/summary.csv").arg(w)));
+      QVERIFY(!rows.isEmpty());
+      sum += rows.last()["mean_speed"].toDouble();
+    }
+    const double recorded = winner(out)["mean_speed"].toDouble();
+    QVERIFY2(std::fabs(sum / 3 - recorded) <= 1e-5 * std::max(1.0, std::fabs(recorded)),
+             qPrintable(QString("replayed %1, recorded %2").arg(sum / 3).arg(recorded)));
+  }
+
+  void a_failing_candidate_is_scored_worst_and_tuning_goes_on() {
+    QTemporaryDir dir;
+    const QString out = dir.filePath("out");
+    QJsonObject t = bowl_tune("random", 80);
+    QJsonObject test = t["test"].toObject();
+    test["behavior"] = QJsonObject{{"name", "test_bowl"}, {"params", QJsonObject{{"c", 8}, {"fail_above", 7}}}};
+    t["test"] = test;
+    const CliResult r = tune(write_tune(dir, t), out);
+    QVERIFY2(r.exit_code == 0, describe(r));
+    int failed_rows = 0, failed_candidates = 0;
+    for (const auto& row : csv_rows(out + "/tune.csv")) failed_rows += row["status"] == "failed";
+    for (const auto& row : csv_rows(out + "/candidates.csv")) {
+      if (row["status"] != "failed") continue;
+      ++failed_candidates;
+      QVERIFY(row["behavior.params.a"].toDouble() > 7);
+    }
+    QVERIFY2(failed_rows > 0 && failed_candidates > 0, describe(r));
+    QVERIFY(winner(out)["behavior.params.a"].toDouble() <= 7);
+  }
+
+  void two_objectives_give_a_pareto_front() {
+    QTemporaryDir dir;
+    const QString out = dir.filePath("out");
+    QJsonObject t = bowl_tune("nsga2", 96);
+    t.remove("objective");
+    t["objectives"] = QJsonArray{QJsonObject{{"column", "mean_speed"}, {"goal", "max"}},
+                                 QJsonObject{{"column", "max_speed"}, {"goal", "min"}}};
+    t["population"] = 8;
+    const CliResult r = run_salsa({"tune", write_tune(dir, t), "--out", out, "--plugin-dir", bowl_dir()});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QVERIFY2(r.out.contains("Pareto front: c"), describe(r));
+    for (const char* png : {"pareto.png", "convergence.png", "parameter_behavior.params.a.png"})
+      QVERIFY2(QFileInfo(out + "/plots/" + png).size() > 1000, png);
+  }
+
+  void bad_input_is_refused_before_anything_runs_data() {
+    QTest::addColumn<QString>("path");   // the key to change, "a.b" for nested
+    QTest::addColumn<QString>("value");  // JSON
+    QTest::addColumn<QString>("expected");
+    QTest::newRow("unknown parameter") << "parameters" << R"({"behavior.params.zzz": {}})" << "parameters.behavior.params.zzz: unknown parameter of behavior 'test_bowl'";
+    QTest::newRow("not a number") << "parameters" << R"({"behavior.name": {}})" << "parameters.behavior.name: not a number of the test";
+    QTest::newRow("outside the declared range") << "parameters" << R"({"behavior.params.a": {"min": -1}})" << "parameters.behavior.params.a.min: -1 is outside the declared range (allowed: [0, 10])";
+    QTest::newRow("empty range") << "parameters" << R"({"behavior.params.a": {"min": 5, "max": 5}})" << "parameters.behavior.params.a: [5, 5] is an empty range";
+    QTest::newRow("zero budget") << "budget" << R"({"evaluations": 0})" << "budget.evaluations: 0 is out of range (allowed: whole number in [1, 1000000000])";
+    QTest::newRow("no such column") << "objective" << R"({"column": "trees"})" << "objective.column: \"trees\" is not a column of outcome.csv or summary.csv";
+    QTest::newRow("unknown algorithm") << "algorithm" << R"("simplex")" << "algorithm: \"simplex\" is not an algorithm (allowed: random, lhs, grid, cmaes";
+  }
+  void bad_input_is_refused_before_anything_runs() {
+    QFETCH(QString, path);
+    QFETCH(QString, value);
+    QFETCH(QString, expected);
+    QTemporaryDir dir;
+    QJsonObject t = bowl_tune("cmaes", 40);
+    t[path] = QJsonDocument::fromJson("[" + value.toUtf8() + "]").array().at(0);
+    const QString file = write_tune(dir, t);
+    const CliResult r = tune(file, dir.filePath("out"));
+    QCOMPARE(r.exit_code, 2);
+    const QStringList lines = non_empty_lines(r.err);
+    QCOMPARE(lines.size(), 1);
+    QVERIFY2(lines[0].contains(file + ": " + expected), describe(r));
+    QVERIFY(!QDir(dir.filePath("out")).exists());
+  }
+};
+
+QTEST_GUILESS_MAIN(TestTune)
+#include "test_tune.moc"
