@@ -1066,7 +1066,7 @@ std::string set_numbers(const std::string& test_json, const std::vector<std::pai
                         const std::string& where) {
   json test = json::parse(test_json);
   const Reader r(where, {});
-  for (const auto& [key, value] : values) place(test, key, r) = as_json(value);
+  for (const auto& [key, value] : values) place(test, key, r, Reader::join("parameters", key), "test") = as_json(value);
   return test.dump();
 }
 
