@@ -30,7 +30,7 @@
 #include "mpi.hpp"
 #include "options.hpp"
 #include "queue_run.hpp"
-#include "tune_file.hpp"
+#include "salsa/core/experiments/tune_file.hpp"
 #include "tune_search.hpp"
 
 namespace fs = std::filesystem;
@@ -101,7 +101,7 @@ class Tuner {
     std::vector<double> base;
     for (const TuneParameter& p : spec_.parameters) base.push_back(p.base);
     evaluate_values({base});
-    say_generation();
+    generation_done();
     SearchHooks hooks;
     hooks.dim = spec_.parameters.size();
     hooks.objectives = spec_.objectives.size();
@@ -112,7 +112,7 @@ class Tuner {
       std::vector<std::vector<double>> values;
       for (const Point& x : points) values.push_back(decode(x));
       std::vector<Point> out = evaluate_values(values);
-      say_generation();
+      generation_done();
       return out;
     };
     hooks.exhausted = [&] { return exhausted(); };
@@ -460,6 +460,15 @@ class Tuner {
     if (const auto inc = incumbent()) s << ", best " << six(shown(0, candidates_[*inc].score[0]));
     s << " | ";
     return s.str();
+  }
+  /// After each generation: its line, and tune.csv and candidates.csv so far (what the desktop's Tune
+  /// page draws while the tune runs; rewritten whole, replaced atomically, by rank 0 only).
+  void generation_done() const {
+    if (!mpi_ || mpi_->rank() == 0) {
+      write_tune_csv();
+      write_candidates_csv();
+    }
+    say_generation();
   }
   void say_generation() const {
     if (!chatty_) return;

@@ -1,4 +1,4 @@
-// salsa-gui: the desktop (sandbox, queue mode, map creator); `--headless FILE...` runs tests like `salsa run`; `--bench-render`
+// salsa-gui: the desktop (sandbox, queue mode, map creator, tune mode); `--headless FILE...` runs tests like `salsa run`; `--bench-render`
 // measures drawing. Plugins come from the same folders as the CLI's.
 #include <unistd.h>
 
@@ -34,7 +34,7 @@ options:
   --view LIST          what the view shows, e.g. heat,camera,-trails (camera, obstacle, detection,
                        targets, trails, heat, obstacles, spawn, links, wind; a leading - hides)
   --select ID          inspect drone ID
-  --mode MODE          start in sandbox, queue or map (the map creator)
+  --mode MODE          start in sandbox, queue, map (the map creator) or tune
   --queue FILE         open a queue file in queue mode (implies --mode queue)
   --run-queue DIR      run the opened queue into DIR at once
   --yes                allow queues of more than 10,000 tests (open, sweep and run them; salsa run gets --yes)
@@ -102,9 +102,9 @@ int main(int argc, char** argv) {
         return 2;
       }
     } else if (a == "--mode") {
-      mode = value("sandbox, queue or map");
-      if (mode != "sandbox" && mode != "queue" && mode != "map") {
-        std::cerr << "salsa-gui: --mode: '" << mode << "' is not a mode (allowed: sandbox, queue, map)\n";
+      mode = value("sandbox, queue, map or tune");
+      if (mode != "sandbox" && mode != "queue" && mode != "map" && mode != "tune") {
+        std::cerr << "salsa-gui: --mode: '" << mode << "' is not a mode (allowed: sandbox, queue, map, tune)\n";
         return 2;
       }
     } else if (a == "--queue") {
@@ -216,6 +216,7 @@ int main(int argc, char** argv) {
   }
   if (mode == "queue") window.set_mode(Mode::queue);
   if (mode == "map") window.set_mode(Mode::map_creator);
+  if (mode == "tune") window.set_mode(Mode::tune);
   if (show_plugins) window.show_plugins();
   if (!screenshot.empty()) {
     QTimer::singleShot(static_cast<int>(after * 1000), &window, [&] {
