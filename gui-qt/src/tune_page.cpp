@@ -397,7 +397,8 @@ std::string TunePage::tune_json(std::string* why) const {
       const QString text = table_->item(r, c)->text().trimmed();
       const double v = text.toDouble(&ok);
       if (!ok) return *why = "tune: " + n.key + ": " + end + " \"" + text.toStdString() + "\" is not a number (allowed: " + n.spec.range() + ")", std::string();
-      if (v != (c == col_min ? n.spec.min : n.spec.max)) p[end] = v;  // the declared end is the default
+      // The declared end is the default; a whole number is written as typed ("-1", not "-1.0").
+      if (v != (c == col_min ? n.spec.min : n.spec.max)) p[end] = v == std::floor(v) && std::fabs(v) < 9e15 ? json(static_cast<std::int64_t>(v)) : json(v);
     }
     if (const bool log = table_->item(r, col_log)->checkState() == Qt::Checked; log != n.log) p["log"] = log;
     params[n.key] = p;
