@@ -183,7 +183,7 @@ class TestTune : public QObject {
     QCOMPARE(validation_rows, 3 * 3);  // the best two and the defaults, three worlds each
   }
 
-  void jobs_1_and_2_give_the_same_tune() {
+  void jobs_1_and_2_and_mpi_ranks_give_the_same_tune() {
     QTemporaryDir dir;
     const QString file = write_tune(dir, bowl_tune("cmaes", 60));
     const CliResult one = tune(file, dir.filePath("one"), {"--jobs", "1"});
@@ -192,6 +192,13 @@ class TestTune : public QObject {
     for (const char* f : {"tune.csv", "candidates.csv", "best.json"})
       QVERIFY2(read_file(dir.filePath(QString("one/") + f)) == read_file(dir.filePath(QString("two/") + f)), f);
     QVERIFY(!read_file(dir.filePath("one/tune.csv")).isEmpty());
+    // Over MPI ranks (rank 0 hands out each batch's tests): the same tune again.
+    const auto mpi = run_mpi(2, {"tune", file, "--out", dir.filePath("mpi"), "--plugin-dir", bowl_dir(), "--no-plots"});
+    if (!mpi) QSKIP("mpirun is not installed (Debian: openmpi-bin)");
+    if (mpi->err.contains("built without MPI")) QSKIP("this salsa was built without MPI");
+    QVERIFY2(mpi->exit_code == 0, describe(*mpi));
+    for (const char* f : {"tune.csv", "candidates.csv", "best.json"})
+      QVERIFY2(read_file(dir.filePath(QString("one/") + f)) == read_file(dir.filePath(QString("mpi/") + f)), f);
   }
 
   void resume_after_sigkill_gives_the_same_tune() {
