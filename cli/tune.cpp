@@ -736,20 +736,11 @@ int cmd_tune(int argc, char** argv) {
   std::string line;
   for (const auto& a : command) line += (line.empty() ? "" : " ") + a;
   OutputLock lock;
-  if (root) {
-    bool ok = false;
-    try {
-      lock = claim_output(options.out, 0, 1, line);
-      claim_tune_folder(options.out, spec, vm.count("resume"), options.force);
-      ok = true;
-    } catch (...) {
-      if (world) world->agree(false);
-      throw;
-    }
-    if (world) world->agree(ok);
-  } else if (!world->agree(false)) {
-    return 2;
-  }
+  if (!claimed_on_rank0(world ? &*world : nullptr, [&] {
+        lock = claim_output(options.out, 0, 1, line);
+        claim_tune_folder(options.out, spec, vm.count("resume"), options.force);
+      }))
+    return 2;  // rank 0 said why
 
   QueueRunOptions queue;
   queue.jobs = jobs;
