@@ -551,6 +551,32 @@ class TestPlots : public QObject {
     QVERIFY(QImage(out + "/plots/found_over_time_5_drones.png") != with_change);
   }
 
+  // A sweep.set key (here the failure clock, with the camera's written 0 exactly where it is set) is
+  // plotted apart, under each queue condition; a setting every test shares is no split.
+  void swept_settings_are_plotted_apart() {
+    const QString out = path("swept");
+    QByteArray summary = "name,status,error,cell,variant,condition,condition_label,behavior,repeat,seed,drones,map,time,"
+                         "failures.drone_mtbf,failures.camera_mtbf,outcome.targets,fraction_found\n";
+    std::vector<std::string> expected;
+    int k = 0;
+    for (const char* condition : {"baseline", "dropout"})
+      for (const char* mtbf : {"", "3000.0"})
+        for (const char* variant : {"a", "b"})
+          for (int repeat = 0; repeat < 3; ++repeat, ++k) {
+            summary += "t" + QByteArray::number(k) + ",ok,,c1," + variant + "," + condition + ",x," + variant + "," + QByteArray::number(repeat) +
+                       "," + QByteArray::number(10 + repeat) + ",5,forest,10," + mtbf + "," + (*mtbf ? "0.0" : "") + ",50,0.5\n";
+            expected.push_back(std::string(condition) + ", failures.drone_mtbf = " + (*mtbf ? "3000" : "none"));
+          }
+    summary += "t99,failed,boom,c1,a,baseline,x,a,0,1,5,forest,10,100,,50,\n";  // a failed test is no row
+    write_file(out + "/summary.csv", summary);
+    QCOMPARE(salsa::plots::plotted_conditions(out.toStdString()), expected);
+    // Without the sweep (one failure clock for all), the queue's conditions alone.
+    summary.replace("3000.0,0.0", ",");
+    write_file(out + "/summary.csv", summary);
+    for (auto& e : expected) e = e.substr(0, e.find(','));
+    QCOMPARE(salsa::plots::plotted_conditions(out.toStdString()), expected);
+  }
+
   // The single-file mode stays: a summary.csv column over time into --out.
   void column_chart() {
     write_file(path("s/summary.csv"), "time,targets_found\n0,0\n1,3\n2,7\n");

@@ -27,6 +27,12 @@ void draw_test_plots(const std::filesystem::path& test_folder);
 /// Writes OUT/plots/*.png from OUT/summary.csv, OUT/comparison.csv and the test folders' summary.csv.
 void draw_queue_plots(const std::filesystem::path& out);
 
+/// The condition each ok test of OUT/summary.csv is plotted under, in file order: its queue condition
+/// and the value of every other setting the queue varies between tests of one variant, swarm size and
+/// repeat (a sweep.set key), e.g. "dropout, failures.drone_mtbf = 3000"; "" for neither. So the plots
+/// keep apart what a sweep varies, never pooling it.
+std::vector<std::string> plotted_conditions(const std::filesystem::path& out);
+
 struct Rect {
   double x0 = 0, y0 = 0, x1 = 1, y1 = 1;
 };
