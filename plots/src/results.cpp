@@ -843,7 +843,9 @@ void over_time(const fs::path& out, const std::vector<QueueRow>& rows, const std
     if (shown.insert(l.variant).second) legend.push_back({LegendEntry::line, palette(l.variant), QString::fromStdString(variants[l.variant])});
   legend.push_back({LegendEntry::band, QColor(0, 0, 0, 40), "95 % confidence interval"});
   condition_notes(rows, legend, true);
-  if (!changes.empty()) legend.push_back({LegendEntry::line, QColor(120, 120, 120), "a timed change", Qt::DashLine});
+  // Black and dash-dot-dot, named as vertical: apart from the conditions' grey line styles.
+  const QPen change_pen(QColor(30, 30, 30), 1.2, Qt::DashDotDotLine);
+  if (!changes.empty()) legend.push_back({LegendEntry::line, change_pen.color(), "a timed change (vertical line)", change_pen.style()});
   f.legend(legend);
   QPainter& p = f.begin();
   for (const auto& l : lines) {
@@ -856,7 +858,7 @@ void over_time(const fs::path& out, const std::vector<QueueRow>& rows, const std
   p.setFont(font(14));
   for (const auto& [time, which] : changes) {
     const double x = f.at(time, 0).x();
-    p.setPen(QPen(QColor(120, 120, 120), 1.5, Qt::DashLine));
+    p.setPen(change_pen);
     p.drawLine(QPointF(x, f.plot_area().top()), QPointF(x, f.plot_area().bottom()));
     QString names;
     if (which.size() < conditions.size())
