@@ -94,13 +94,17 @@ int cmd_describe(int argc, char** argv) {
                 << Parameter::format(p.min) << std::setw(10) << Parameter::format(p.max) << std::setw(14)
                 << (p.unit.empty() ? "-" : p.unit) << p.description << (p.is_integer() ? " (whole number)" : "") << "\n";
   };
+  // The test's own models, declared once each (drone_schema, comm_schema, wind_schema): their numbers.
+  auto specs_of = [](const auto& schema) {
+    Parameters out;
+    for (const auto& entry : schema) out.push_back(entry.spec);
+    return out;
+  };
   if (name == "drone") {  // not a plugin: the drone properties every test has (drone_schema)
     std::cout << "drone: the properties of a test's \"drone\" (or a group's; defaults: the \"small\" drone); timed changes\n"
                  "set them as drone.<property> (groups.<name>.drone.<property>). The battery and power model (Zeng, Xu &\n"
                  "Zhang 2019) are off while battery_capacity is 0; sensor noise is off while its five properties are 0.\n\n";
-    Parameters parameters;
-    for (const DroneProperty& p : drone_schema()) parameters.push_back(p.spec);
-    table(parameters);
+    table(specs_of(drone_schema()));
     std::cout << "\n  named configurations (\"drone\": \"NAME\", or {\"base\": \"NAME\", ...}):\n";
     for (const DroneConfig& c : builtin_drone_configs()) {
       std::cout << "  " << std::setw(8) << c.name;
@@ -114,9 +118,7 @@ int cmd_describe(int argc, char** argv) {
     std::cout << "comm: a test's communication model (\"comm\": {...}; absent: drones exchange no messages). Timed changes\n"
                  "and sweeps set its fields as comm.<field>; line_of_sight is true or false (1 or 0 in changes and sweeps).\n"
                  "Loss at distance d: p = 1 - (1 - loss)(1 - loss_at_range (d / range)^2).\n\n";
-    Parameters parameters;
-    for (const CommField& f : comm_schema()) parameters.push_back(f.spec);
-    table(parameters);
+    table(specs_of(comm_schema()));
     return 0;
   }
   PluginHost host;
@@ -125,9 +127,7 @@ int cmd_describe(int argc, char** argv) {
     std::cout << "wind: a test's moving air (\"wind\": {\"velocity\", \"gusts\", \"field\"}; absent: still air). The wind at a\n"
                  "drone is velocity + gust(t) + field(x, y, t); max speed and power are relative to the air. Timed changes\n"
                  "and sweeps set its numbers as wind.<name> and a field's parameters as wind.field.params.<p>.\n\n";
-    Parameters parameters;
-    for (const WindProperty& p : wind_schema()) parameters.push_back(p.spec);
-    table(parameters);
+    table(specs_of(wind_schema()));
     std::cout << "\n  wind fields (\"field\": \"NAME\"; salsa describe NAME lists its parameters):";
     for (const auto& e : host.winds()) std::cout << " " << e.factory.name;
     std::cout << (host.winds().empty() ? " none loaded\n" : "\n");

@@ -9,7 +9,6 @@
 #include <QDialog>
 #include <QDialogButtonBox>
 #include <QDir>
-#include <QElapsedTimer>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QFormLayout>
@@ -35,6 +34,7 @@
 
 #include "salsa/core/experiments/queue.hpp"
 #include "salsa/core/experiments/queue_summary.hpp"
+#include "salsa_process.hpp"
 #include "save_checked.hpp"
 
 namespace salsa::gui {
@@ -264,7 +264,6 @@ void SweepDialog::update_count() {
 
 QueuePage::QueuePage(std::shared_ptr<const PluginHost> host, std::vector<fs::path> plugin_dirs, QWidget* parent)
     : QWidget(parent), host_(std::move(host)), plugin_dirs_(std::move(plugin_dirs)) {
-  salsa_ = QCoreApplication::applicationDirPath() + "/salsa";
   model_ = new QueueModel(host_, this);
   auto* layout = new QVBoxLayout(this);
 
@@ -381,42 +380,26 @@ QueuePage::QueuePage(std::shared_ptr<const PluginHost> host, std::vector<fs::pat
     const int r = selected_row();
     if (r >= 0 && load_into_sandbox_) load_into_sandbox_(model_->test(r));
   });
-  auto read = [this](QProcess::ProcessChannel channel) {
-    process_.setReadChannel(channel);
-    while (process_.canReadLine()) log_->appendPlainText(QString::fromUtf8(process_.readLine()).trimmed());
-    update_statuses();
-  };
-  connect(&process_, &QProcess::readyReadStandardOutput, this, [read] { read(QProcess::StandardOutput); });
-  connect(&process_, &QProcess::readyReadStandardError, this, [read] { read(QProcess::StandardError); });
-  connect(&process_, &QProcess::finished, this, [this, read](int code, QProcess::ExitStatus how) {
-    read(QProcess::StandardOutput);
-    read(QProcess::StandardError);
-    poll_.stop();
+  process_ = new SalsaProcess(log_, this);
+  connect(process_, &SalsaProcess::printed, this, &QueuePage::update_statuses);
+  connect(process_, &SalsaProcess::poll, this, &QueuePage::update_statuses);
+  connect(process_, &SalsaProcess::finished, this, [this](int code, bool crashed) {
     update_statuses();
     run_button_->setEnabled(true);
     stop_button_->setEnabled(false);
-    show_message(how == QProcess::CrashExit ? "salsa run crashed; run again to resume the rest"
-                 : code == 0                ? "queue finished: results in " + out_
-                                            : QString("salsa run ended with status %1 (see the log; failed tests show why in the table)").arg(code),
+    show_message(crashed      ? "salsa run crashed; run again to resume the rest"
+                 : code == 0 ? "queue finished: results in " + out_
+                             : QString("salsa run ended with status %1 (see the log; failed tests show why in the table)").arg(code),
                  false);
   });
-  connect(&process_, &QProcess::errorOccurred, this, [this](QProcess::ProcessError e) {
-    if (e == QProcess::FailedToStart) {
-      run_button_->setEnabled(true);
-      stop_button_->setEnabled(false);
-      show_message("cannot start " + salsa_ + ": " + process_.errorString() + " (salsa is installed beside salsa-gui)");
-    }
+  connect(process_, &SalsaProcess::failed_to_start, this, [this](const QString& why) {
+    run_button_->setEnabled(true);
+    stop_button_->setEnabled(false);
+    show_message(why);
   });
-  poll_.setInterval(500);
-  connect(&poll_, &QTimer::timeout, this, &QueuePage::update_statuses);
 }
 
-QueuePage::~QueuePage() {
-  if (process_.state() != QProcess::NotRunning) {
-    process_.terminate();  // salsa stops between tests; --resume picks up the rest
-    if (!process_.waitForFinished(5000)) process_.kill();
-  }
-}
+QueuePage::~QueuePage() { delete process_; }  // stops a run while the page it reports to is whole
 
 void QueuePage::set_host(std::shared_ptr<const PluginHost> host) {
   host_ = host;
@@ -430,12 +413,7 @@ int QueuePage::selected_row() const {
 
 void QueuePage::show_message(const QString& text, bool error) {
   last_message_ = text;
-  state_->setText(text);
-  state_->setStyleSheet(error ? "color: #b00020" : "");
-  if (!error) return;
-  auto* box = new QMessageBox(QMessageBox::Warning, "salsa", text, QMessageBox::Ok, this);
-  box->setAttribute(Qt::WA_DeleteOnClose);
-  box->open();
+  show_state(state_, this, text, error);
 }
 
 std::string QueuePage::add_from_sandbox() {
@@ -527,38 +505,26 @@ std::string QueuePage::run(const QString& out, const QStringList& extra_args) {
   for (int i = 0; i < model_->rowCount(); ++i) run_names_.insert(model_->test(i).name);
   model_->clear_statuses();
   update_progress(0);
-  log_->clear();
   QStringList args{"run", file, "--out", dir, "--jobs", QString::number(jobs_->value())};
   if (!plots_->isChecked()) args << "--no-plots";
   if (resume) args << "--resume";  // its finished tests are kept only where they are the tests asked for now
   if (model_->options().yes && static_cast<std::size_t>(model_->rowCount()) > model_->options().max_tests) args << "--yes";
   for (const auto& d : plugin_dirs_) args << "--plugin-dir" << q(d.string());
   args << extra_args;
-  log_->appendPlainText("salsa " + args.join(' '));
-  process_.start(salsa_, args);
+  process_->start(args);
   run_button_->setEnabled(false);
   stop_button_->setEnabled(true);
-  poll_.start();
   show_message("running " + QString::number(model_->rowCount()) + " tests into " + dir, false);
   return {};
 }
 
-void QueuePage::stop() {
-  if (running()) process_.terminate();  // salsa stops before the next test; Run with the same folder resumes
-}
+void QueuePage::set_salsa_program(QString program) { process_->set_program(std::move(program)); }
 
-bool QueuePage::running() const { return process_.state() != QProcess::NotRunning; }
+void QueuePage::stop() { process_->stop(); }
 
-bool QueuePage::wait(int ms) {
-  QElapsedTimer t;
-  t.start();
-  while (running() && t.elapsed() < ms) {
-    QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
-    process_.waitForFinished(50);
-  }
-  QCoreApplication::processEvents();
-  return !running();
-}
+bool QueuePage::running() const { return process_->running(); }
+
+bool QueuePage::wait(int ms) { return process_->wait(ms); }
 
 QString QueuePage::log_text() const { return log_->toPlainText(); }
 

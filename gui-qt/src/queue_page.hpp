@@ -3,8 +3,6 @@
 // and a run of the queue in the background. A run is `salsa run` of the saved queue file (the
 // experiments layer, not a second implementation): its data equals the CLI's by construction; the page
 // shows its progress and each test's status from the output folder.
-#include <QProcess>
-#include <QTimer>
 #include <QWidget>
 #include <filesystem>
 #include <functional>
@@ -29,6 +27,8 @@ class QComboBox;
 class QDialog;
 
 namespace salsa::gui {
+
+class SalsaProcess;
 
 /// "Add sweep": behaviors, parameter values, swarm sizes, repeats and the queue seed over the sandbox's
 /// test; shows how many tests it makes (or why it is refused) as you type.
@@ -75,7 +75,7 @@ class QueuePage : public QWidget {
   /// Called by "Load into sandbox".
   void set_load_into_sandbox(std::function<void(const TestSpec&)> load) { load_into_sandbox_ = std::move(load); }
   /// The `salsa` program a run starts (default: the one beside this program).
-  void set_salsa_program(QString program) { salsa_ = std::move(program); }
+  void set_salsa_program(QString program);
   /// salsa-gui --yes: queues over 10,000 tests are opened, swept and run (salsa run gets --yes).
   void set_allow_large(bool yes) { model_->set_allow_large(yes); }
   /// What Plots does with a finished test's plots folder and its PNGs (default: a dialog showing them).
@@ -120,9 +120,8 @@ class QueuePage : public QWidget {
   QCheckBox* plots_ = nullptr;
   QPushButton* run_button_ = nullptr;
   QPushButton* stop_button_ = nullptr;
-  QProcess process_;
-  QTimer poll_;
-  QString out_, salsa_;
+  SalsaProcess* process_ = nullptr;
+  QString out_;
   std::unordered_set<std::string> run_names_;  ///< the tests of the running (or last) run
   std::function<std::optional<TestSpec>(std::string*)> sandbox_;
   std::function<void(const TestSpec&)> load_into_sandbox_;

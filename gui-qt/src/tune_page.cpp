@@ -9,7 +9,6 @@
 #include <QCoreApplication>
 #include <QDateTime>
 #include <QDir>
-#include <QElapsedTimer>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QFormLayout>
@@ -19,7 +18,6 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QLineSeries>
-#include <QMessageBox>
 #include <QPlainTextEdit>
 #include <QProgressBar>
 #include <QPushButton>
@@ -38,6 +36,7 @@
 
 #include "salsa/core/files/csv_reader.hpp"
 #include "salsa/core/run/runner.hpp"
+#include "salsa_process.hpp"
 #include "save_checked.hpp"
 
 namespace salsa::gui {
@@ -77,48 +76,31 @@ std::optional<TuneSpec> check_tune(const std::string& text, const PluginHost& ho
 
 TunePage::TunePage(std::shared_ptr<const PluginHost> host, std::vector<fs::path> plugin_dirs, QWidget* parent)
     : QWidget(parent), host_(std::move(host)), plugin_dirs_(std::move(plugin_dirs)) {
-  salsa_ = QCoreApplication::applicationDirPath() + "/salsa";
   build();
-  auto read = [this](QProcess::ProcessChannel channel) {
-    process_.setReadChannel(channel);
-    while (process_.canReadLine()) log_->appendPlainText(QString::fromUtf8(process_.readLine()).trimmed());
-  };
-  connect(&process_, &QProcess::readyReadStandardOutput, this, [read] { read(QProcess::StandardOutput); });
-  connect(&process_, &QProcess::readyReadStandardError, this, [read] { read(QProcess::StandardError); });
-  connect(&process_, &QProcess::finished, this, [this, read](int code, QProcess::ExitStatus how) {
-    read(QProcess::StandardOutput);
-    read(QProcess::StandardError);
-    poll_.stop();
+  process_ = new SalsaProcess(log_, this);
+  connect(process_, &SalsaProcess::poll, this, &TunePage::update_chart);
+  connect(process_, &SalsaProcess::finished, this, [this](int code, bool crashed) {
     update_chart();
     run_button_->setEnabled(true);
     stop_button_->setEnabled(false);
-    const bool done = how == QProcess::NormalExit && code == 0;
     load_best_button_->setEnabled(QFileInfo::exists(out_ + "/best.json"));
-    if (done) return show_message("tune finished: the report is " + out_ + "/report.txt (Load best puts the winner in the sandbox)", false);
-    // salsa tune's refusals are one line on stderr, its last.
-    const QStringList lines = log_->toPlainText().split('\n', Qt::SkipEmptyParts);
-    const QString last = lines.isEmpty() ? QString() : lines.back();
-    show_message(how == QProcess::CrashExit ? "salsa tune stopped; Run into the same folder resumes it exactly"
-                 : code == 2                ? last
-                                            : QString("salsa tune ended with status %1: %2 (Run into the same folder resumes it)").arg(code).arg(last),
-                 how != QProcess::CrashExit && code == 2);
+    if (!crashed && code == 0)
+      return show_message("tune finished: the report is " + out_ + "/report.txt (Load best puts the winner in the sandbox)", false);
+    show_message(crashed      ? "salsa tune stopped; Run into the same folder resumes it exactly"
+                 : code == 2 ? process_->last_line()  // a refusal: salsa tune's one line
+                             : QString("salsa tune ended with status %1: %2 (Run into the same folder resumes it)").arg(code).arg(process_->last_line()),
+                 !crashed && code == 2);
   });
-  connect(&process_, &QProcess::errorOccurred, this, [this](QProcess::ProcessError e) {
-    if (e != QProcess::FailedToStart) return;
+  connect(process_, &SalsaProcess::failed_to_start, this, [this](const QString& why) {
     run_button_->setEnabled(true);
     stop_button_->setEnabled(false);
-    show_message("cannot start " + salsa_ + ": " + process_.errorString() + " (salsa is installed beside salsa-gui)");
+    show_message(why);
   });
-  poll_.setInterval(500);
-  connect(&poll_, &QTimer::timeout, this, &TunePage::update_chart);
 }
 
-TunePage::~TunePage() {
-  if (process_.state() != QProcess::NotRunning) {
-    process_.terminate();  // salsa stops between tests; Run into the same folder resumes exactly
-    if (!process_.waitForFinished(5000)) process_.kill();
-  }
-}
+TunePage::~TunePage() { delete process_; }  // stops a run while the page it reports to is whole
+
+void TunePage::set_salsa_program(QString program) { process_->set_program(std::move(program)); }
 
 void TunePage::build() {
   auto* layout = new QHBoxLayout(this);
@@ -290,12 +272,7 @@ void TunePage::build() {
 
 void TunePage::show_message(const QString& text, bool error) {
   last_message_ = text;
-  state_->setText(text);
-  state_->setStyleSheet(error ? "color: #b00020" : "");
-  if (!error) return;
-  auto* box = new QMessageBox(QMessageBox::Warning, "salsa", text, QMessageBox::Ok, this);
-  box->setAttribute(Qt::WA_DeleteOnClose);
-  box->open();
+  show_state(state_, this, text, error);
 }
 
 // ---------------------------------------------------------------- the tune file
@@ -461,38 +438,24 @@ std::string TunePage::run(const QString& out) {
   }
   out_ = dir;
   budget_ = static_cast<std::size_t>(evaluations_->value());
-  log_->clear();
   for (QXYSeries* s : std::initializer_list<QXYSeries*>{best_, defaults_, scores_}) s->clear();
   load_best_button_->setEnabled(false);
   QStringList args{"tune", file, "--out", dir, "--jobs", QString::number(jobs_->value())};
   if (resume) args << "--resume";  // finished tests are read back: the tune continues exactly
   for (const auto& d : plugin_dirs_) args << "--plugin-dir" << q(d.string());
-  log_->appendPlainText("salsa " + args.join(' '));
-  process_.start(salsa_, args);
+  process_->start(args);
   run_button_->setEnabled(false);
   stop_button_->setEnabled(true);
-  poll_.start();
   update_chart();
   show_message(QString("tuning %1 into %2").arg(resume ? "again (resumed)" : "", dir).simplified(), false);
   return {};
 }
 
-void TunePage::stop() {
-  if (running()) process_.terminate();  // salsa stops between tests; Run into the same folder resumes exactly
-}
+void TunePage::stop() { process_->stop(); }
 
-bool TunePage::running() const { return process_.state() != QProcess::NotRunning; }
+bool TunePage::running() const { return process_->running(); }
 
-bool TunePage::wait(int ms) {
-  QElapsedTimer t;
-  t.start();
-  while (running() && t.elapsed() < ms) {
-    QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
-    process_.waitForFinished(50);
-  }
-  QCoreApplication::processEvents();
-  return !running();
-}
+bool TunePage::wait(int ms) { return process_->wait(ms); }
 
 QString TunePage::log_text() const { return log_->toPlainText(); }
 

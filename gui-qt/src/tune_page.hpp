@@ -4,8 +4,6 @@
 // the background (the CLI's tuner, not a second one: its results equal the CLI's by construction), a
 // live convergence chart read from the tune.csv and candidates.csv it rewrites after every generation,
 // and the winner loaded into the sandbox.
-#include <QProcess>
-#include <QTimer>
 #include <QWidget>
 #include <cmath>
 #include <filesystem>
@@ -34,6 +32,8 @@ class QChartView;
 
 namespace salsa::gui {
 
+class SalsaProcess;
+
 class TunePage : public QWidget {
   Q_OBJECT
  public:
@@ -45,7 +45,7 @@ class TunePage : public QWidget {
   /// Called by "Load best into sandbox".
   void set_load_into_sandbox(std::function<void(const TestSpec&)> load) { load_into_sandbox_ = std::move(load); }
   /// The `salsa` program a run starts (default: the one beside this program).
-  void set_salsa_program(QString program) { salsa_ = std::move(program); }
+  void set_salsa_program(QString program);
 
   // ---- What the buttons do, callable without dialogs. "" or the one-line reason (also shown).
   /// Takes the sandbox's test: the table lists its tunable numbers, its behavior's parameters ticked.
@@ -121,9 +121,8 @@ class TunePage : public QWidget {
   QScatterSeries* scores_ = nullptr;
   QValueAxis* x_ = nullptr;
   QValueAxis* y_ = nullptr;
-  QProcess process_;
-  QTimer poll_;
-  QString out_, salsa_;
+  SalsaProcess* process_ = nullptr;
+  QString out_;
   std::size_t budget_ = 0;  ///< evaluations of the tune shown (0: not known)
   std::function<std::optional<TestSpec>(std::string*)> sandbox_;
   std::function<void(const TestSpec&)> load_into_sandbox_;
