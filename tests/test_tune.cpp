@@ -268,6 +268,36 @@ class TestTune : public QObject {
     QVERIFY(winner(out)["behavior.params.a"].toDouble() <= 7);
   }
 
+  // `salsa plot OUT` on a tune folder redraws the tune's plots from candidates.csv and
+  // tune_plots.json alone: deleted PNGs come back byte for byte (the tune draws them the same way),
+  // with rings for candidates dropped by racing and a log-scale parameter (b); a folder without the record
+  // is refused in one line naming it.
+  void plot_redraws_a_tune_folder() {
+    QTemporaryDir dir;
+    const QString out = dir.filePath("out");
+    QJsonObject t = bowl_tune("random", 80, 6, true);
+    t["racing"] = QJsonObject{{"level", 0.05}, {"first_test", 3}};
+    const CliResult r = run_salsa({"tune", write_tune(dir, t), "--out", out, "--plugin-dir", bowl_dir()});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QVERIFY2(read_file(out + "/candidates.csv").contains(",dropped,"), "no candidate dropped: the rings go untested");
+    const QStringList pngs = QDir(out + "/plots").entryList({"*.png"});
+    QCOMPARE(pngs, (QStringList{"convergence.png", "parameter_behavior.params.a.png", "parameter_behavior.params.b.png",
+                                "parameter_behavior.params.c.png"}));
+    std::map<QString, QByteArray> drawn;
+    for (const QString& png : pngs) {
+      drawn[png] = read_file(out + "/plots/" + png);
+      QVERIFY(QFile::remove(out + "/plots/" + png));
+    }
+    const CliResult again = run_salsa({"plot", out});
+    QVERIFY2(again.exit_code == 0 && again.out.contains("tune plots in " + out + "/plots"), describe(again));
+    QCOMPARE(QDir(out + "/plots").entryList({"*.png"}), pngs);
+    for (const auto& [png, bytes] : drawn) QVERIFY2(read_file(out + "/plots/" + png) == bytes, qPrintable(png));
+    QVERIFY(QFile::remove(out + "/tune_plots.json"));
+    const CliResult refused = run_salsa({"plot", out});
+    QVERIFY2(refused.exit_code == 2 && non_empty_lines(refused.err).size() == 1 && refused.err.contains(out + "/tune_plots.json: cannot open file"),
+             describe(refused));
+  }
+
   void two_objectives_give_a_pareto_front() {
     QTemporaryDir dir;
     const QString out = dir.filePath("out");
@@ -281,6 +311,12 @@ class TestTune : public QObject {
     QVERIFY2(r.out.contains("Pareto front: c"), describe(r));
     for (const char* png : {"pareto.png", "convergence.png", "parameter_behavior.params.a.png"})
       QVERIFY2(QFileInfo(out + "/plots/" + png).size() > 1000, png);
+    // salsa plot OUT draws the front again, the same bytes.
+    const QByteArray pareto = read_file(out + "/plots/pareto.png");
+    QVERIFY(QFile::remove(out + "/plots/pareto.png"));
+    const CliResult again = run_salsa({"plot", out});
+    QVERIFY2(again.exit_code == 0, describe(again));
+    QVERIFY(read_file(out + "/plots/pareto.png") == pareto);
   }
 
   void bad_input_is_refused_before_anything_runs_data() {
