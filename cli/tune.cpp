@@ -23,6 +23,7 @@
 #include "salsa/core/experiments/queue.hpp"
 #include "salsa/core/experiments/queue_summary.hpp"
 #include "salsa/core/files/csv_reader.hpp"
+#include "salsa/core/files/csv_writer.hpp"
 #include "salsa/core/files/output_folder.hpp"
 #include "salsa/plots/results.hpp"
 #include "salsa/plots/tune.hpp"
@@ -531,14 +532,28 @@ class Tuner {
   }
 
   /// best.json: the winner on the tuning worlds, as a queue `salsa run` reruns byte for byte (the
-  /// tune's seed, one repeat per world: the same paired seeds).
+  /// tune's seed, one repeat per world: the same paired seeds). With several objectives also
+  /// front/<rank>.json, each member of the Pareto front the same way, ranked as best.json's winner is
+  /// chosen (by the first objective): front/1.json is best.json's candidate.
   void write_best(std::size_t winner) const {
-    json test = json::parse(test_config(test_of(candidates_[winner], 0), host_));
-    test.erase("seed");
-    test.erase("repeat");
-    test["name"] = "best";
-    json queue = {{"seed", spec_.seed}, {"repeats", spec_.worlds}, {"tests", json::array({test})}};
-    replace_file(options_.out / "best.json", queue.dump(2) + "\n");
+    const auto write = [&](std::size_t candidate, const std::string& name, const fs::path& file) {
+      json test = json::parse(test_config(test_of(candidates_[candidate], 0), host_));
+      test.erase("seed");
+      test.erase("repeat");
+      test["name"] = name;
+      json queue = {{"seed", spec_.seed}, {"repeats", spec_.worlds}, {"tests", json::array({test})}};
+      replace_file(file, queue.dump(2) + "\n");
+    };
+    write(winner, "best", options_.out / "best.json");
+    const fs::path front = options_.out / "front";
+    std::error_code ec;
+    fs::remove_all(front, ec);  // an earlier run's front (another seed, a --force restart) is not this one's
+    if (spec_.objectives.size() < 2) return;
+    fs::create_directories(front, ec);
+    if (ec) throw WriteError(front.string() + ": cannot create the folder (" + ec.message() + ")");
+    std::size_t rank = 0;
+    for (const std::size_t c : ranking())
+      if (on_front(c)) ++rank, write(c, "front_" + std::to_string(rank), front / (std::to_string(rank) + ".json"));
   }
 
   std::string describe(const Candidate& c) const {
@@ -613,7 +628,8 @@ class Tuner {
       }
     }
     s << "files: tune.csv (one row per evaluation), candidates.csv, best.json ('salsa run " << (options_.out / "best.json").string()
-      << "' reruns the best on the tuning worlds), plots/\n";
+      << "' reruns the best on the tuning worlds), "
+      << (spec_.objectives.size() > 1 ? "front/<rank>.json (each member of the Pareto front, the same way; 1 is the best), " : "") << "plots/\n";
     return s.str();
   }
 

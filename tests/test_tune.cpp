@@ -317,6 +317,32 @@ class TestTune : public QObject {
     const CliResult again = run_salsa({"plot", out});
     QVERIFY2(again.exit_code == 0, describe(again));
     QVERIFY(read_file(out + "/plots/pareto.png") == pareto);
+    // front/<rank>.json: every member of the front, in the report's order; 1 is best.json's candidate.
+    const QString listed = r.out.section("Pareto front:", 1).section('\n', 0, 0);
+    const QStringList members = listed.split(' ', Qt::SkipEmptyParts);
+    QVERIFY2(members.size() >= 2, qPrintable(listed));
+    QCOMPARE(QDir(out + "/front").entryList(QDir::Files), [&] {
+      QStringList files;
+      for (qsizetype i = 1; i <= members.size(); ++i) files << QString("%1.json").arg(i);
+      std::sort(files.begin(), files.end());
+      return files;
+    }());
+    auto test_of = [](const QString& file) {
+      QJsonObject queue = QJsonDocument::fromJson(read_file(file)).object();
+      QJsonObject test = queue["tests"].toArray().at(0).toObject();
+      test.remove("name");
+      queue["tests"] = QJsonArray{test};
+      return queue;
+    };
+    QCOMPARE(test_of(out + "/front/1.json"), test_of(out + "/best.json"));
+    // The last member replays on the tuning worlds to the data of its own evaluations.
+    const QString last = QString::number(members.size());
+    const CliResult replay = run_salsa({"run", out + "/front/" + last + ".json", "--out", dir.filePath("replay"), "--plugin-dir", bowl_dir(), "--no-plots"});
+    QVERIFY2(replay.exit_code == 0, describe(replay));
+    for (int w = 0; w < 2; ++w) {
+      const QString evaluation = QString("%1/c%2_w%3/summary.csv").arg(out).arg(members.last().mid(1).toInt(), 4, 10, QChar('0')).arg(w, 2, 10, QChar('0'));
+      QVERIFY2(read_file(dir.filePath(QString("replay/front_%1_r%2/summary.csv").arg(last).arg(w))) == read_file(evaluation), qPrintable(evaluation));
+    }
   }
 
   void bad_input_is_refused_before_anything_runs_data() {
