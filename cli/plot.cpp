@@ -139,7 +139,8 @@ void plot_folder(const fs::path& folder, const std::string& metric) {
     return;
   }
   // The tune's own plots, as salsa tune drew them; its evaluations' folders keep none (salsa plot OUT/<test>).
-  if (fs::is_regular_file(folder / "tune.json", ec) && fs::is_regular_file(folder / "candidates.csv", ec)) {
+  // Only in a folder salsa wrote results into (a finished tune always did), as for a queue below.
+  if (fs::is_regular_file(folder / "tune.json", ec) && fs::is_regular_file(folder / "candidates.csv", ec) && salsa::holds_results(folder)) {
     salsa::plots::start_plotting();
     salsa::cli::draw_tune_folder(folder);
     std::cout << "tune plots in " << (folder / "plots").string() << "\n";
