@@ -43,4 +43,20 @@ class MpiRun {
   friend class RootDispatch;
 };
 
+/// Runs `claim` (the checks of the output folder: it throws to refuse) on rank 0 only and gives its
+/// verdict to every rank: false on the other ranks when rank 0 refused (rank 0 rethrows, saying why).
+/// Without MPI (`world` null) it simply runs `claim`.
+template <class Claim>
+bool claimed_on_rank0(MpiRun* world, Claim&& claim) {
+  if (world && world->rank() != 0) return world->agree(false);
+  try {
+    claim();
+  } catch (...) {
+    if (world) world->agree(false);
+    throw;
+  }
+  if (world) world->agree(true);
+  return true;
+}
+
 }  // namespace salsa::cli

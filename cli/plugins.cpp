@@ -8,6 +8,7 @@
 
 #include "salsa/core/model/comm.hpp"
 #include "salsa/core/model/drone_config.hpp"
+#include "salsa/core/model/wind.hpp"
 #include "salsa/core/plugins/plugin_host.hpp"
 #include "commands.hpp"
 #include "options.hpp"
@@ -80,7 +81,7 @@ void describe_columns(const Entry<Metric>& e) {
 
 int cmd_describe(int argc, char** argv) {
   po::options_description o("describe options");
-  o.add_options()("name", po::value<std::string>(), "plugin name (behavior, target kind, map, contact handler, metric or wind), drone or comm");
+  o.add_options()("name", po::value<std::string>(), "plugin name (behavior, target kind, map, contact handler, metric or wind field), drone, comm or wind");
   po::variables_map vm;
   if (!parse(argc, argv, "describe", "NAME [options]", o, vm, plugin_options, positional("name"))) return 0;
   if (!vm.count("name")) throw InputError("describe: missing NAME (see 'salsa plugins' for the names)");
@@ -120,6 +121,18 @@ int cmd_describe(int argc, char** argv) {
   }
   PluginHost host;
   load_plugins(host, vm, true);
+  if (name == "wind") {  // not a plugin: a test's wind (wind_schema), and the wind fields that can join it
+    std::cout << "wind: a test's moving air (\"wind\": {\"velocity\", \"gusts\", \"field\"}; absent: still air). The wind at a\n"
+                 "drone is velocity + gust(t) + field(x, y, t); max speed and power are relative to the air. Timed changes\n"
+                 "and sweeps set its numbers as wind.<name> and a field's parameters as wind.field.params.<p>.\n\n";
+    Parameters parameters;
+    for (const WindProperty& p : wind_schema()) parameters.push_back(p.spec);
+    table(parameters);
+    std::cout << "\n  wind fields (\"field\": \"NAME\"; salsa describe NAME lists its parameters):";
+    for (const auto& e : host.winds()) std::cout << " " << e.factory.name;
+    std::cout << (host.winds().empty() ? " none loaded\n" : "\n");
+    return 0;
+  }
   bool found = false;
   auto describe = [&](const char* kind, const auto& entries) {
     for (const auto& e : entries) {

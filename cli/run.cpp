@@ -135,36 +135,27 @@ int cmd_run(int argc, char** argv) {
   // The checks of the output folder: by rank 0 only under MPI (the others wait for its verdict). Rank 0
   // holds OUT's lock for the whole run (an --isolate child runs under its parent's).
   OutputLock lock;
-  if (root) {
-    bool ok = false;
-    try {
-      std::vector<TestSpec> checked;
-      for (std::size_t k : mine) checked.push_back(tests[k]);
-      if (world) checked = tests;
-      std::vector<std::string> command{"salsa"};
-      command.insert(command.end(), argv, argv + argc);
-      if (!child || !OutputLock::held_by_parent(options.out)) {
-        std::string line;
-        for (const auto& a : command) line += (line.empty() ? "" : " ") + a;
-        lock = claim_output(options.out, shard, shards, line);
-      }
-      std::optional<QueueRecord> record;  // an --isolate child's run has recorded its queue already
-      if (!child) {
-        record = queue_record(tests, host, command);
-        record->reference = comparison.reference, record->top = comparison.top;
-        check_queue_folder(options.out, *record, options.resume, options.force);
-      }
-      check_outputs(checked, host, options);
-      if (record) claim_queue_folder(options.out, *record, options.resume, options.force);
-      ok = true;
-    } catch (...) {
-      if (world) world->agree(false);
-      throw;
-    }
-    if (world) world->agree(ok);
-  } else if (!world->agree(false)) {
+  if (!claimed_on_rank0(world ? &*world : nullptr, [&] {
+        std::vector<TestSpec> checked;
+        for (std::size_t k : mine) checked.push_back(tests[k]);
+        if (world) checked = tests;
+        std::vector<std::string> command{"salsa"};
+        command.insert(command.end(), argv, argv + argc);
+        if (!child || !OutputLock::held_by_parent(options.out)) {
+          std::string line;
+          for (const auto& a : command) line += (line.empty() ? "" : " ") + a;
+          lock = claim_output(options.out, shard, shards, line);
+        }
+        std::optional<QueueRecord> record;  // an --isolate child's run has recorded its queue already
+        if (!child) {
+          record = queue_record(tests, host, command);
+          record->reference = comparison.reference, record->top = comparison.top;
+          check_queue_folder(options.out, *record, options.resume, options.force);
+        }
+        check_outputs(checked, host, options);
+        if (record) claim_queue_folder(options.out, *record, options.resume, options.force);
+      }))
     return 2;  // rank 0 said why
-  }
 
   QueueRunOptions run;
   run.jobs = jobs;

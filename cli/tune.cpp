@@ -32,7 +32,7 @@
 #include "mpi.hpp"
 #include "options.hpp"
 #include "queue_run.hpp"
-#include "tune_file.hpp"
+#include "salsa/core/experiments/tune_file.hpp"
 #include "tune_search.hpp"
 
 namespace fs = std::filesystem;
@@ -103,7 +103,7 @@ class Tuner {
     std::vector<double> base;
     for (const TuneParameter& p : spec_.parameters) base.push_back(p.base);
     evaluate_values({base});
-    say_generation();
+    generation_done();
     SearchHooks hooks;
     hooks.dim = spec_.parameters.size();
     hooks.objectives = spec_.objectives.size();
@@ -114,7 +114,7 @@ class Tuner {
       std::vector<std::vector<double>> values;
       for (const Point& x : points) values.push_back(decode(x));
       std::vector<Point> out = evaluate_values(values);
-      say_generation();
+      generation_done();
       return out;
     };
     hooks.exhausted = [&] { return exhausted(); };
@@ -464,6 +464,15 @@ class Tuner {
     s << " | ";
     return s.str();
   }
+  /// After each generation: its line, and tune.csv and candidates.csv so far (what the desktop's Tune
+  /// page draws while the tune runs; rewritten whole, replaced atomically, by rank 0 only).
+  void generation_done() const {
+    if (!mpi_ || mpi_->rank() == 0) {
+      write_tune_csv();
+      write_candidates_csv();
+    }
+    say_generation();
+  }
   void say_generation() const {
     if (!chatty_) return;
     std::size_t count = 0;
@@ -799,20 +808,11 @@ int cmd_tune(int argc, char** argv) {
   std::string line;
   for (const auto& a : command) line += (line.empty() ? "" : " ") + a;
   OutputLock lock;
-  if (root) {
-    bool ok = false;
-    try {
-      lock = claim_output(options.out, 0, 1, line);
-      claim_tune_folder(options.out, spec, vm.count("resume"), options.force);
-      ok = true;
-    } catch (...) {
-      if (world) world->agree(false);
-      throw;
-    }
-    if (world) world->agree(ok);
-  } else if (!world->agree(false)) {
-    return 2;
-  }
+  if (!claimed_on_rank0(world ? &*world : nullptr, [&] {
+        lock = claim_output(options.out, 0, 1, line);
+        claim_tune_folder(options.out, spec, vm.count("resume"), options.force);
+      }))
+    return 2;  // rank 0 said why
 
   QueueRunOptions queue;
   queue.jobs = jobs;

@@ -1,4 +1,4 @@
-// libFuzzer target: tune files (load_tune, cli/tune_file.cpp) with the built-in plugins; the base test
+// libFuzzer target: tune files (load_tune, core/src/experiments/tune_file.cpp) with the built-in plugins; the base test
 // inline or as a path (scratch/flocking.json exists). load_tune reads the test at each range's ends;
 // an accepted file's candidate in the middle of every range is read too, or refused in one line.
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "fuzz_common.hpp"
-#include "tune_file.hpp"
+#include "salsa/core/experiments/tune_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const salsa::PluginHost& host = salsa_fuzz::host();
@@ -18,21 +18,21 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return true;
   }();
   (void)test_file;
-  std::optional<salsa::cli::TuneSpec> spec;
+  std::optional<salsa::TuneSpec> spec;
   try {
-    spec = salsa::cli::load_tune(salsa_fuzz::write("tune.json", data, size), host, std::nullopt);
+    spec = salsa::load_tune(salsa_fuzz::write("tune.json", data, size), host, std::nullopt);
   } catch (const salsa::InputError& e) {
     salsa_fuzz::check_message(e);
     return 0;
   }
   if (spec->parameters.empty() || spec->objectives.empty() || spec->canonical.empty()) std::abort();
   std::vector<double> middle;
-  for (const salsa::cli::TuneParameter& p : spec->parameters) {
+  for (const salsa::TuneParameter& p : spec->parameters) {
     if (!(p.min < p.max)) std::abort();
     middle.push_back(p.whole ? std::floor((p.min + p.max) / 2) : (p.min + p.max) / 2);
   }
   try {
-    salsa::cli::candidate_test(*spec, middle, "middle", 1, host);
+    salsa::candidate_test(*spec, middle, "middle", 1, host);
   } catch (const salsa::InputError& e) {
     salsa_fuzz::check_message(e);  // a combination the test refuses: allowed, in one line
   }

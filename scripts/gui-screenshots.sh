@@ -43,6 +43,14 @@ shot "$work/radio.json" --start --view links --select 3 --screenshot $img/gui-ra
 # Queue mode, 1.6 s into a run of the comparison queue.
 shot --queue examples/comparison-queue.json --run-queue "$work/results" --screenshot $img/gui-queue.png --after 1.6
 
+# Tune mode, 20 s into CMA-ES tuning flocking's parameters (its defaults: every declared parameter,
+# 200 evaluations on 5 worlds) for trees found by 10 drones in a 400 m forest in 60 s.
+cat > "$work/small-forest.json" <<'JSON'
+{"name": "small-forest", "behavior": "flocking", "drones": 10, "drone": "small",
+ "map": {"name": "forest", "params": {"size": 400}}, "targets": {"kind": "tree", "count": 200}, "time": 60, "seed": 3}
+JSON
+shot "$work/small-forest.json" --run-tune "$work/tune" --screenshot $img/gui-tune.png --after 20
+
 # The map creator: the warehouse map with one self-crossing polygon added (flagged red).
 python3 - "$work/warehouse-edited.json" <<'PY'
 import json, sys

@@ -5,7 +5,9 @@
 #include <QDir>
 #include <QDirIterator>
 #include <QFile>
+#include <QMap>
 #include <QProcess>
+#include <QStandardPaths>
 #include <QString>
 #include <QStringList>
 #include <QTemporaryDir>
@@ -13,6 +15,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #ifdef SALSA_TEST_WITH_CORE
@@ -84,18 +87,22 @@ struct CliResult {
 
 /// Runs the salsa CLI with a clean environment: no $SALSA_PLUGIN_PATH and an empty user folder, so
 /// only the build's plugins (and any --plugin-dir) are found.
-inline CliResult run_salsa(const QStringList& args, const QString& working_dir = {}) {
+/// Runs `program` with `args` in `working_dir` as a user would, with a private HOME, no
+/// SALSA_PLUGIN_PATH and `vars` added to the environment.
+inline CliResult run_program(const QString& program, const QStringList& args, const QString& working_dir = {},
+                             const QMap<QString, QString>& vars = {}) {
   static QTemporaryDir home;
   QProcess p;
   QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
   env.remove("SALSA_PLUGIN_PATH");
   env.insert("HOME", home.path());
+  for (auto it = vars.begin(); it != vars.end(); ++it) env.insert(it.key(), it.value());
   p.setProcessEnvironment(env);
   if (!working_dir.isEmpty()) p.setWorkingDirectory(working_dir);
-  p.start(salsa_executable(), args);
+  p.start(program, args);
   CliResult r;
   if (!p.waitForStarted(30000)) {
-    r.err = "could not start " + salsa_executable();
+    r.err = "could not start " + program;
     return r;
   }
   p.waitForFinished(600000);  // the shortened forest-health queue under the sanitizers takes minutes
@@ -104,6 +111,18 @@ inline CliResult run_salsa(const QStringList& args, const QString& working_dir =
   r.out = QString::fromUtf8(p.readAllStandardOutput());
   r.err = QString::fromUtf8(p.readAllStandardError());
   return r;
+}
+
+inline CliResult run_salsa(const QStringList& args, const QString& working_dir = {}) { return run_program(salsa_executable(), args, working_dir); }
+
+/// `salsa ARGS` under `mpirun -n ranks` in `working_dir`, or nullopt when mpirun is not installed.
+inline std::optional<CliResult> run_mpi(int ranks, const QStringList& args, const QString& working_dir = {}) {
+  const QString mpirun = QStandardPaths::findExecutable("mpirun");
+  if (mpirun.isEmpty()) return std::nullopt;
+  // OpenMPI keeps its components' allocations to the end and unloads them, so a sanitizer build
+  // would report (unsymbolisable) leaks inside libmpi: not salsa's.
+  return run_program(mpirun, QStringList{"--allow-run-as-root", "--oversubscribe", "-n", QString::number(ranks), salsa_executable()} + args,
+                     working_dir, {{"OMPI_MCA_rmaps_base_oversubscribe", "1"}, {"ASAN_OPTIONS", "detect_leaks=0:abort_on_error=1"}});
 }
 
 /// For failure messages: what the CLI printed.

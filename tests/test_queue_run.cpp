@@ -40,26 +40,6 @@ QList<QStringList> csv_rows(const QString& file) {
 }
 
 /// Runs salsa with extra environment variables (as run_salsa otherwise).
-CliResult run_with_env(const QStringList& args, const QString& dir, const QMap<QString, QString>& vars, const QString& program = {}) {
-  static QTemporaryDir home;
-  QProcess p;
-  QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
-  env.remove("SALSA_PLUGIN_PATH");
-  env.insert("HOME", home.path());
-  for (auto it = vars.begin(); it != vars.end(); ++it) env.insert(it.key(), it.value());
-  p.setProcessEnvironment(env);
-  p.setWorkingDirectory(dir);
-  p.start(program.isEmpty() ? salsa_executable() : program, args);
-  CliResult r;
-  if (!p.waitForStarted(30000)) return r;
-  p.waitForFinished(300000);
-  r.crashed = p.exitStatus() != QProcess::NormalExit;
-  r.exit_code = p.exitCode();
-  r.out = QString::fromUtf8(p.readAllStandardOutput());
-  r.err = QString::fromUtf8(p.readAllStandardError());
-  return r;
-}
-
 bool wait_for(const QString& file) {
   for (int i = 0; i < 6000; ++i) {
     if (QFileInfo::exists(file)) return true;
@@ -426,7 +406,7 @@ class TestQueueRun : public QObject {
     QFETCH(QStringList, expect);
     QTemporaryDir dir;
     write(dir.filePath("q.json"), small_queue(6, 1));
-    const CliResult r = run_with_env({"run", "q.json", "--out", "out"}, dir.path(),
+    const CliResult r = run_program(salsa_executable(), {"run", "q.json", "--out", "out"}, dir.path(),
                                      {{"SLURM_ARRAY_TASK_ID", id}, {"SLURM_ARRAY_TASK_MIN", min}, {"SLURM_ARRAY_TASK_COUNT", "3"}});
     QVERIFY2(r.exit_code == 0, describe(r));
     QStringList ran;
@@ -456,16 +436,13 @@ class TestQueueRun : public QObject {
   }
 
   void mpi_ranks_run_each_test_once() {
-    const QString mpirun = QStandardPaths::findExecutable("mpirun");
-    if (mpirun.isEmpty()) QSKIP("mpirun is not installed (Debian: openmpi-bin)");
     QTemporaryDir dir;
     write(dir.filePath("q.json"), small_queue(12, 2));
     CliResult r = run_salsa({"run", "q.json", "--out", "one", "--jobs", "1", "-q"}, dir.path());
     QVERIFY2(r.exit_code == 0, describe(r));
-    r = run_with_env({"--allow-run-as-root", "--oversubscribe", "-n", "3", salsa_executable(), "run", "q.json", "--out", "D"}, dir.path(),
-                     // OpenMPI keeps its components' allocations to the end and unloads them, so a
-                     // sanitizer build would report (unsymbolisable) leaks inside libmpi: not salsa's.
-                     {{"OMPI_MCA_rmaps_base_oversubscribe", "1"}, {"ASAN_OPTIONS", "detect_leaks=0:abort_on_error=1"}}, mpirun);
+    const auto mpi = run_mpi(3, {"run", "q.json", "--out", "D"}, dir.path());
+    if (!mpi) QSKIP("mpirun is not installed (Debian: openmpi-bin)");
+    r = *mpi;
     if (r.err.contains("built without MPI")) QSKIP("this salsa was built without MPI");
     QVERIFY2(r.exit_code == 0, describe(r));
     // Each test exactly once: one progress line each, over all ranks.
@@ -475,8 +452,7 @@ class TestQueueRun : public QObject {
     for (int k = 1; k <= 12; ++k) QCOMPARE(rows[k][1], QString("ok"));
     QCOMPARE(results_snapshot(dir.filePath("D")), results_snapshot(dir.filePath("one")));
     // --isolate on every rank: rank 0 holds the output folder's lock for the other ranks' children too.
-    r = run_with_env({"--allow-run-as-root", "--oversubscribe", "-n", "3", salsa_executable(), "run", "q.json", "--out", "I", "--isolate", "-q"},
-                     dir.path(), {{"OMPI_MCA_rmaps_base_oversubscribe", "1"}, {"ASAN_OPTIONS", "detect_leaks=0:abort_on_error=1"}}, mpirun);
+    r = *run_mpi(3, {"run", "q.json", "--out", "I", "--isolate", "-q"}, dir.path());
     QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
     QCOMPARE(results_snapshot(dir.filePath("I")), results_snapshot(dir.filePath("one")));
   }

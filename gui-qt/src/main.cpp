@@ -1,4 +1,4 @@
-// salsa-gui: the desktop (sandbox, queue mode, map creator); `--headless FILE...` runs tests like `salsa run`; `--bench-render`
+// salsa-gui: the desktop (sandbox, queue mode, map creator, tune mode); `--headless FILE...` runs tests like `salsa run`; `--bench-render`
 // measures drawing. Plugins come from the same folders as the CLI's.
 #include <unistd.h>
 
@@ -20,6 +20,7 @@
 #include "main_window.hpp"
 #include "map_editor.hpp"
 #include "queue_page.hpp"
+#include "tune_page.hpp"
 #include "salsa/core/plugins/plugin_host.hpp"
 
 namespace {
@@ -34,11 +35,12 @@ options:
   --view LIST          what the view shows, e.g. heat,camera,-trails (camera, obstacle, detection,
                        targets, trails, heat, obstacles, spawn, links, wind; a leading - hides)
   --select ID          inspect drone ID
-  --mode MODE          start in sandbox, queue or map (the map creator)
+  --mode MODE          start in sandbox, queue, map (the map creator) or tune
   --queue FILE         open a queue file in queue mode (implies --mode queue)
   --run-queue DIR      run the opened queue into DIR at once
   --yes                allow queues of more than 10,000 tests (open, sweep and run them; salsa run gets --yes)
   --edit-map FILE      open a map file in the map creator (implies --mode map)
+  --run-tune DIR       tune the sandbox's test with tune mode's settings into DIR at once (implies --mode tune)
   --show-plugins       open the Plugins dialog
   --screenshot FILE    save a screenshot of the window (or, under X, of the screen) after --after seconds, then quit
   --after SECONDS      when to take the screenshot (default 3)
@@ -69,7 +71,7 @@ int main(int argc, char** argv) {
   }
 
   std::vector<std::filesystem::path> plugin_dirs;
-  std::string test, screenshot, view, mode, queue, run_queue, edit_map;
+  std::string test, screenshot, view, mode, queue, run_queue, edit_map, run_tune;
   bool show_plugins = false, yes = false;
   std::optional<std::uint32_t> select;
   double after = 3;
@@ -102,15 +104,17 @@ int main(int argc, char** argv) {
         return 2;
       }
     } else if (a == "--mode") {
-      mode = value("sandbox, queue or map");
-      if (mode != "sandbox" && mode != "queue" && mode != "map") {
-        std::cerr << "salsa-gui: --mode: '" << mode << "' is not a mode (allowed: sandbox, queue, map)\n";
+      mode = value("sandbox, queue, map or tune");
+      if (mode != "sandbox" && mode != "queue" && mode != "map" && mode != "tune") {
+        std::cerr << "salsa-gui: --mode: '" << mode << "' is not a mode (allowed: sandbox, queue, map, tune)\n";
         return 2;
       }
     } else if (a == "--queue") {
       queue = value("a queue file");
     } else if (a == "--run-queue") {
       run_queue = value("an output folder");
+    } else if (a == "--run-tune") {
+      run_tune = value("an output folder");
     } else if (a == "--edit-map") {
       edit_map = value("a map file");
     } else if (a == "--yes") {
@@ -216,6 +220,9 @@ int main(int argc, char** argv) {
   }
   if (mode == "queue") window.set_mode(Mode::queue);
   if (mode == "map") window.set_mode(Mode::map_creator);
+  if (!run_tune.empty() && mode.empty()) mode = "tune";
+  if (mode == "tune") window.set_mode(Mode::tune);
+  if (!run_tune.empty() && !window.tune_page()->run(QString::fromStdString(run_tune)).empty() && !screenshot.empty()) return 1;
   if (show_plugins) window.show_plugins();
   if (!screenshot.empty()) {
     QTimer::singleShot(static_cast<int>(after * 1000), &window, [&] {

@@ -14,6 +14,7 @@
 #include <QSignalBlocker>
 #include <QStackedWidget>
 #include <QStatusBar>
+#include <QTableWidget>
 #include <QTimer>
 #include <QToolBar>
 
@@ -21,6 +22,7 @@
 #include "map_editor.hpp"
 #include "plugins.hpp"
 #include "queue_page.hpp"
+#include "tune_page.hpp"
 
 namespace salsa::gui {
 
@@ -59,7 +61,7 @@ const char* const shortcuts[][2] = {
     {"+ / −, wheel", "zoom"},         {"0, F", "fit the map"},          {"drag", "pan"},
     {"click a drone", "inspect it"},  {"Ctrl+O", "open a test"},        {"Ctrl+M", "open a map"},
     {"Ctrl+S", "save as test"},       {"Ctrl+P", "screenshot"},         {"Ctrl+R", "start / stop recording"},
-    {"Ctrl+1 / 2 / 3", "sandbox / queue / map creator"}, {"F5", "rescan plugin folders"},
+    {"Ctrl+1 / 2 / 3 / 4", "sandbox / queue / map creator / tune"}, {"F5", "rescan plugin folders"},
     {"V L P O S B", "map creator: select, line, polygon, hollow, spawn, bounds"},
     {"Ctrl+Z / Ctrl+Shift+Z", "map creator: undo / redo"}, {"Delete / Esc", "map creator: delete the selection / drop the polygon being drawn"},
     {"Ctrl+Q", "quit"},
@@ -78,14 +80,19 @@ MainWindow::MainWindow(std::shared_ptr<const PluginHost> host, std::vector<std::
   sandbox_ = new SandboxPage(host_);
   connect(sandbox_, &SandboxPage::message, this, &MainWindow::show_status);
   queue_ = new QueuePage(host_, plugin_dirs);
-  queue_->set_sandbox([this](std::string* why) -> std::optional<TestSpec> {
+  auto sandbox_test = [this](std::string* why) -> std::optional<TestSpec> {
     auto t = sandbox_->engine().current_test();
     if (!t && why) *why = "no test loaded in the sandbox";
     return t;
-  });
-  queue_->set_load_into_sandbox([this](const TestSpec& t) {
+  };
+  auto load_into_sandbox = [this](const TestSpec& t) {
     if (sandbox_->open_test_spec(t).empty()) set_mode(Mode::sandbox);
-  });
+  };
+  queue_->set_sandbox(sandbox_test);
+  queue_->set_load_into_sandbox(load_into_sandbox);
+  tune_ = new TunePage(host_, plugin_dirs);
+  tune_->set_sandbox(sandbox_test);
+  tune_->set_load_into_sandbox(load_into_sandbox);
   map_editor_ = new MapEditor(*editor_host_);
   connect(map_editor_, &MapEditor::map_saved, this, [this](const QString& file) {
     show_status("saved " + file + ": \"Map file…\" in the sandbox, or a test's \"map\": {\"file\": ...}, uses it", false);
@@ -97,6 +104,7 @@ MainWindow::MainWindow(std::shared_ptr<const PluginHost> host, std::vector<std::
   pages_->addWidget(sandbox_);
   pages_->addWidget(queue_);
   pages_->addWidget(map_editor_);
+  pages_->addWidget(tune_);
   setCentralWidget(pages_);
   build_docks();
   build_menus();
@@ -154,13 +162,16 @@ void MainWindow::set_mode(Mode m) {
   for (QAction* a : sandbox_actions_) a->setEnabled(m == Mode::sandbox);
   sandbox_->set_active(m == Mode::sandbox);  // the sandbox's figures
   mode_actions_[static_cast<std::size_t>(m)]->setChecked(true);
-  static const char* const titles[] = {"salsa — sandbox", "salsa — queue", "salsa — map creator"};
+  static const char* const titles[] = {"salsa — sandbox", "salsa — queue", "salsa — map creator", "salsa — tune"};
+  // Tune mode starts from the sandbox's test the first time it is shown.
+  if (m == Mode::tune && tune_->parameters()->rowCount() == 0) tune_->from_sandbox();
   setWindowTitle(titles[static_cast<int>(m)]);
 }
 
 void MainWindow::use_plugins(std::shared_ptr<const PluginHost> host, const QStringList& rebuilt) {
   host_ = std::move(host);
   queue_->set_host(host_);
+  tune_->set_host(host_);
   sandbox_->use_plugins(host_, rebuilt);
 }
 
@@ -219,12 +230,12 @@ void MainWindow::build_menus() {
     view_toggles_.emplace_back(a, t.flag);
   }
 
-  // Modes: a tool bar of three, Ctrl+1/2/3; each keeps its state while the others are shown.
+  // Modes: a tool bar of four, Ctrl+1/2/3/4; each keeps its state while the others are shown.
   QToolBar* modes = addToolBar("Mode");
   modes->setObjectName("mode_toolbar");
   modes->setMovable(false);
   auto* group = new QActionGroup(this);
-  const std::pair<const char*, Mode> mode_list[] = {{"Sandbox", Mode::sandbox}, {"Queue", Mode::queue}, {"Map creator", Mode::map_creator}};
+  const std::pair<const char*, Mode> mode_list[] = {{"Sandbox", Mode::sandbox}, {"Queue", Mode::queue}, {"Map creator", Mode::map_creator}, {"Tune", Mode::tune}};
   for (const auto& [text, m] : mode_list) {
     QAction* a = modes->addAction(text, this, [this, m = m] { set_mode(m); });
     a->setCheckable(true);

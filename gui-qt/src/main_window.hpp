@@ -1,6 +1,7 @@
 #pragma once
-// The main window: the shell around three pages that keep their state when you switch (toolbar,
-// Ctrl+1/2/3): the sandbox (SandboxPage), queue mode (QueuePage) and the map creator (MapEditor). It
+// The main window: the shell around four pages that keep their state when you switch (toolbar,
+// Ctrl+1/2/3/4): the sandbox (SandboxPage), queue mode (QueuePage), the map creator (MapEditor) and
+// tune mode (TunePage). It
 // owns the menus, the mode switch, the docks the sandbox's panels sit in, the status bar and the
 // plugin manager; what each page does is in the page.
 #include <QMainWindow>
@@ -21,6 +22,7 @@ namespace salsa::gui {
 class PluginManager;
 class QueuePage;
 class MapEditor;
+class TunePage;
 
 /// A one-line label that elides what does not fit (the full text in its tooltip), so a long message
 /// never runs into the figures beside it.
@@ -35,7 +37,7 @@ class MainWindow : public QMainWindow {
   explicit MainWindow(const PluginHost& host, QWidget* parent = nullptr);
   ~MainWindow() override;
 
-  enum class Mode { sandbox, queue, map_creator };
+  enum class Mode { sandbox, queue, map_creator, tune };
   void set_mode(Mode mode);
   Mode mode() const { return mode_; }
 
@@ -47,6 +49,7 @@ class MainWindow : public QMainWindow {
   SandboxPage* sandbox() const { return sandbox_; }
   QueuePage* queue_page() const { return queue_; }
   MapEditor* map_editor() const { return map_editor_; }
+  TunePage* tune_page() const { return tune_; }
   PluginManager* plugins() const { return plugins_; }
   std::shared_ptr<const PluginHost> host() const { return host_; }
   /// The status line's full text (shown elided).
@@ -72,6 +75,7 @@ class MainWindow : public QMainWindow {
   SandboxPage* sandbox_ = nullptr;
   QueuePage* queue_ = nullptr;
   MapEditor* map_editor_ = nullptr;
+  TunePage* tune_ = nullptr;
   ElidedLabel* status_ = nullptr;
   Mode mode_ = Mode::sandbox;
   std::vector<QAction*> mode_actions_;

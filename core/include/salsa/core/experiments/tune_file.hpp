@@ -12,7 +12,7 @@
 #include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/core/plugins/plugin_host.hpp"
 
-namespace salsa::cli {
+namespace salsa {
 
 /// One tuned number: where it is in the test and the range searched.
 struct TuneParameter {
@@ -67,6 +67,19 @@ struct TuneSpec {
   std::string canonical;
 };
 
+/// A number of a test that a tune file can tune: its key, declaration and the test's value.
+struct TunableNumber {
+  std::string key;   ///< as a tune file's "parameters" (and sweep.set) take it: "behavior.params.k", "groups.a.drones"
+  Parameter spec;    ///< the declared range, step (1: whole numbers) and unit
+  double value = 0;  ///< the test's value
+  bool log = false;  ///< searched on a log scale unless the tune file says otherwise (docs/tuning.md)
+};
+
+/// Every tunable number of `test`, per group its behavior's parameters, drone count and drone
+/// properties, then the comm fields (with "comm"), the wind's numbers (with wind), the failure clocks,
+/// the map's and the targets' parameters. What the desktop's Tune page offers.
+std::vector<TunableNumber> tunable_numbers(const TestSpec& test, const PluginHost& host);
+
 /// The algorithms by name, for messages: "random, lhs, grid, cmaes, xnes, pso, de, nsga2, bobyqa, neldermead".
 const std::vector<std::string>& tune_algorithms();
 
@@ -79,4 +92,4 @@ TuneSpec load_tune(const std::filesystem::path& file, const PluginHost& host, st
 TestSpec candidate_test(const TuneSpec& spec, const std::vector<double>& values, const std::string& name, std::size_t world,
                         const PluginHost& host);
 
-}  // namespace salsa::cli
+}  // namespace salsa

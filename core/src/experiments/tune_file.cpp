@@ -1,6 +1,6 @@
 // Reading a tune file: strict JSON, every field checked against what the base test and the plugins
 // declare, before anything runs.
-#include "tune_file.hpp"
+#include "salsa/core/experiments/tune_file.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -16,7 +16,7 @@
 #include "salsa/core/run/runner.hpp"
 #include "strict_json.hpp"
 
-namespace salsa::cli {
+namespace salsa {
 
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
@@ -202,6 +202,34 @@ double Objective::aggregate_of(std::vector<double> v) const {
   const auto below = static_cast<std::size_t>(std::floor(where));
   const std::size_t above = std::min(below + 1, v.size() - 1);
   return v[below] + (where - static_cast<double>(below)) * (v[above] - v[below]);
+}
+
+std::vector<TunableNumber> tunable_numbers(const TestSpec& test, const PluginHost& host) {
+  std::vector<std::string> keys;
+  for (const GroupSpec& g : test.groups) {
+    const std::string prefix = test.groups.size() == 1 ? "" : "groups." + g.name + ".";
+    for (const Parameter& p : host.behavior(g.behavior.name).factory.parameters) keys.push_back(prefix + "behavior.params." + p.name);
+    keys.push_back(prefix + "drones");
+    for (const DroneProperty& p : drone_schema()) keys.push_back(prefix + "drone." + p.spec.name);
+  }
+  if (test.comm.on)
+    for (const CommField& f : comm_schema()) keys.push_back("comm." + f.spec.name);
+  if (test.has_wind()) {
+    for (const WindProperty& p : wind_schema()) keys.push_back("wind." + p.spec.name);
+    if (!test.wind_field.name.empty())
+      for (const Parameter& p : host.wind(test.wind_field.name).factory.parameters) keys.push_back("wind.field.params." + p.name);
+  }
+  keys.insert(keys.end(), {"failures.drone_mtbf", "failures.camera_mtbf"});
+  for (const Parameter& p : host.map(test.map.name).factory.parameters) keys.push_back("map.params." + p.name);
+  keys.push_back("targets.count");
+  for (const Parameter& p : host.target_kind(test.target.name).factory.parameters) keys.push_back("targets.params." + p.name);
+  std::vector<TunableNumber> out;
+  for (std::string& key : keys) {
+    const auto found = declared(test, key, host);
+    if (const auto* d = std::get_if<Declared>(&found))  // a flag (comm.line_of_sight) is no number to tune
+      if (!(d->spec.is_integer() && d->spec.min == 0 && d->spec.max == 1)) out.push_back({std::move(key), d->spec, d->value, log_by_default(d->spec)});
+  }
+  return out;
 }
 
 const std::vector<std::string>& tune_algorithms() {
@@ -405,4 +433,4 @@ TestSpec candidate_test(const TuneSpec& spec, const std::vector<double>& values,
   return t;
 }
 
-}  // namespace salsa::cli
+}  // namespace salsa
