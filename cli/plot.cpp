@@ -128,13 +128,22 @@ salsa::plots::Chart csv_chart(const fs::path& file, const std::string& column) {
   return c;
 }
 
-// A results folder: a test folder (config.json) or a queue folder (test folders, and summary.csv when
-// the queue wrote one). Everything is redrawn from the files alone.
+// A results folder: a test folder (config.json), a tune folder (its tune.json record and
+// candidates.csv) or a queue folder (test folders, and summary.csv when the queue wrote one).
+// Everything is redrawn from the files alone.
 void plot_folder(const fs::path& folder, const std::string& metric) {
   std::error_code ec;
   if (fs::is_regular_file(folder / "config.json", ec)) {
     salsa::plots::draw_test_plots(folder);
     std::cout << "plots in " << (folder / "plots").string() << "\n";
+    return;
+  }
+  // The tune's own plots, as salsa tune drew them; its evaluations' folders keep none (salsa plot OUT/<test>).
+  // Only in a folder salsa wrote results into (a finished tune always did), as for a queue below.
+  if (fs::is_regular_file(folder / "tune.json", ec) && fs::is_regular_file(folder / "candidates.csv", ec) && salsa::holds_results(folder)) {
+    salsa::plots::start_plotting();
+    salsa::cli::draw_tune_folder(folder);
+    std::cout << "tune plots in " << (folder / "plots").string() << "\n";
     return;
   }
   std::vector<fs::path> tests;  // sorted, so the order (and any first error) is the same every time
@@ -167,7 +176,7 @@ int cmd_plot(int argc, char** argv) {
   po::variables_map vm;
   if (!salsa::cli::parse(argc, argv, "plot",
                          "FOLDER          redraw the plots of a results folder (every test's, the queue's,\n"
-                         "                                  comparison.csv) or of one test folder, from their files alone\n"
+                         "                                  comparison.csv), of a tune folder or of one test folder, from their files alone\n"
                          "       salsa plot FILE --out PNG  chart a bench JSON file or a summary.csv column",
                          o, vm, salsa::cli::help_only, salsa::cli::positional("file", 1)))
     return 0;

@@ -58,14 +58,15 @@ po::options_description child_options() {
 
 
 /// Loads every file's queue and applies the command-line overrides (with the same checks as the files).
-std::vector<TestSpec> load_all(const po::variables_map& vm, const PluginHost& host, std::string& reference) {
+std::vector<TestSpec> load_all(const po::variables_map& vm, const PluginHost& host, QueueRecord& comparison) {
   if (!vm.count("files")) throw InputError("missing FILE (a test file, see examples/)");
   const QueueOptions options = queue_settings(vm);
   std::vector<TestSpec> all;
   std::unordered_map<std::string, std::string> sources;  // name -> where it was given
   for (const auto& f : vm["files"].as<std::vector<std::string>>()) {
     Queue queue = load_queue(f, host, options);
-    if (reference.empty()) reference = queue.reference;  // the first file's that has one
+    if (comparison.reference.empty() && comparison.top == 0)  // the first file's that has either
+      comparison.reference = queue.reference, comparison.top = queue.top;
     for (auto& t : queue.tests) {
       if (vm.count("time")) {
         t.time = seconds_option(vm, "time", t);
@@ -115,8 +116,8 @@ int cmd_run(int argc, char** argv) {
   const auto [shard, shards] = mpi || child ? std::pair<std::size_t, std::size_t>{0, 1} : shard_option(vm);
   PluginHost host;
   load_plugins(host, vm, !child);
-  std::string reference;
-  const auto tests = load_all(vm, host, reference);
+  QueueRecord comparison;  // only its reference and top
+  const auto tests = load_all(vm, host, comparison);
   // Every test valid before the first one runs; tests that will take hours are said so up front.
   for (const auto& t : tests) warn_workload(t, make_setup(t, host), quiet || child);
   // This process's share: one test (--isolate child), a shard (test k when k % n == i), or all.
@@ -148,7 +149,7 @@ int cmd_run(int argc, char** argv) {
         std::optional<QueueRecord> record;  // an --isolate child's run has recorded its queue already
         if (!child) {
           record = queue_record(tests, host, command);
-          record->reference = reference;
+          record->reference = comparison.reference, record->top = comparison.top;
           check_queue_folder(options.out, *record, options.resume, options.force);
         }
         check_outputs(checked, host, options);

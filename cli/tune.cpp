@@ -23,9 +23,11 @@
 #include "salsa/core/experiments/queue.hpp"
 #include "salsa/core/experiments/queue_summary.hpp"
 #include "salsa/core/files/csv_reader.hpp"
+#include "salsa/core/files/csv_writer.hpp"
 #include "salsa/core/files/output_folder.hpp"
 #include "salsa/plots/results.hpp"
 #include "salsa/plots/tune.hpp"
+#include "strict_json.hpp"
 #include "commands.hpp"
 #include "mpi.hpp"
 #include "options.hpp"
@@ -157,10 +159,11 @@ class Tuner {
     write_candidates_csv();
     const std::size_t winner = best();
     write_best(winner);
+    write_plot_record(winner);
     const std::string text = report(why, winner, command);
     write_file(options_.out / "report.txt", text);
     write_queue_summary(options_.out, &host_);
-    if (draw) draw_plots(winner);
+    if (draw) draw_tune_folder(options_.out);  // from the files just written, as `salsa plot OUT` draws them
     return text;
   }
 
@@ -538,14 +541,28 @@ class Tuner {
   }
 
   /// best.json: the winner on the tuning worlds, as a queue `salsa run` reruns byte for byte (the
-  /// tune's seed, one repeat per world: the same paired seeds).
+  /// tune's seed, one repeat per world: the same paired seeds). With several objectives also
+  /// front/<rank>.json, each member of the Pareto front the same way, ranked as best.json's winner is
+  /// chosen (by the first objective): front/1.json is best.json's candidate.
   void write_best(std::size_t winner) const {
-    json test = json::parse(test_config(test_of(candidates_[winner], 0), host_));
-    test.erase("seed");
-    test.erase("repeat");
-    test["name"] = "best";
-    json queue = {{"seed", spec_.seed}, {"repeats", spec_.worlds}, {"tests", json::array({test})}};
-    replace_file(options_.out / "best.json", queue.dump(2) + "\n");
+    const auto write = [&](std::size_t candidate, const std::string& name, const fs::path& file) {
+      json test = json::parse(test_config(test_of(candidates_[candidate], 0), host_));
+      test.erase("seed");
+      test.erase("repeat");
+      test["name"] = name;
+      json queue = {{"seed", spec_.seed}, {"repeats", spec_.worlds}, {"tests", json::array({test})}};
+      replace_file(file, queue.dump(2) + "\n");
+    };
+    write(winner, "best", options_.out / "best.json");
+    const fs::path front = options_.out / "front";
+    std::error_code ec;
+    fs::remove_all(front, ec);  // an earlier run's front (another seed, a --force restart) is not this one's
+    if (spec_.objectives.size() < 2) return;
+    fs::create_directories(front, ec);
+    if (ec) throw WriteError(front.string() + ": cannot create the folder (" + ec.message() + ")");
+    std::size_t rank = 0;
+    for (const std::size_t c : ranking())
+      if (on_front(c)) ++rank, write(c, "front_" + std::to_string(rank), front / (std::to_string(rank) + ".json"));
   }
 
   std::string describe(const Candidate& c) const {
@@ -620,40 +637,22 @@ class Tuner {
       }
     }
     s << "files: tune.csv (one row per evaluation), candidates.csv, best.json ('salsa run " << (options_.out / "best.json").string()
-      << "' reruns the best on the tuning worlds), plots/\n";
+      << "' reruns the best on the tuning worlds), "
+      << (spec_.objectives.size() > 1 ? "front/<rank>.json (each member of the Pareto front, the same way; 1 is the best), " : "") << "plots/\n";
     return s.str();
   }
 
-  void draw_plots(std::size_t winner) const {
-    plots::TunePlot p;
-    p.objective = spec_.objectives[0].name();
-    p.maximise = spec_.objectives[0].maximise;
-    if (!candidates_[0].score.empty()) p.defaults = shown(0, candidates_[0].score[0]);
-    // Best so far, at the evaluations used when each complete candidate ended.
-    std::vector<std::size_t> order;
-    for (const Candidate& c : candidates_)
-      if (c.status == Candidate::complete) order.push_back(c.id);
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return candidates_[a].ended_at < candidates_[b].ended_at; });
-    double best = std::numeric_limits<double>::infinity();
-    for (const std::size_t id : order) {
-      best = std::min(best, candidates_[id].score[0]);
-      p.best_so_far.emplace_back(static_cast<double>(candidates_[id].ended_at), shown(0, best));
-    }
-    p.winner = std::numeric_limits<std::size_t>::max();
-    for (const TuneParameter& param : spec_.parameters) p.parameters.push_back({param.key, param.log, {}});
-    for (const Candidate& c : candidates_) {
-      if (c.status != Candidate::complete && c.status != Candidate::dropped) continue;
-      for (std::size_t k = 0; k < c.values.size(); ++k) p.parameters[k].values.push_back(c.values[k]);
-      p.scores.push_back(shown(0, c.score[0]));
-      p.dropped.push_back(c.status == Candidate::dropped);
-      if (c.id == winner) p.winner = p.scores.size() - 1;
-      if (spec_.objectives.size() > 1) {
-        p.second_objective = spec_.objectives[1].name();
-        p.second.push_back(shown(1, c.score[1]));
-        p.on_front.push_back(on_front(c.id));
-      }
-    }
-    plots::draw_tune_plots(options_.out / "plots", p);
+  /// tune_plots.json: what the plots need besides candidates.csv (each objective's goal, each
+  /// parameter's scale, the winner, the Pareto front), so that they can be redrawn from files alone.
+  void write_plot_record(std::size_t winner) const {
+    json objectives = json::array(), parameters = json::array(), front = json::array();
+    for (const Objective& o : spec_.objectives) objectives.push_back({{"name", o.name()}, {"goal", o.maximise ? "max" : "min"}});
+    for (const TuneParameter& p : spec_.parameters) parameters.push_back({{"key", p.key}, {"log", p.log}});
+    if (spec_.objectives.size() > 1)
+      for (const std::size_t c : ranking())
+        if (on_front(c)) front.push_back(c);
+    const json record = {{"objectives", objectives}, {"parameters", parameters}, {"winner", winner}, {"front", front}};
+    replace_file(options_.out / "tune_plots.json", record.dump(2) + "\n");
   }
 
   const TuneSpec& spec_;
@@ -701,6 +700,79 @@ void claim_tune_folder(const fs::path& out, const TuneSpec& spec, bool resume, b
 }
 
 }  // namespace
+
+void salsa::cli::draw_tune_folder(const fs::path& out) {
+  // ---- tune_plots.json: the objectives, the parameters, the winner and the front.
+  const fs::path record_file = out / "tune_plots.json";
+  const std::string where = strict_json::printable(record_file.string(), 200);
+  json record;
+  try {
+    record = strict_json::read_file<json>(record_file, "the tune's plot record, written by salsa tune");
+  } catch (const strict_json::Error& e) {
+    throw InputError(e.what());
+  }
+  const auto field = [&](const json& object, const std::string& at, const char* key, const char* kind, bool ok(const json&)) -> const json& {
+    const std::string name = at.empty() ? key : at + "." + key;
+    if (!object.is_object() || !object.contains(key)) throw InputError(where + ": " + name + ": missing (allowed: " + kind + "; rerun salsa tune --resume to rewrite it)");
+    if (!ok(object[key])) throw InputError(where + ": " + name + ": " + strict_json::shown(object[key]) + " is not " + kind);
+    return object[key];
+  };
+  const auto is_list = [](const json& v) { return v.is_array() && !v.empty(); };
+  const json& objectives = field(record, "", "objectives", "a list of objectives", is_list);
+  const json& parameters = field(record, "", "parameters", "a list of parameters", is_list);
+  const std::size_t winner = field(record, "", "winner", "a candidate number", [](const json& v) { return v.is_number_unsigned(); }).get<std::size_t>();
+  std::vector<std::size_t> front;
+  for (const json& c : field(record, "", "front", "a list of candidate numbers", [](const json& v) { return v.is_array(); })) {
+    if (!c.is_number_unsigned()) throw InputError(where + ": front: " + strict_json::shown(c) + " is not a candidate number");
+    front.push_back(c.get<std::size_t>());
+  }
+  std::vector<std::string> names;
+  for (std::size_t o = 0; o < objectives.size(); ++o) {
+    const std::string at = "objectives[" + std::to_string(o) + "]";
+    names.push_back(field(objectives[o], at, "name", "a column name", [](const json& v) { return v.is_string(); }).get<std::string>());
+    field(objectives[o], at, "goal", "max or min", [](const json& v) { return v == "max" || v == "min"; });
+  }
+  plots::TunePlot p;
+  p.objective = names[0];
+  p.maximise = objectives[0]["goal"] == "max";
+  for (std::size_t k = 0; k < parameters.size(); ++k) {
+    const std::string at = "parameters[" + std::to_string(k) + "]";
+    const std::string key = field(parameters[k], at, "key", "a dotted key", [](const json& v) { return v.is_string(); }).get<std::string>();
+    p.parameters.push_back({key, field(parameters[k], at, "log", "true or false", [](const json& v) { return v.is_boolean(); }).get<bool>(), {}});
+  }
+  if (names.size() > 1) p.second_objective = names[1];
+
+  // ---- candidates.csv: the scored candidates (complete, or dropped by racing at their estimate).
+  CsvReader csv(out / "candidates.csv");
+  const std::size_t c_id = csv.column("candidate"), c_status = csv.column("status"), c_used = csv.column("evaluations");
+  std::vector<std::size_t> c_values, c_scores;
+  for (const auto& param : p.parameters) c_values.push_back(csv.column(param.key));
+  for (std::size_t o = 0; o < std::min<std::size_t>(names.size(), 2); ++o) c_scores.push_back(csv.column(names[o]));
+  p.winner = std::numeric_limits<std::size_t>::max();
+  std::vector<std::pair<double, double>> ended;  // (evaluations used when it ended, score) of the complete ones
+  while (csv.next()) {
+    const double id = csv.number(c_id);
+    const std::string_view status = csv[c_status];
+    if (id == 0)
+      if (const auto score = csv.optional_number(c_scores[0])) p.defaults = *score;
+    if (status != "complete" && status != "dropped") continue;
+    for (std::size_t k = 0; k < c_values.size(); ++k) p.parameters[k].values.push_back(csv.number(c_values[k]));
+    p.scores.push_back(csv.number(c_scores[0]));
+    p.dropped.push_back(status == "dropped");
+    if (id == static_cast<double>(winner)) p.winner = p.scores.size() - 1;
+    if (c_scores.size() > 1) {
+      p.second.push_back(csv.number(c_scores[1]));
+      p.on_front.push_back(std::find(front.begin(), front.end(), static_cast<std::size_t>(id)) != front.end());
+    }
+    if (status == "complete") ended.emplace_back(csv.number(c_used), p.scores.back());
+  }
+  std::stable_sort(ended.begin(), ended.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [used, score] : ended) {
+    const bool better = p.best_so_far.empty() || (p.maximise ? score > p.best_so_far.back().second : score < p.best_so_far.back().second);
+    p.best_so_far.emplace_back(used, better ? score : p.best_so_far.back().second);
+  }
+  plots::draw_tune_plots(out / "plots", p);
+}
 
 int cmd_tune(int argc, char** argv) {
   po::variables_map vm;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Fuzzes salsa's readers of untrusted input with libFuzzer (clang): scripts/fuzz.sh [SECONDS] [NAME...]
-# NAME is a target of fuzz/ without its prefix (elf, test_json, map_json, drone_json, names); default all,
+# NAME is a target of fuzz/ without its prefix (elf, test_json, map_json, drone_json, names, tune_json); default all,
 # SECONDS each (default 600). A crash is copied to fuzz/findings/NAME/, where every build then replays
 # it as a regression test (fuzz_replay_NAME); fix it, then commit the finding.
 set -uo pipefail

@@ -203,6 +203,7 @@ class TestOutputFolder : public QObject {
     QTemporaryDir dir;
     write(dir.filePath("mine/summary.csv"), "my,own\n1,2\n");
     write(dir.filePath("mine/comparison.csv"), "also,mine\n");
+    for (const char* file : {"tune.json", "candidates.csv", "tune_plots.json"}) write(dir.filePath(QString("mine/") + file), "mine too\n");  // not a tune's
     const auto before = snapshot(dir.path());
     CliResult r = run_env({"summarize", "mine"}, dir.path());
     QVERIFY2(one_line(r, "mine: holds no salsa results"), describe(r));

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "salsa/core/files/names.hpp"
+#include "salsa/core/experiments/comparison.hpp"
 #include "salsa/core/experiments/queue.hpp"
 #include "salsa/core/experiments/queue_summary.hpp"
 #include "salsa/core/files/output_folder.hpp"
@@ -382,6 +383,55 @@ class TestQueue : public QObject {
              qPrintable(error));
   }
 
+  // "top": a whole number from 2 to the queue's variants; not with "reference" (each picks the pairs).
+  void top_is_checked() {
+    const QByteArray sweep = R"("sweep": {"test": {"time": 10}, "behaviors": ["random_walk", "pheromone_avoidance", {"name": "flocking", "params": {"cohesion_weight": [1, 2]}}]})";
+    QCOMPARE(load("{" + sweep + R"(, "top": 2})").top, std::size_t(2));
+    QCOMPARE(load("{" + sweep + R"(, "top": 4})").top, std::size_t(4));
+    QCOMPARE(load("{" + sweep + "}").top, std::size_t(0));
+    auto error = [&](const QByteArray& json) {  // from the file's name on: the folder is a temporary one
+      const QString e = error_of(json);
+      return e.mid(e.indexOf("q.json: "));
+    };
+    QCOMPARE(error("{" + sweep + R"(, "top": 5})"), QString("q.json: top: 5 is out of range (allowed: whole number in [2, 4])"));
+    QCOMPARE(error("{" + sweep + R"(, "top": 1})"), QString("q.json: top: 1 is out of range (allowed: whole number in [2, 4])"));
+    QCOMPARE(error("{" + sweep + R"(, "top": 0})"), QString("q.json: top: 0 is out of range (allowed: whole number in [2, 4])"));
+    QCOMPARE(error("{" + sweep + R"(, "top": 2.5})"), QString("q.json: top: 2.5 is not a whole number (allowed: whole number in [2, 4])"));
+    QCOMPARE(error("{" + sweep + R"(, "top": "3"})"), QString("q.json: top: \"3\" is not a whole number (allowed: whole number in [2, 4])"));
+    QCOMPARE(error("{" + sweep + R"(, "top": 3, "reference": "random_walk"})"),
+             QString("q.json: top: 3 given with \"reference\" (allowed: one of them; \"top\" compares the best variants with each other, "
+                     "\"reference\" every variant with one)"));
+    QCOMPARE(error(R"({"tests": [{"behavior": "flocking", "time": 10}], "top": 2})"),
+             QString("q.json: top: 2: the queue has one variant, nothing to compare (allowed: leave it out)"));
+  }
+
+  // The pairs "top" picks, on a summary whose order is known: in cell c1 the means of v0..v5 are
+  // .3 .9 .1 .7 .5 .8, so the top 3 are v1, v5, v3 (in that order); in cell c2 v2 leads and only two
+  // variants ran, so "top 3" pairs both. Each pair once, the better ranked first.
+  void top_pairs_the_best_variants() {
+    using P = std::vector<std::pair<std::size_t, std::size_t>>;
+    const std::vector<std::string> six{"v0", "v1", "v2", "v3", "v4", "v5"};
+    QCOMPARE(compared_pairs(six, "", 3, {.3, .9, .1, .7, .5, .8}), (P{{1, 5}, {1, 3}, {5, 3}}));
+    QCOMPARE(compared_pairs(six, "", 2, {.5, .5, .5, .5, .5, .5}), (P{{0, 1}}));  // ties: first appearance first
+    QCOMPARE(compared_pairs({"a", "b", "c"}, "", 3, {std::nan(""), .2, .1}), (P{{1, 2}, {1, 0}, {2, 0}}));  // no value ranks last
+    QCOMPARE(compared_pairs({"a", "b"}, "", 5, {.1, .2}), (P{{1, 0}}));
+    const QString out = dir_.filePath("top");
+    QByteArray summary = "name,status,error,cell,variant,behavior,repeat,seed,drones,targets,target,map,time,fraction_found\n";
+    const double means[] = {.3, .9, .1, .7, .5, .8};
+    for (int v = 0; v < 6; ++v)
+      for (int r = 0; r < 2; ++r)  // ± .05 around the mean
+        summary += "t" + QByteArray::number(v) + "_" + QByteArray::number(r) + ",ok,,c1,v" + QByteArray::number(v) + ",f," + QByteArray::number(r) +
+                   "," + QByteArray::number(r + 1) + ",10,50,tree,forest,60," + QByteArray::number(means[v] + (r ? .05 : -.05)) + "\n";
+    summary += "u0,ok,,c2,v0,f,0,7,20,50,tree,forest,60,0.2\nu2,ok,,c2,v2,f,0,7,20,50,tree,forest,60,0.6\n";
+    QVERIFY(write_file(out + "/summary.csv", summary));
+    QVERIFY(write_file(out + "/queue.json", R"({"tests": [], "configs_hash": "0123456789abcdef", "command": [], "top": 3})"));
+    write_comparison(out.toStdString());
+    QStringList pairs;
+    for (const QString& line : non_empty_lines(QString::fromUtf8(read_file(out + "/comparison.csv"))).mid(1))
+      pairs << line.section(',', 0, 0) + ":" + line.section(',', 8, 9);
+    QCOMPARE(pairs, (QStringList{"c1:v1,v5", "c1:v1,v3", "c1:v5,v3", "c2:v2,v0"}));
+  }
+
   void variants_in_words() {
     const Queue q = load(R"({"sweep": {"test": {"time": 10}, "behaviors": ["random_walk", {"name": "flocking", "params": {"cohesion_weight": [1.4], "alignment_weight": [2]}}]}})");
     QCOMPARE(variant(q.tests[0], *host_), std::string("random_walk (defaults)"));
@@ -447,7 +497,7 @@ class TestQueue : public QObject {
     QTest::newRow("unknown sweep key") << QByteArray(R"({"sweep": {"behaviours": ["flocking"]}})")
                                        << QStringList{"q.json: sweep.behaviours: unknown key (allowed: test, behaviors, maps, drones, targets, drone, set)"};
     QTest::newRow("unknown queue key") << QByteArray(R"({"sweep": {"behaviors": ["flocking"]}, "repeat": 3})")
-                                       << QStringList{"q.json: repeat: unknown key (allowed: seed, repeats, base, conditions, reference, tests, sweep)"};
+                                       << QStringList{"q.json: repeat: unknown key (allowed: seed, repeats, base, conditions, reference, top, tests, sweep)"};
     QTest::newRow("unknown range key") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": {"from": 1, "to": 5, "by": 1}}})")
                                        << QStringList{"q.json: sweep.drones.by: unknown key (allowed: from, to, step, count)"};
     QTest::newRow("range without step or count") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drones": {"from": 1, "to": 5}}})")

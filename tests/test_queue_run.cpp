@@ -327,6 +327,48 @@ class TestQueueRun : public QObject {
     QVERIFY(std::abs(did[1][14].toDouble() - (comparison[2][13].toDouble() - comparison[1][13].toDouble())) < 1e-5);
   }
 
+  // "top": comparison.csv pairs the 3 variants of each condition with the highest mean fraction_found
+  // (ranked here from summary.csv; the two conditions rank them differently), each with the others,
+  // the better first; queue.json records it, and a run of the same tests with another top is another queue.
+  void top_compares_the_best_variants_within_each_condition() {
+    QTemporaryDir dir;
+    const QByteArray queue = R"({"repeats": 2, "top": 3,
+      "base": {"drones": 5, "time": 20, "map": {"name": "empty", "params": {"size": 200}}, "targets": {"count": 400}, "metrics": []},
+      "sweep": {"behaviors": ["random_walk", "pheromone_avoidance", "dynamic_space_partitioning", {"name": "flocking", "params": {"cohesion_weight": [1, 3]}}]},
+      "conditions": [{"name": "five"}, {"name": "three", "drones": 3}]})";
+    write(dir.filePath("q.json"), queue);
+    CliResult r = run_salsa({"run", "q.json", "--out", "out", "-q", "--no-plots", "--no-drones-csv"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const auto rows = csv_rows(dir.filePath("out/summary.csv"));
+    QCOMPARE(rows.size(), 1 + 5 * 2 * 2);
+    const qsizetype c_variant = rows[0].indexOf("variant"), c_condition = rows[0].indexOf("condition"), c_found = rows[0].indexOf("fraction_found");
+    QVERIFY(c_variant >= 0 && c_condition >= 0 && c_found >= 0);
+    // Variant labels hold no comma here ("flocking: cohesion_weight = 3"), so splitting on ',' is safe.
+    QStringList expected;
+    for (const QString condition : {"five", "three"}) {
+      QStringList order;  // first appearance
+      std::map<QString, double> sum;
+      for (qsizetype i = 1; i < rows.size(); ++i)
+        if (rows[i][c_condition] == condition) {
+          if (!sum.count(rows[i][c_variant])) order << rows[i][c_variant];
+          sum[rows[i][c_variant]] += rows[i][c_found].toDouble();
+        }
+      QCOMPARE(order.size(), 5);
+      std::stable_sort(order.begin(), order.end(), [&](const QString& a, const QString& b) { return sum[a] > sum[b]; });
+      QVERIFY2(sum[order[2]] > sum[order[3]], "the 3rd and 4th tie: the queue does not tell which pairs top 3 picks");
+      for (int a = 0; a < 3; ++a)
+        for (int b = a + 1; b < 3; ++b) expected << condition + ":" + order[a] + "|" + order[b];
+    }
+    QStringList pairs;
+    for (const QStringList& row : csv_rows(dir.filePath("out/comparison.csv")).mid(1)) pairs << row[1] + ":" + row[8] + "|" + row[9];
+    QCOMPARE(pairs, expected);
+    const QString record = QString::fromUtf8(read_file(dir.filePath("out/queue.json")));
+    QVERIFY2(record.contains("\"top\": 3\n"), qPrintable(record));
+    write(dir.filePath("q2.json"), QByteArray(queue).replace("\"top\": 3", "\"top\": 2"));
+    r = run_salsa({"run", "q2.json", "--out", "out", "-q", "--no-plots", "--no-drones-csv"}, dir.path());
+    QVERIFY2(r.exit_code == 2 && r.err.contains("out/queue.json: holds the same tests with other settings"), describe(r));
+  }
+
   void shards_cover_the_queue_once() {
     QTemporaryDir dir;
     write(dir.filePath("q.json"), small_queue(10, 1));

@@ -280,6 +280,36 @@ class TestTune : public QObject {
     QVERIFY(winner(out)["behavior.params.a"].toDouble() <= 7);
   }
 
+  // `salsa plot OUT` on a tune folder redraws the tune's plots from candidates.csv and
+  // tune_plots.json alone: deleted PNGs come back byte for byte (the tune draws them the same way),
+  // with rings for candidates dropped by racing and a log-scale parameter (b); a folder without the record
+  // is refused in one line naming it.
+  void plot_redraws_a_tune_folder() {
+    QTemporaryDir dir;
+    const QString out = dir.filePath("out");
+    QJsonObject t = bowl_tune("random", 80, 6, true);
+    t["racing"] = QJsonObject{{"level", 0.05}, {"first_test", 3}};
+    const CliResult r = run_salsa({"tune", write_tune(dir, t), "--out", out, "--plugin-dir", bowl_dir()});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QVERIFY2(read_file(out + "/candidates.csv").contains(",dropped,"), "no candidate dropped: the rings go untested");
+    const QStringList pngs = QDir(out + "/plots").entryList({"*.png"});
+    QCOMPARE(pngs, (QStringList{"convergence.png", "parameter_behavior.params.a.png", "parameter_behavior.params.b.png",
+                                "parameter_behavior.params.c.png"}));
+    std::map<QString, QByteArray> drawn;
+    for (const QString& png : pngs) {
+      drawn[png] = read_file(out + "/plots/" + png);
+      QVERIFY(QFile::remove(out + "/plots/" + png));
+    }
+    const CliResult again = run_salsa({"plot", out});
+    QVERIFY2(again.exit_code == 0 && again.out.contains("tune plots in " + out + "/plots"), describe(again));
+    QCOMPARE(QDir(out + "/plots").entryList({"*.png"}), pngs);
+    for (const auto& [png, bytes] : drawn) QVERIFY2(read_file(out + "/plots/" + png) == bytes, qPrintable(png));
+    QVERIFY(QFile::remove(out + "/tune_plots.json"));
+    const CliResult refused = run_salsa({"plot", out});
+    QVERIFY2(refused.exit_code == 2 && non_empty_lines(refused.err).size() == 1 && refused.err.contains(out + "/tune_plots.json: cannot open file"),
+             describe(refused));
+  }
+
   void two_objectives_give_a_pareto_front() {
     QTemporaryDir dir;
     const QString out = dir.filePath("out");
@@ -293,6 +323,38 @@ class TestTune : public QObject {
     QVERIFY2(r.out.contains("Pareto front: c"), describe(r));
     for (const char* png : {"pareto.png", "convergence.png", "parameter_behavior.params.a.png"})
       QVERIFY2(QFileInfo(out + "/plots/" + png).size() > 1000, png);
+    // salsa plot OUT draws the front again, the same bytes.
+    const QByteArray pareto = read_file(out + "/plots/pareto.png");
+    QVERIFY(QFile::remove(out + "/plots/pareto.png"));
+    const CliResult again = run_salsa({"plot", out});
+    QVERIFY2(again.exit_code == 0, describe(again));
+    QVERIFY(read_file(out + "/plots/pareto.png") == pareto);
+    // front/<rank>.json: every member of the front, in the report's order; 1 is best.json's candidate.
+    const QString listed = r.out.section("Pareto front:", 1).section('\n', 0, 0);
+    const QStringList members = listed.split(' ', Qt::SkipEmptyParts);
+    QVERIFY2(members.size() >= 2, qPrintable(listed));
+    QCOMPARE(QDir(out + "/front").entryList(QDir::Files), [&] {
+      QStringList files;
+      for (qsizetype i = 1; i <= members.size(); ++i) files << QString("%1.json").arg(i);
+      std::sort(files.begin(), files.end());
+      return files;
+    }());
+    auto test_of = [](const QString& file) {
+      QJsonObject queue = QJsonDocument::fromJson(read_file(file)).object();
+      QJsonObject test = queue["tests"].toArray().at(0).toObject();
+      test.remove("name");
+      queue["tests"] = QJsonArray{test};
+      return queue;
+    };
+    QCOMPARE(test_of(out + "/front/1.json"), test_of(out + "/best.json"));
+    // The last member replays on the tuning worlds to the data of its own evaluations.
+    const QString last = QString::number(members.size());
+    const CliResult replay = run_salsa({"run", out + "/front/" + last + ".json", "--out", dir.filePath("replay"), "--plugin-dir", bowl_dir(), "--no-plots"});
+    QVERIFY2(replay.exit_code == 0, describe(replay));
+    for (int w = 0; w < 2; ++w) {
+      const QString evaluation = QString("%1/c%2_w%3/summary.csv").arg(out).arg(members.last().mid(1).toInt(), 4, 10, QChar('0')).arg(w, 2, 10, QChar('0'));
+      QVERIFY2(read_file(dir.filePath(QString("replay/front_%1_r%2/summary.csv").arg(last).arg(w))) == read_file(evaluation), qPrintable(evaluation));
+    }
   }
 
   void bad_input_is_refused_before_anything_runs_data() {

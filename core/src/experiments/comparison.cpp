@@ -4,6 +4,7 @@
 #include <boost/math/distributions/students_t.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -54,8 +55,19 @@ PairedStats paired_stats(const std::map<std::string, double>& a, const std::map<
   return s;
 }
 
-std::vector<std::pair<std::size_t, std::size_t>> compared_pairs(const std::vector<std::string>& variants, const std::string& reference) {
+std::vector<std::pair<std::size_t, std::size_t>> compared_pairs(const std::vector<std::string>& variants, const std::string& reference,
+                                                                std::size_t top, const std::vector<double>& means) {
   std::vector<std::pair<std::size_t, std::size_t>> out;
+  if (top > 0) {
+    std::vector<std::size_t> rank(variants.size());
+    for (std::size_t v = 0; v < rank.size(); ++v) rank[v] = v;
+    const auto mean = [&](std::size_t v) { return v < means.size() && !std::isnan(means[v]) ? means[v] : -std::numeric_limits<double>::infinity(); };
+    std::stable_sort(rank.begin(), rank.end(), [&](std::size_t a, std::size_t b) { return mean(a) > mean(b); });
+    rank.resize(std::min(top, rank.size()));
+    for (std::size_t a = 0; a < rank.size(); ++a)
+      for (std::size_t b = a + 1; b < rank.size(); ++b) out.emplace_back(rank[a], rank[b]);
+    return out;
+  }
   auto ref = std::find(variants.begin(), variants.end(), reference);
   if (ref == variants.end() && variants.size() > max_all_pairs) ref = variants.begin();
   if (ref != variants.end()) {
@@ -93,18 +105,36 @@ struct Group {
   std::map<std::string, Values> values;     // variant → its tests
 };
 
-/// The comparison's reference, as OUT/queue.json records the queue's "reference"; "" when none.
-std::string recorded_reference(const fs::path& out) {
+/// The mean of each variant's values (in `g.variants`' order): what "top" ranks by.
+std::vector<double> variant_means(const Group& g) {
+  std::vector<double> out;
+  for (const std::string& v : g.variants) {
+    double sum = 0;
+    for (const auto& [key, x] : g.values.at(v)) sum += x;
+    out.push_back(sum / static_cast<double>(g.values.at(v).size()));
+  }
+  return out;
+}
+
+/// Which pairs to show, as OUT/queue.json records the queue's "reference" and "top" ("" and 0: none).
+struct Choice {
+  std::string reference;
+  std::size_t top = 0;
+};
+Choice recorded_choice(const fs::path& out) {
+  Choice c;
   std::ifstream in(out / "queue.json", std::ios::binary);
-  if (!in) return "";
+  if (!in) return c;
   std::stringstream text;
   text << in.rdbuf();
   try {
     const auto j = nlohmann::json::parse(text.str());
-    if (j.is_object() && j.contains("reference") && j["reference"].is_string()) return j["reference"].get<std::string>();
+    if (!j.is_object()) return c;
+    if (j.contains("reference") && j["reference"].is_string()) c.reference = j["reference"].get<std::string>();
+    if (j.contains("top") && j["top"].is_number_unsigned()) c.top = j["top"].get<std::size_t>();
   } catch (const std::exception&) {
   }
-  return "";
+  return c;
 }
 
 /// The per-pair differences A − B of a group, by "repeat/seed".
@@ -162,7 +192,8 @@ void write_comparison(const fs::path& out, const std::string& metric) {
                        " in cell " + id + (condition.empty() ? "" : " under condition " + condition) + " with seed " +
                        std::string(in[c_seed]) + " (each pair needs one of each)");
   }
-  const std::string reference = recorded_reference(out);
+  const Choice choice = recorded_choice(out);
+  const auto pairs_of = [&](const Group& g) { return compared_pairs(g.variants, choice.reference, choice.top, variant_means(g)); };
   const auto put = [](std::string& text, const std::string& field) { (text += ',') += field; };
   auto put_numbers = [&](std::string& text, std::initializer_list<double> values) {
     for (double v : values) put(text, number(v));
@@ -173,7 +204,7 @@ void write_comparison(const fs::path& out, const std::string& metric) {
   for (const char* name : description) text += std::string(",") + name;
   text += ",metric,variant_a,variant_b,n,mean_a,mean_b,mean_diff,ci_low,ci_high,win_rate_a\n";
   for (const Group& g : groups)
-    for (const auto& [a, b] : compared_pairs(g.variants, reference)) {
+    for (const auto& [a, b] : pairs_of(g)) {
       const PairedStats s = paired_stats(g.values.at(g.variants[a]), g.values.at(g.variants[b]));
       text += csv_field(g.cell);
       put(text, csv_field(g.condition));
@@ -203,7 +234,7 @@ void write_comparison(const fs::path& out, const std::string& metric) {
     for (std::size_t k = 1; k < list.size(); ++k) {
       const Group& other = groups[list[k]];
       any = true;
-      for (const auto& [a, b] : compared_pairs(base.variants, reference)) {
+      for (const auto& [a, b] : pairs_of(base)) {
         const std::string &va = base.variants[a], &vb = base.variants[b];
         if (!other.values.count(va) || !other.values.count(vb)) continue;
         Values d0 = differences(base, va, vb), d1 = differences(other, va, vb);

@@ -899,7 +899,7 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
   std::string list_field;  // "tests", or "" for a top-level list
   std::size_t repeats = 1;
   if (is_queue) {
-    r.only_keys(j, "", {"seed", "repeats", "base", "conditions", "reference", "tests", "sweep"});
+    r.only_keys(j, "", {"seed", "repeats", "base", "conditions", "reference", "top", "tests", "sweep"});
     if (!j.contains("tests") && !j.contains("sweep"))
       r.fail("tests", "missing (a queue holds \"tests\", a \"sweep\", or both)");
     if (j.contains("seed")) queue.seed = r.integer(j["seed"], "seed", 0, 9007199254740992.0);
@@ -977,12 +977,22 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
     });
   }
 
-  // ---- The comparison's reference: a variant of the queue, or a behavior's name for its defaults.
-  if (is_queue && j.contains("reference")) {
-    const std::string given = r.string(j["reference"], "reference");
-    std::vector<std::string> labels;
+  // ---- The comparison's pairs: each variant against a reference (a variant of the queue, or a
+  // behavior's name for its defaults), or every pair of the `top` best. Not both: each is a whole
+  // choice of pairs, and which variants rank best is known only after the run.
+  std::vector<std::string> labels;
+  if (is_queue && (j.contains("reference") || j.contains("top")))
     for (const Config& c : configs)
       if (std::string v = variant(c.test, host); std::find(labels.begin(), labels.end(), v) == labels.end()) labels.push_back(std::move(v));
+  if (is_queue && j.contains("top")) {
+    if (j.contains("reference"))
+      r.fail("top", show(j["top"]) + " given with \"reference\" (allowed: one of them; \"top\" compares the best variants with each other, "
+                                     "\"reference\" every variant with one)");
+    if (labels.size() < 2) r.fail("top", show(j["top"]) + ": the queue has one variant, nothing to compare (allowed: leave it out)");
+    queue.top = r.integer(j["top"], "top", 2, static_cast<double>(labels.size()));
+  }
+  if (is_queue && j.contains("reference")) {
+    const std::string given = r.string(j["reference"], "reference");
     for (const std::string& wanted : {given, variant_label(given, {})})
       if (queue.reference.empty() && std::find(labels.begin(), labels.end(), wanted) != labels.end()) queue.reference = wanted;
     if (queue.reference.empty()) {

@@ -395,6 +395,7 @@ namespace {
 json record_json(const QueueRecord& record) {
   json out = {{"tests", record.tests}, {"configs_hash", record.configs_hash}, {"command", record.command}};
   if (!record.reference.empty()) out["reference"] = record.reference;  // only then: queue.json as before references
+  if (record.top > 0) out["top"] = record.top;
   return out;
 }
 
@@ -404,7 +405,8 @@ std::optional<bool> same_queue(const fs::path& file, const json& record, std::op
   if (!fs::exists(fs::symlink_status(file, ec))) return std::nullopt;
   there = read_json(file);
   return there && there->is_object() && there->value("tests", json()) == record["tests"] &&
-         there->value("configs_hash", json()) == record["configs_hash"] && there->value("reference", json()) == record.value("reference", json());
+         there->value("configs_hash", json()) == record["configs_hash"] && there->value("reference", json()) == record.value("reference", json()) &&
+         there->value("top", json()) == record.value("top", json());
 }
 
 }  // namespace

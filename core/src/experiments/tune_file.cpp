@@ -38,7 +38,7 @@ struct Refuse {
     if (!obj.is_object()) (*this)(field, show(obj) + " must be an object with: " + list);
     for (const auto& item : obj.items())
       if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return item.key() == a; }))
-        (*this)(field.empty() ? item.key() : field + "." + item.key(), "unknown key (allowed: " + list + ")");
+        (*this)((field.empty() ? "" : field + ".") + strict_json::printable(item.key()), "unknown key (allowed: " + list + ")");  // a key is user text
   }
   double number(const json& v, const std::string& field, double lo, double hi) const {
     const std::string range = "[" + num(lo) + ", " + num(hi) + "]";

@@ -17,7 +17,7 @@ namespace salsa {
 /// difference A − B of `metric` with its 95 % t-interval and A's win rate. When a cell has two or more
 /// conditions, also OUT/did.csv: for each pair, (A − B | condition) − (A − B | the cell's first
 /// condition), paired by repeat and seed (by repeat when the condition changes the world), with its
-/// 95 % t-interval over the per-repeat values. The reference is OUT/queue.json's "reference". Throws
+/// 95 % t-interval over the per-repeat values. The reference and top are OUT/queue.json's. Throws
 /// InputError (one line naming the file) on bad input.
 void write_comparison(const std::filesystem::path& out, const std::string& metric = "fraction_found");
 
@@ -35,9 +35,12 @@ PairedStats paired_stats(const std::map<std::string, double>& a, const std::map<
 
 /// A cell with more variants than this compares each against one (the first, without a reference).
 inline constexpr std::size_t max_all_pairs = 4;
-/// The pairs (A, B) of `variants` (indices) a comparison shows: each variant against `reference` when
-/// it is one of them; else every pair (A first appeared first) for up to max_all_pairs variants, and
-/// each against the first beyond that.
-std::vector<std::pair<std::size_t, std::size_t>> compared_pairs(const std::vector<std::string>& variants, const std::string& reference);
+/// The pairs (A, B) of `variants` (indices) a comparison shows. With `top` > 0 (a queue's "top"): every
+/// pair of the `top` variants with the highest `means` (one per variant; NaN ranks last, ties keep the
+/// order of first appearance), A the better ranked, in rank order. Else each variant against
+/// `reference` when it is one of them; else every pair (A first appeared first) for up to
+/// max_all_pairs variants, and each against the first beyond that.
+std::vector<std::pair<std::size_t, std::size_t>> compared_pairs(const std::vector<std::string>& variants, const std::string& reference,
+                                                                std::size_t top = 0, const std::vector<double>& means = {});
 
 }  // namespace salsa

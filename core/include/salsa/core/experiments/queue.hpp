@@ -28,9 +28,10 @@ struct Queue {
   std::uint64_t seed = 1;  ///< the queue seed (the file's "seed", or QueueOptions::seed)
   std::string source;      ///< the file, as messages name it
   std::string reference;   ///< the file's "reference": the variant the comparison sets the others against; "": the default
+  std::size_t top = 0;     ///< the file's "top": the comparison pairs only the `top` best variants of each cell; 0: not given
 };
 
-/// Reads a queue file: {"seed", "repeats", "base", "conditions", "reference", "tests", "sweep"}, or a plain test file (one test object, a
+/// Reads a queue file: {"seed", "repeats", "base", "conditions", "reference", "top", "tests", "sweep"}, or a plain test file (one test object, a
 /// list of tests, {"tests": [...]}). Every test is validated as a test file's; names are unique; the
 /// count is checked before the sweep is expanded. Throws InputError (one line: file, position, key,
 /// value, what is allowed).

@@ -18,6 +18,7 @@ struct QueueRecord {
   std::string configs_hash;  ///< 16 hex digits
   std::vector<std::string> command;
   std::string reference;  ///< the queue's "reference" (the comparison's); "": none
+  std::size_t top = 0;    ///< the queue's "top" (the comparison's); 0: none
 };
 
 QueueRecord queue_record(const std::vector<TestSpec>& tests, const PluginHost& host, std::vector<std::string> command);
