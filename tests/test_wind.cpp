@@ -268,7 +268,7 @@ class TestWind : public QObject {
       for (std::size_t i = 0; i < plain.drone_count(); ++i) {
         QCOMPARE(calm.drone_positions()[i], plain.drone_positions()[i]);
         QCOMPARE(calm.drone_velocities()[i], plain.drone_velocities()[i]);
-        QCOMPARE(calm.energy_used(i), plain.energy_used(i));
+        QCOMPARE(calm.energy_used(static_cast<std::uint32_t>(i)), plain.energy_used(static_cast<std::uint32_t>(i)));
       }
     }
   }
