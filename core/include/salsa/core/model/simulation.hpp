@@ -26,7 +26,7 @@
 namespace salsa {
 
 class Simulation;
-struct PhysicsWorld;  // Box2D, internal to libsalsa
+class Physics;  // Box2D's or the light physics, internal to libsalsa
 
 /// Told about the simulation every log interval (and once at time 0). Runs on the stepping thread.
 class Observer {
@@ -46,6 +46,10 @@ struct PluginFailure : std::runtime_error {
 };
 
 enum class SpawnMode { disc, uniform };
+
+/// What moves the drones: Box2D (the default), or salsa's own light physics for very large swarms
+/// (walls swept, never crossed; drones pushed apart by position; parallel; docs/architecture.md).
+enum class PhysicsMode { box2d, light };
 
 /// One group of drones alike: its drone configuration, count, behavior and base. A test without
 /// "groups" is one group named "swarm".
@@ -82,6 +86,7 @@ struct SimulationSetup {
   double dt = 1.0 / 60;               ///< s
   int velocity_iterations = 8;
   int position_iterations = 3;
+  PhysicsMode physics = PhysicsMode::box2d;
   std::uint64_t seed = 1;
   int threads = 0;                    ///< worker threads for `decide`; 0: all cores
   std::size_t log_every = 60;         ///< steps between observer calls
@@ -304,7 +309,7 @@ class Simulation final : public WorldView {
   struct World;  // everything a map change rebuilds
 
   // Set-up and live changes: each builds its new state aside (may throw), then installs it (cannot).
-  static World build_world(const SimulationSetup& setup);
+  static World build_world(const SimulationSetup& setup, Parallel& parallel);
   /// `from` with `count` new drones of `group` appended, spawned at its base.
   static Drones grown(Drones from, std::uint32_t group, std::size_t count, const SimulationSetup& setup,
                       const StaticGeometry& geometry, Vec2 base, Rng& spawn_rng, double time);
@@ -333,7 +338,7 @@ class Simulation final : public WorldView {
   std::size_t ray_slots_ = 0;  ///< the most obstacle rays of any group
   double grid_range_ = 0;      ///< the largest detection range: the drone grid's cells are half of it
   StaticGeometry geometry_;
-  std::unique_ptr<PhysicsWorld> physics_;
+  std::unique_ptr<Physics> physics_;
   std::unique_ptr<Parallel> parallel_;
 
   Drones drones_;
