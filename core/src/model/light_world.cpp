@@ -78,6 +78,7 @@ void LightWorld::for_each(std::size_t n, Fn&& fn) {
   });
 }
 
+// Ids come in order (the Simulation adds drone `positions_.size()` each time), so they are the slots.
 void LightWorld::add_drone(std::uint32_t, Vec2 position, Vec2 velocity, const DroneConfig& config, bool enabled) {
   positions_.push_back(position);
   velocities_.push_back(enabled ? velocity : Vec2{});

@@ -1,14 +1,14 @@
 #pragma once
 // Internal to libsalsa: salsa's own light physics ("physics": "light"), for swarms too large for Box2D's
-// single-threaded step. Drones fly their commanded velocity, swept against the static segment grid so
-// that no wall is ever crossed; overlapping drones are pushed apart by position (Jacobi over the step's
-// contact pairs), each push swept against the walls too. Everything per drone runs in parallel in the
-// simulation's task arena, and every result is independent of the thread count and order.
+// single-threaded step. Drones that touch stop closing in on each other, then each flies its velocity,
+// swept against the static segment grid so that no wall is ever crossed, and drones that overlap are
+// pushed apart by position, each push swept against the walls too. The per-drone work (moves, the
+// search for pairs) runs in parallel in the simulation's task arena; the pairs are solved serially in
+// sorted order: the same bytes on any thread count (docs/architecture.md, departure 24).
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
-
 #include <utility>
 #include <vector>
 
@@ -29,8 +29,8 @@ class LightWorld final : public Physics {
   void read_back(std::span<Vec2> positions, std::span<Vec2> velocities) const override;
   std::span<const ContactEvent> begun() const override { return begun_; }
 
-  /// Passes over the contact pairs per step, for velocities and for positions (Box2D's defaults are 8
-  /// and 3).
+  /// Most passes over the pairs per step, for velocities and for positions (each stops once nothing
+  /// changes: only a pile takes them all). 32 keeps a pressed pile of 400 within 1 % overlap, 16 within 4 %.
   static constexpr int solver_passes = 32;
   /// How close counts as touching (m): a drone of radius r touches what lies within r + slop(r).
   static double slop(double radius) { return std::min(0.01, 0.1 * radius); }
