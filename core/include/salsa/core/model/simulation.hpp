@@ -1,6 +1,6 @@
 #pragma once
 // One simulation: drones, targets, a map, the active behavior, contact handlers and observers, stepped
-// with a fixed time step. Owns its Box2D world; no Qt.
+// with a fixed time step. Owns its physics (Box2D's, or the light one); no Qt.
 #include <array>
 #include <cstdint>
 #include <limits>
