@@ -582,7 +582,7 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   const std::string map_name = t.map_file.empty() ? "map '" + t.map.name + "'" : "map " + t.map_file;
   double obstacle_range = 0;
   for (const GroupSpec& g : t.groups) {
-    if (const Problem p = check_resolution(s.map.bounds, g.drone, t.dt)) throw InputError(t.source + ": " + in(g) + map_name + ": " + p.text());
+    if (const Problem p = check_resolution(s.map.bounds, g.drone, t.dt, t.physics)) throw InputError(t.source + ": " + in(g) + map_name + ": " + p.text());
     obstacle_range = std::max(obstacle_range, g.drone.obstacle_range);
   }
 

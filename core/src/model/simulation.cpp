@@ -202,15 +202,18 @@ Problem check_map(const MapData& map) {
   return problems.empty() ? Problem{} : Problem{problems[0].field, problems[0].message};
 }
 
-Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt) {
+Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt, PhysicsMode physics) {
   const double largest = std::max({std::abs(bounds.min.x), std::abs(bounds.min.y), std::abs(bounds.max.x), std::abs(bounds.max.y)});
+  const bool box2d = physics == PhysicsMode::box2d;  // the light physics keeps doubles
   const auto f = static_cast<float>(largest);
-  const double spacing = static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity())) - f;
+  const double spacing = box2d ? static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity())) - f
+                               : std::nextafter(largest, std::numeric_limits<double>::infinity()) - largest;
   const double step = drone.max_speed * dt;
   if (spacing <= 0.02 * step) return {};
-  // Floats in [2^e, 2^(e+1)) are 2^(e-23) apart: the last binade where that is ≤ 2 % of a step.
-  const double allowed = std::ldexp(1.0, 24 + std::ilogb(0.02 * step));
-  return {"bounds", rect(bounds) + ": Box2D keeps positions as 32-bit floats, " + short_num(spacing) + " m apart at " +
+  // Floats in [2^e, 2^(e+1)) are 2^(e-23) apart (doubles 2^(e-52)): the last binade where that is ≤ 2 % of a step.
+  const double allowed = std::ldexp(1.0, (box2d ? 24 : 53) + std::ilogb(0.02 * step));
+  return {"bounds", rect(bounds) + (box2d ? ": Box2D keeps positions as 32-bit floats, " : ": the light physics keeps positions as 64-bit doubles, ") +
+                        short_num(spacing) + " m apart at " +
                         num(largest) + " m, more than 2 % of a drone's step (max_speed " + num(drone.max_speed) +
                         " m/s × dt " + num(dt) + " s = " + short_num(step) +
                         " m), so drones would move in jumps or not at all (allowed: coordinates within ±" + num(allowed) +
@@ -486,7 +489,7 @@ Simulation::World Simulation::build_world(const SimulationSetup& s, Parallel& pa
   for (const GroupSetup& g : s.groups) {
     const std::string in = s.groups.size() > 1 ? "groups." + g.name + "." : "";
     if (auto p = check_drone(g.drone, s.dt)) throw std::invalid_argument(in + p.text());
-    if (auto p = check_resolution(s.map.bounds, g.drone, s.dt)) throw std::invalid_argument(in + "map: " + p.text());
+    if (auto p = check_resolution(s.map.bounds, g.drone, s.dt, s.physics)) throw std::invalid_argument(in + "map: " + p.text());
     if (auto p = check_wind(s.wind, g.drone, s.dt)) throw std::invalid_argument(in + p.text());
     check_drone_count(g.drones);
     obstacle_range = std::max(obstacle_range, g.drone.obstacle_range);
@@ -645,7 +648,7 @@ void Simulation::set_drone_count(std::size_t n, std::uint32_t group) {
 void Simulation::set_drone_config(const DroneConfig& config, std::uint32_t group) {
   if (group >= setup_.groups.size()) throw std::invalid_argument("group " + std::to_string(group) + " does not exist");
   if (auto p = check_drone(config, setup_.dt)) throw std::invalid_argument(p.text());
-  if (auto p = check_resolution(setup_.map.bounds, config, setup_.dt)) throw std::invalid_argument("map: " + p.text());
+  if (auto p = check_resolution(setup_.map.bounds, config, setup_.dt, setup_.physics)) throw std::invalid_argument("map: " + p.text());
   if (auto p = check_wind(setup_.wind, config, setup_.dt)) throw std::invalid_argument(p.text());
   SimulationSetup next_setup = setup_;
   next_setup.groups[group].drone = config;
@@ -680,7 +683,7 @@ void Simulation::set_drone_config(const DroneConfig& config, std::uint32_t group
 void Simulation::set_dt(double dt) {
   for (const GroupSetup& g : setup_.groups) {
     if (auto p = check_drone(g.drone, dt)) throw std::invalid_argument(p.text());
-    if (auto p = check_resolution(setup_.map.bounds, g.drone, dt)) throw std::invalid_argument("map: " + p.text());
+    if (auto p = check_resolution(setup_.map.bounds, g.drone, dt, setup_.physics)) throw std::invalid_argument("map: " + p.text());
     if (auto p = check_wind(setup_.wind, g.drone, dt)) throw std::invalid_argument(p.text());
   }
   dt_base_time_ = time();

@@ -120,10 +120,10 @@ Problem check_wind(const Wind& wind, const DroneConfig& drone, double dt);
 /// Finite, ordered bounds; polygons of ≥ 3 points and lines of ≥ 2, every point finite and inside the
 /// bounds; a finite spawn point.
 Problem check_map(const MapData& map);
-/// Box2D keeps positions in single-precision floats: at the map's largest coordinate they must still
-/// resolve 2 % of a drone's step (rounding then changes a step by at most 1 %), else drones move in
-/// jumps or freeze. Field "bounds".
-Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt);
+/// Box2D keeps positions in single-precision floats (the light physics in doubles): at the map's largest
+/// coordinate they must still resolve 2 % of a drone's step (rounding then changes a step by at most
+/// 1 %), else drones move in jumps or freeze. Field "bounds".
+Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt, PhysicsMode physics = PhysicsMode::box2d);
 /// A target kind's radius (finite, ≥ 0) and the positions it placed (as many as asked, finite, inside
 /// the bounds).
 Problem check_targets(std::span<const Vec2> positions, std::size_t count, double radius, const Rect& bounds);
