@@ -77,6 +77,7 @@ int cmd_bench(int argc, char** argv) {
       "time", po::value<double>(), "simulated seconds per run (default: 100 for table1, 10 for scale)")(
       "decision-lag", po::value<int>(),
       "0 (default, as in test files): all phases in sequence, table1's definition; 1: Box2D overlaps sensing and deciding")(
+      "physics", po::value<std::string>()->default_value("box2d"), "box2d, or light: salsa's own parallel physics (docs/architecture.md)")(
       "floor", "also time the bare-Box2D floor of each cell and print the ratio")(
       "cpu-time", "time runs and floor by this process's CPU clock, not the wall clock (with --threads 1 on a busy machine)")(
       "profile", "print the time spent in each step phase")(
@@ -112,6 +113,8 @@ int cmd_bench(int argc, char** argv) {
   // The default everywhere (test files, the desktop, both workloads): no lag, the paper's definition.
   const int lag = vm.count("decision-lag") ? vm["decision-lag"].as<int>() : 0;
   if (lag != 0 && lag != 1) throw InputError("--decision-lag: " + std::to_string(lag) + " is out of range (allowed: 0 or 1)");
+  const std::string physics = vm["physics"].as<std::string>();
+  if (physics != "box2d" && physics != "light") throw InputError("--physics: '" + physics + "' is not a physics (allowed: box2d, light)");
   const double comm_range = vm.count("comm") ? vm["comm"].as<double>() : 0;
   if (vm.count("comm") && !(comm_range >= 1e-3 && comm_range <= 1e6))
     throw InputError("--comm: " + Parameter::format(comm_range) + " is out of range (allowed: a range in [0.001, 1000000] m)");
@@ -145,7 +148,8 @@ int cmd_bench(int argc, char** argv) {
   std::cout << "salsa " << salsa_version() << " bench " << workload << ": " << std::thread::hardware_concurrency()
             << " cores (" << cpu_model() << "), " << used_threads << " decide thread(s), " << sim_time
             << " s simulated per run, seeds 1.." << seeds << ", decision lag " << lag << (cpu ? ", CPU clock" : "")
-            << (comm_range > 0 ? ", comm range " + Parameter::format(comm_range) + " m" : "") << "\n";
+            << (comm_range > 0 ? ", comm range " + Parameter::format(comm_range) + " m" : "")
+            << (physics == "light" ? ", light physics" : "") << "\n";
   std::cout << std::left << std::setw(8) << "drones" << std::setw(9) << "targets" << std::right << std::setw(9) << "setup_s"
             << std::setw(9) << "wall_s" << std::setw(10) << "RTF" << std::setw(22) << "RTF min-max" << std::setw(13)
             << "steps/s" << std::setw(15) << "drone-steps/s" << std::setw(9) << "peak_MB" << std::setw(10) << "found";
@@ -163,6 +167,7 @@ int cmd_bench(int argc, char** argv) {
   report["decision_lag"] = lag;
   report["clock"] = cpu ? "process CPU" : "wall";
   if (comm_range > 0) report["comm_range"] = comm_range;
+  report["physics"] = physics;
   report["cells"] = nlohmann::ordered_json::array();
 
   const std::size_t steps = static_cast<std::size_t>(std::llround(sim_time * 60));
@@ -180,6 +185,7 @@ int cmd_bench(int argc, char** argv) {
       w.fleet = vm.count("fleet") > 0;
       w.wind = vm.count("wind") > 0;
       w.comm_range = comm_range;
+      w.physics = physics == "light" ? PhysicsMode::light : PhysicsMode::box2d;
       bench::reset_peak_rss();
       const auto t0 = std::chrono::steady_clock::now();
       SimulationSetup setup = bench::table1(host, w);

@@ -521,6 +521,11 @@ void write_queue_summary(const fs::path& out, const PluginHost* host) {
     }
     rows.push_back(std::move(row));
   }
+  // config.json names the physics only when it is light (a Box2D test's file is as it always was): once
+  // a queue has a light test, its Box2D rows say so too.
+  if (seen_inputs.count("physics"))
+    for (Row& r : rows)
+      if (r.status == "ok" && !r.cells.count("physics")) r.cells["physics"] = "box2d";
 
   // The variant: each behavior and its non-default parameters (the plugin's defaults when the host
   // has it, else the parameters whose values differ within the queue), as variant_label words them.

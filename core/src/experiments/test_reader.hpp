@@ -100,7 +100,7 @@ class Reader {
 inline const std::vector<const char*> test_keys{
     "name", "behavior", "drone", "drone_configs", "drones", "groups", "failures", "comm", "wind", "map", "spawn", "targets",
     "contact_handlers", "metrics", "time", "dt", "log_interval", "velocity_iterations", "position_iterations", "decision_lag",
-    "seed", "repeat", "changes", "condition", "versions"};
+    "physics", "seed", "repeat", "changes", "condition", "versions"};
 
 /// Every JSON file salsa reads comes through here: strict (see strict_json.hpp), one line per problem.
 json read_json_file(const std::filesystem::path& file, std::string_view expected);

@@ -354,6 +354,12 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
   if (j.contains("velocity_iterations")) t.velocity_iterations = static_cast<int>(r.integer(j["velocity_iterations"], "velocity_iterations", 1, 100));
   if (j.contains("position_iterations")) t.position_iterations = static_cast<int>(r.integer(j["position_iterations"], "position_iterations", 1, 100));
   if (j.contains("decision_lag")) t.decision_lag = static_cast<int>(r.integer(j["decision_lag"], "decision_lag", 0, 1));
+  if (j.contains("physics")) {
+    const json& p = j["physics"];
+    if (p == "box2d") t.physics = PhysicsMode::box2d;
+    else if (p == "light") t.physics = PhysicsMode::light;
+    else r.fail("physics", show(p) + " is not a physics (allowed: box2d, light)");
+  }
   if (j.contains("repeat")) t.repeat = r.integer(j["repeat"], "repeat", 0, 1'000'000);
   if (j.contains("condition")) {
     const json& c = j["condition"];
@@ -482,6 +488,7 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   j["velocity_iterations"] = t.velocity_iterations;
   j["position_iterations"] = t.position_iterations;
   j["decision_lag"] = t.decision_lag;
+  if (t.physics == PhysicsMode::light) j["physics"] = "light";  // only then: a Box2D test keeps its config.json bytes
   j["seed"] = t.seed;
   j["repeat"] = t.repeat;
   if (!t.condition.empty()) j["condition"] = {{"name", t.condition}, {"label", t.condition_label}};
@@ -549,6 +556,7 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   s.velocity_iterations = t.velocity_iterations;
   s.position_iterations = t.position_iterations;
   s.decision_lag = t.decision_lag;
+  s.physics = t.physics;
   s.seed = t.seed;
   s.threads = threads;
   s.log_every = t.log_every();
@@ -574,7 +582,7 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   const std::string map_name = t.map_file.empty() ? "map '" + t.map.name + "'" : "map " + t.map_file;
   double obstacle_range = 0;
   for (const GroupSpec& g : t.groups) {
-    if (const Problem p = check_resolution(s.map.bounds, g.drone, t.dt)) throw InputError(t.source + ": " + in(g) + map_name + ": " + p.text());
+    if (const Problem p = check_resolution(s.map.bounds, g.drone, t.dt, t.physics)) throw InputError(t.source + ": " + in(g) + map_name + ": " + p.text());
     obstacle_range = std::max(obstacle_range, g.drone.obstacle_range);
   }
 

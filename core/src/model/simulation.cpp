@@ -1,5 +1,6 @@
 #include "salsa/core/model/simulation.hpp"
 
+#include "model/light_world.hpp"
 #include "model/physics_world.hpp"
 #include "salsa/core/model/map_check.hpp"
 
@@ -201,15 +202,18 @@ Problem check_map(const MapData& map) {
   return problems.empty() ? Problem{} : Problem{problems[0].field, problems[0].message};
 }
 
-Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt) {
+Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt, PhysicsMode physics) {
   const double largest = std::max({std::abs(bounds.min.x), std::abs(bounds.min.y), std::abs(bounds.max.x), std::abs(bounds.max.y)});
+  const bool box2d = physics == PhysicsMode::box2d;  // the light physics keeps doubles
   const auto f = static_cast<float>(largest);
-  const double spacing = static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity())) - f;
+  const double spacing = box2d ? static_cast<double>(std::nextafter(f, std::numeric_limits<float>::infinity())) - f
+                               : std::nextafter(largest, std::numeric_limits<double>::infinity()) - largest;
   const double step = drone.max_speed * dt;
   if (spacing <= 0.02 * step) return {};
-  // Floats in [2^e, 2^(e+1)) are 2^(e-23) apart: the last binade where that is ≤ 2 % of a step.
-  const double allowed = std::ldexp(1.0, 24 + std::ilogb(0.02 * step));
-  return {"bounds", rect(bounds) + ": Box2D keeps positions as 32-bit floats, " + short_num(spacing) + " m apart at " +
+  // Floats in [2^e, 2^(e+1)) are 2^(e-23) apart (doubles 2^(e-52)): the last binade where that is ≤ 2 % of a step.
+  const double allowed = std::ldexp(1.0, (box2d ? 24 : 53) + std::ilogb(0.02 * step));
+  return {"bounds", rect(bounds) + (box2d ? ": Box2D keeps positions as 32-bit floats, " : ": the light physics keeps positions as 64-bit doubles, ") +
+                        short_num(spacing) + " m apart at " +
                         num(largest) + " m, more than 2 % of a drone's step (max_speed " + num(drone.max_speed) +
                         " m/s × dt " + num(dt) + " s = " + short_num(step) +
                         " m), so drones would move in jumps or not at all (allowed: coordinates within ±" + num(allowed) +
@@ -350,7 +354,7 @@ struct Simulation::Parallel {
 struct Simulation::World {
   StaticGeometry geometry;
   std::vector<Group> groups;
-  std::unique_ptr<PhysicsWorld> physics;
+  std::unique_ptr<Physics> physics;
   Rng spawn_rng;
   Drones drones;
   Targets targets;
@@ -363,7 +367,7 @@ Simulation::Simulation(SimulationSetup setup)
     if (!g.behavior) throw std::invalid_argument("behavior: none given");
   if (setup_.log_every == 0) setup_.log_every = 1;
   if (const std::string why = comm_problem(setup_.comm); !why.empty()) throw std::invalid_argument(why);
-  World world = build_world(setup_);
+  World world = build_world(setup_, *parallel_);
   for (std::uint32_t g = 0; g < setup_.groups.size(); ++g) {
     Behavior& b = *setup_.groups[g].behavior;
     b.group_ = g;
@@ -479,13 +483,13 @@ std::size_t Simulation::ray_slots(const std::vector<Group>& groups) {
   return most;
 }
 
-Simulation::World Simulation::build_world(const SimulationSetup& s) {
+Simulation::World Simulation::build_world(const SimulationSetup& s, Parallel& parallel) {
   if (auto p = check_map(s.map)) throw std::invalid_argument("map: " + p.text());
   double obstacle_range = 0;
   for (const GroupSetup& g : s.groups) {
     const std::string in = s.groups.size() > 1 ? "groups." + g.name + "." : "";
     if (auto p = check_drone(g.drone, s.dt)) throw std::invalid_argument(in + p.text());
-    if (auto p = check_resolution(s.map.bounds, g.drone, s.dt)) throw std::invalid_argument(in + "map: " + p.text());
+    if (auto p = check_resolution(s.map.bounds, g.drone, s.dt, s.physics)) throw std::invalid_argument(in + "map: " + p.text());
     if (auto p = check_wind(s.wind, g.drone, s.dt)) throw std::invalid_argument(in + p.text());
     check_drone_count(g.drones);
     obstacle_range = std::max(obstacle_range, g.drone.obstacle_range);
@@ -504,7 +508,8 @@ Simulation::World Simulation::build_world(const SimulationSetup& s) {
     w.groups.push_back(make_group(g, base, s.target_kind.get(), !targets.empty()));
   }
   w.targets = make_targets(std::move(targets), w.groups);
-  w.physics = std::make_unique<PhysicsWorld>(w.geometry);
+  if (s.physics == PhysicsMode::light) w.physics = std::make_unique<LightWorld>(parallel.arena);
+  else w.physics = std::make_unique<PhysicsWorld>(w.geometry);
   w.spawn_rng = Rng(s.seed, spawn_stream);
   for (std::uint32_t g = 0; g < s.groups.size(); ++g)
     w.drones = grown(std::move(w.drones), g, s.groups[g].drones, s, w.geometry, w.groups[g].base, w.spawn_rng, 0);
@@ -587,11 +592,9 @@ void Simulation::track_air() {
 }
 
 void Simulation::add_bodies() {
-  physics_->bodies.reserve(drones_.positions.size());
-  for (std::uint32_t i = 0; i < drones_.positions.size(); ++i) {
-    physics_->add_drone(i, drones_.positions[i], drones_.velocities[i], setup_.groups[drones_.groups[i]].drone);
-    if (drones_.status[i] != DroneStatus::flying) physics_->bodies[i]->SetEnabled(false);
-  }
+  for (std::uint32_t i = 0; i < drones_.positions.size(); ++i)
+    physics_->add_drone(i, drones_.positions[i], drones_.velocities[i], setup_.groups[drones_.groups[i]].drone,
+                        drones_.status[i] == DroneStatus::flying);
 }
 
 void Simulation::ground(std::uint32_t id, DroneStatus status) {
@@ -599,8 +602,7 @@ void Simulation::ground(std::uint32_t id, DroneStatus status) {
   drones_.since[id] = time();
   drones_.velocities[id] = drones_.commanded[id] = drones_.steering[id] = {};
   if (wind_active_) drones_.air[id] = drones_.wind[id] = {};
-  physics_->bodies[id]->SetLinearVelocity({0, 0});
-  physics_->bodies[id]->SetEnabled(false);  // no longer collides or is collided with
+  physics_->disable(id);
   --flying_;
 }
 
@@ -631,13 +633,10 @@ void Simulation::set_drone_count(std::size_t n, std::uint32_t group) {
     throw;
   }
   // Nothing below throws.
-  const std::size_t before = physics_->bodies.size();
+  const std::size_t before = next.positions.size();  // the drones before the change (swapped out)
   for (std::uint32_t i = 0; i < drones_.positions.size(); ++i) {
-    if (i >= before) physics_->add_drone(i, drones_.positions[i], drones_.velocities[i], setup_.groups[group].drone);
-    else if (drones_.status[i] == DroneStatus::removed && physics_->bodies[i]->IsEnabled()) {
-      physics_->bodies[i]->SetLinearVelocity({0, 0});
-      physics_->bodies[i]->SetEnabled(false);
-    }
+    if (i >= before) physics_->add_drone(i, drones_.positions[i], drones_.velocities[i], setup_.groups[group].drone, true);
+    else if (drones_.status[i] == DroneStatus::removed) physics_->disable(i);
   }
   flying_ = static_cast<std::size_t>(std::count(drones_.status.begin(), drones_.status.end(), DroneStatus::flying));
   if (wind_active_) track_air();
@@ -649,7 +648,7 @@ void Simulation::set_drone_count(std::size_t n, std::uint32_t group) {
 void Simulation::set_drone_config(const DroneConfig& config, std::uint32_t group) {
   if (group >= setup_.groups.size()) throw std::invalid_argument("group " + std::to_string(group) + " does not exist");
   if (auto p = check_drone(config, setup_.dt)) throw std::invalid_argument(p.text());
-  if (auto p = check_resolution(setup_.map.bounds, config, setup_.dt)) throw std::invalid_argument("map: " + p.text());
+  if (auto p = check_resolution(setup_.map.bounds, config, setup_.dt, setup_.physics)) throw std::invalid_argument("map: " + p.text());
   if (auto p = check_wind(setup_.wind, config, setup_.dt)) throw std::invalid_argument(p.text());
   SimulationSetup next_setup = setup_;
   next_setup.groups[group].drone = config;
@@ -684,7 +683,7 @@ void Simulation::set_drone_config(const DroneConfig& config, std::uint32_t group
 void Simulation::set_dt(double dt) {
   for (const GroupSetup& g : setup_.groups) {
     if (auto p = check_drone(g.drone, dt)) throw std::invalid_argument(p.text());
-    if (auto p = check_resolution(setup_.map.bounds, g.drone, dt)) throw std::invalid_argument("map: " + p.text());
+    if (auto p = check_resolution(setup_.map.bounds, g.drone, dt, setup_.physics)) throw std::invalid_argument("map: " + p.text());
     if (auto p = check_wind(setup_.wind, g.drone, dt)) throw std::invalid_argument(p.text());
   }
   dt_base_time_ = time();
@@ -751,7 +750,7 @@ void Simulation::set_map(const MapData& map, std::optional<Vec2> spawn) {
     for (std::uint32_t i = 0; i < drones_.positions.size(); ++i)
       next.groups[g].drones += drones_.groups[i] == g && drones_.status[i] != DroneStatus::removed;
   }
-  World world = build_world(next);
+  World world = build_world(next, *parallel_);
   for (std::uint32_t g = 0; g < next.groups.size(); ++g)
     plugin_call(behavior_kind, g, [&] { next.groups[g].behavior->reset(world.drones.positions.size()); });
   StateView view(next.map, world.geometry, world.groups[0].properties, time(), next.dt, world.drones.positions,
@@ -1070,8 +1069,8 @@ void Simulation::act() {
       throw PluginFailure(behavior_kind, g, "decide returned a non-finite steering " + point(a) + " for drone " + std::to_string(i));
     const Vec2 v = (drones_.velocities[i] + a).clamped(groups_[g].properties.max_speed);
     drones_.commanded[i] = v;
-    physics_->bodies[i]->SetLinearVelocity(to_b2(v));
   }
+  physics_->set_velocities(drones_.commanded, drones_.status);
 }
 
 Vec2 Simulation::wind_at(Vec2 p, double t) const {
@@ -1112,19 +1111,16 @@ void Simulation::act_in_wind() {
     drones_.air[i] = air;
     drones_.wind[i] = w;
     drones_.commanded[i] = air + w;
-    physics_->bodies[i]->SetLinearVelocity(to_b2(air + w));
   }
+  physics_->set_velocities(drones_.commanded, drones_.status);
 }
 
 void Simulation::physics() {
-  physics_->step(setup_.dt, setup_.velocity_iterations, setup_.position_iterations);
+  physics_->advance(geometry_, setup_.dt, setup_.velocity_iterations, setup_.position_iterations);
 }
 
 void Simulation::read_back() {
-  for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
-    drones_.positions[i] = from_b2(physics_->bodies[i]->GetPosition());
-    drones_.velocities[i] = from_b2(physics_->bodies[i]->GetLinearVelocity());
-  }
+  physics_->read_back(drones_.positions, drones_.velocities);
   if (!wind_active_) return;
   // What the physics left of the ground velocity (a collision changes it) less the wind flown in.
   for (std::size_t i = 0; i < drones_.positions.size(); ++i)
@@ -1226,7 +1222,7 @@ void Simulation::dispatch_sightings() {
 
 void Simulation::dispatch_contacts() {
   Actions actions(targets_.states, targets_.found, drones_.positions.size(), *this, time());
-  for (ContactEvent e : physics_->begun) {
+  for (ContactEvent e : physics_->begun()) {
     e.time = time();
     ++collisions_;
     for (std::size_t k = 0; k < setup_.contact_handlers.size(); ++k)

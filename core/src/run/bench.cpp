@@ -85,6 +85,7 @@ SimulationSetup table1(const PluginHost& host, const Workload& w) {
   s.dt = 1.0 / 60;
   s.velocity_iterations = 8;
   s.position_iterations = 3;
+  s.physics = w.physics;
   s.seed = w.seed;
   s.threads = w.threads;
   s.log_every = 50;

@@ -64,6 +64,7 @@ struct TestSpec {
   int velocity_iterations = 8;
   int position_iterations = 3;
   int decision_lag = 0;             ///< steps until a decision takes effect (SimulationSetup): 0 everywhere by default
+  PhysicsMode physics = PhysicsMode::box2d;  ///< "physics": config.json writes it only when light
   std::uint64_t seed = 1;
   bool seed_given = false;          ///< "seed" was in the file: it wins over the paired seed (queue.hpp)
   std::size_t repeat = 0;           ///< which repeat of its configuration in a queue (0 first)

@@ -1,6 +1,6 @@
 #pragma once
 // One simulation: drones, targets, a map, the active behavior, contact handlers and observers, stepped
-// with a fixed time step. Owns its Box2D world; no Qt.
+// with a fixed time step. Owns its physics (Box2D's, or the light one); no Qt.
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -26,7 +26,7 @@
 namespace salsa {
 
 class Simulation;
-struct PhysicsWorld;  // Box2D, internal to libsalsa
+class Physics;  // Box2D's or the light physics, internal to libsalsa
 
 /// Told about the simulation every log interval (and once at time 0). Runs on the stepping thread.
 class Observer {
@@ -46,6 +46,10 @@ struct PluginFailure : std::runtime_error {
 };
 
 enum class SpawnMode { disc, uniform };
+
+/// What moves the drones: Box2D (the default), or salsa's own light physics for very large swarms
+/// (walls swept, never crossed; drones pushed apart by position; parallel; docs/architecture.md).
+enum class PhysicsMode { box2d, light };
 
 /// One group of drones alike: its drone configuration, count, behavior and base. A test without
 /// "groups" is one group named "swarm".
@@ -82,6 +86,7 @@ struct SimulationSetup {
   double dt = 1.0 / 60;               ///< s
   int velocity_iterations = 8;
   int position_iterations = 3;
+  PhysicsMode physics = PhysicsMode::box2d;
   std::uint64_t seed = 1;
   int threads = 0;                    ///< worker threads for `decide`; 0: all cores
   std::size_t log_every = 60;         ///< steps between observer calls
@@ -115,10 +120,10 @@ Problem check_wind(const Wind& wind, const DroneConfig& drone, double dt);
 /// Finite, ordered bounds; polygons of ≥ 3 points and lines of ≥ 2, every point finite and inside the
 /// bounds; a finite spawn point.
 Problem check_map(const MapData& map);
-/// Box2D keeps positions in single-precision floats: at the map's largest coordinate they must still
-/// resolve 2 % of a drone's step (rounding then changes a step by at most 1 %), else drones move in
-/// jumps or freeze. Field "bounds".
-Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt);
+/// Box2D keeps positions in single-precision floats (the light physics in doubles): at the map's largest
+/// coordinate they must still resolve 2 % of a drone's step (rounding then changes a step by at most
+/// 1 %), else drones move in jumps or freeze. Field "bounds".
+Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt, PhysicsMode physics = PhysicsMode::box2d);
 /// A target kind's radius (finite, ≥ 0) and the positions it placed (as many as asked, finite, inside
 /// the bounds).
 Problem check_targets(std::span<const Vec2> positions, std::size_t count, double radius, const Rect& bounds);
@@ -304,7 +309,7 @@ class Simulation final : public WorldView {
   struct World;  // everything a map change rebuilds
 
   // Set-up and live changes: each builds its new state aside (may throw), then installs it (cannot).
-  static World build_world(const SimulationSetup& setup);
+  static World build_world(const SimulationSetup& setup, Parallel& parallel);
   /// `from` with `count` new drones of `group` appended, spawned at its base.
   static Drones grown(Drones from, std::uint32_t group, std::size_t count, const SimulationSetup& setup,
                       const StaticGeometry& geometry, Vec2 base, Rng& spawn_rng, double time);
@@ -333,7 +338,7 @@ class Simulation final : public WorldView {
   std::size_t ray_slots_ = 0;  ///< the most obstacle rays of any group
   double grid_range_ = 0;      ///< the largest detection range: the drone grid's cells are half of it
   StaticGeometry geometry_;
-  std::unique_ptr<PhysicsWorld> physics_;
+  std::unique_ptr<Physics> physics_;
   std::unique_ptr<Parallel> parallel_;
 
   Drones drones_;

@@ -23,6 +23,7 @@ struct Workload {
   /// > 0: the comm model on with this range (m) and line of sight, and every drone broadcasting its
   /// position and velocity every step (and summing what it receives): the comm model's cost.
   double comm_range = 0;
+  PhysicsMode physics = PhysicsMode::box2d;  ///< light: salsa's own physics instead of Box2D
 };
 
 /// Table I: flocking with the paper's parameters (or `w.behavior` with its defaults), "small" drones, trees of radius 5 m, summary every
