@@ -278,8 +278,8 @@ struct Engine::Worker {
       try {  // a field plugin: its failure stops the run at the next step, which says why
         for (int y = 0; y < Snapshot::wind_grid; ++y)
           for (int x = 0; x < Snapshot::wind_grid; ++x) {
-            const Vec2 p{b.min.x + (x + 0.5) * b.width() / Snapshot::wind_grid, b.min.y + (y + 0.5) * b.height() / Snapshot::wind_grid};
-            snap->wind.emplace_back(p, sim->wind_at(p, t));
+            const Vec2 at{b.min.x + (x + 0.5) * b.width() / Snapshot::wind_grid, b.min.y + (y + 0.5) * b.height() / Snapshot::wind_grid};
+            snap->wind.emplace_back(at, sim->wind_at(at, t));
           }
       } catch (const std::exception&) {
         snap->wind.clear();
