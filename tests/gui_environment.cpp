@@ -6,6 +6,7 @@
 #include "common.hpp"
 
 #include <QAbstractSpinBox>
+#include <QComboBox>
 #include <QGroupBox>
 #include <QToolButton>
 #include <QSettings>
@@ -119,6 +120,31 @@ class GuiEnvironment : public QObject {
     QVERIFY2(r.exit_code == 0, describe(r));
     QVERIFY(read_file(dir.path() + "/out/radio/summary.csv").startsWith("time,"));
     QVERIFY(non_empty_lines(read_file(dir.path() + "/out/radio/summary.csv")).value(0).contains("messages_delivered"));
+  }
+
+  // Light physics chosen from the set-up's combo box as a person does (keys): a new start state that
+  // flies, saves and runs as "physics": "light"; back to box2d, the file says nothing of physics.
+  void light_physics_chosen_flown_and_saved() {
+    QComboBox* physics = sandbox().physics_box();
+    QCOMPARE(physics->currentText(), QString("box2d"));
+    physics->setFocus();
+    QTest::keyClick(physics, Qt::Key_Down);  // the next item: light
+    settle();
+    QTRY_VERIFY(sandbox().engine().current_test() && sandbox().engine().current_test()->physics == PhysicsMode::light);
+    const Vec2 start = sandbox().engine().snapshot()->positions.front();
+    steps(30);
+    QVERIFY(sandbox().engine().snapshot()->positions.front() != start);  // it flies
+    QTemporaryDir dir;
+    QCOMPARE(sandbox().save_test(dir.path() + "/light.json"), std::string());
+    QVERIFY(read_file(dir.path() + "/light.json").contains("\"physics\": \"light\""));
+    const CliResult r = run_salsa({"run", "light.json", "--out", "out", "--no-plots", "-q", "--time", "2"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QVERIFY(read_file(dir.path() + "/out/light/config.json").contains("\"physics\": \"light\""));
+    QTest::keyClick(physics, Qt::Key_Up);
+    settle();
+    QTRY_VERIFY(sandbox().engine().current_test()->physics == PhysicsMode::box2d);
+    QCOMPARE(sandbox().save_test(dir.path() + "/box2d.json"), std::string());
+    QVERIFY(!read_file(dir.path() + "/box2d.json").contains("physics"));
   }
 
   void wind_ticked_typed_drawn_and_noise_inspected() {

@@ -218,6 +218,12 @@ void SandboxPage::build_controls() {
   seed_->setObjectName("seed");
   seed_->setToolTip(QString("the test's seed: a whole number in [0, %1] (Enter applies it)").arg(max_sandbox_seed));
   form->addRow("seed", seed_);
+  physics_ = new QComboBox;
+  physics_->setObjectName("physics");
+  physics_->addItems({"box2d", "light"});
+  physics_->setToolTip("box2d: Box2D's rigid bodies (the default); light: salsa moves the drones itself, in parallel, "
+                       "for swarms of 10,000 and more (docs/test-format.md#physics)");
+  form->addRow("physics", physics_);
   column->addWidget(setup);
 
   auto* live = new QGroupBox("Live (recorded; kept by Save as test)");
@@ -406,6 +412,7 @@ void SandboxPage::build_controls() {
   connect(map_panel_, &ParamPanel::changed, this, reload);
   connect(target_kind_, &QComboBox::currentTextChanged, this, reload);
   connect(targets_, &QSpinBox::valueChanged, this, reload);
+  connect(physics_, &QComboBox::currentTextChanged, this, reload);
   connect(seed_, &QLineEdit::editingFinished, this, &SandboxPage::seed_edited);
   connect(open_map_button, &QPushButton::clicked, this, &SandboxPage::ask_open_map);
   connect(group_, &QComboBox::currentTextChanged, this, [this](const QString& name) {
@@ -524,6 +531,8 @@ std::optional<TestSpec> SandboxPage::spec_from_controls(std::string* why) {
   j["targets"] = {{"kind", target_kind_->currentText().toStdString()}, {"count", targets_->value()}};
   if (same_kind) j["targets"]["params"] = json::parse(resolved_json(file_base_, *host_))["targets"]["params"];
   j["seed"] = seed_value_;
+  j.erase("physics");
+  if (physics_->currentText() == "light") j["physics"] = "light";  // box2d, the default, is written as none
   try {
     return parse_test(j.dump(), "sandbox", *host_);
   } catch (const std::exception& e) {
@@ -630,6 +639,7 @@ void SandboxPage::show_test(const TestSpec& t) {
   targets_->setValue(static_cast<int>(t.targets));
   seed_value_ = t.seed;
   seed_->setText(QString::number(t.seed));
+  physics_->setCurrentText(t.physics == PhysicsMode::light ? "light" : "box2d");
   drones_->setValue(static_cast<int>(group.drones));
   drone_config_->clear();
   for (const DroneConfig& c : drone_configs()) drone_config_->addItem(q(c.name));

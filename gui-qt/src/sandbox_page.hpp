@@ -100,6 +100,7 @@ class SandboxPage : public QWidget {
   QSpinBox* drones_box() const { return drones_; }
   QSpinBox* targets_box() const { return targets_; }
   QLineEdit* seed_box() const { return seed_; }
+  QComboBox* physics_box() const { return physics_; }             ///< box2d or light (a new start state)
   QComboBox* behavior_box() const { return behavior_; }
   QComboBox* map_box() const { return map_; }
   QLabel* time_label() const { return status_time_; }
@@ -155,6 +156,7 @@ class SandboxPage : public QWidget {
   QComboBox* target_kind_ = nullptr;
   QSpinBox* targets_ = nullptr;
   QLineEdit* seed_ = nullptr;
+  QComboBox* physics_ = nullptr;
   QWidget* group_row_ = nullptr;
   QComboBox* group_ = nullptr;
   std::string group_name_;  ///< the chosen group
