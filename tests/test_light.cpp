@@ -4,6 +4,7 @@
 // the choice is recorded (config.json, the queue's summary.csv) and a bad value is refused; coverage
 // matches Box2D's statistically.
 #include "common.hpp"
+#include "wall_layouts.hpp"
 
 #include <cmath>
 #include <cstring>
@@ -61,15 +62,6 @@ class Recorder final : public ContactHandler {
     if (e.kind != ContactKind::target_in_view) events.push_back(e);
   }
 };
-
-DroneConfig racer(double radius, double speed) {
-  DroneConfig d;
-  d.radius = radius;
-  d.max_speed = speed;
-  d.max_force = 1000;
-  d.obstacle_rays = 0;
-  return d;
-}
 
 GroupSetup group_at(const char* name, Vec2 spawn, std::shared_ptr<Behavior> behavior, const DroneConfig& drone, std::size_t drones = 1) {
   GroupSetup g;
@@ -133,20 +125,9 @@ class TestLight : public QObject {
     QFETCH(int, wall);
     QFETCH(int, lag);
     QFETCH(double, heading);
-    constexpr double x_wall = 100;
-    SimulationSetup setup;
+    SimulationSetup setup = wall_layout(wall, 1000, radius, speed, dt, lag, std::make_shared<Heading>(heading));
     setup.physics = PhysicsMode::light;
-    setup.map.bounds = {{0, 0}, {200, 1000}};
-    if (wall == 0) setup.map.lines = {{{x_wall, 0}, {x_wall, 1000}}};
-    const double thickness = wall == 1 ? 20 : 0.001;
-    if (wall > 0) setup.map.obstacles = {{{x_wall, 0}, {x_wall + thickness, 0}, {x_wall + thickness, 1000}, {x_wall, 1000}}};
-    setup.groups[0].drone = racer(radius, speed);
     QVERIFY(!check_drone(setup.groups[0].drone, dt));
-    setup.dt = dt;
-    setup.decision_lag = lag;
-    setup.groups[0].drones = 1;
-    setup.groups[0].spawn_radius = 1e-9;
-    setup.groups[0].behavior = std::make_shared<Heading>(heading);
     const double step = speed * dt;
     for (int k = 0; k <= 40; ++k) {  // gaps from all but touching to one step and a little more
       const double gap = 0.001 + (step + 0.05) * k / 40;

@@ -2,6 +2,7 @@
 // it can do (a drone at max speed never passes through a wall, float positions resolve a drone's
 // step); what plugins hand the core is checked like a user's input; huge swarms are announced.
 #include "common.hpp"
+#include "wall_layouts.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -54,16 +55,6 @@ class Crediting final : public ContactHandler {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-/// A drone of `radius` m whose velocity can reach `speed` m/s in one step.
-DroneConfig racer(double radius, double speed) {
-  DroneConfig d;
-  d.radius = radius;
-  d.max_speed = speed;
-  d.max_force = 1000;
-  d.obstacle_rays = 0;
-  return d;
 }
 
 }  // namespace
@@ -272,19 +263,8 @@ class TestLimits : public QObject {
     QFETCH(double, dt);
     QFETCH(int, wall);
     QFETCH(int, lag);
-    constexpr double x_wall = 100;
-    SimulationSetup setup;
-    setup.map.bounds = {{0, 0}, {200, 100}};
-    if (wall == 0) setup.map.lines = {{{x_wall, 0}, {x_wall, 100}}};
-    const double thickness = wall == 1 ? 20 : 0.001;
-    if (wall > 0) setup.map.obstacles = {{{x_wall, 0}, {x_wall + thickness, 0}, {x_wall + thickness, 100}, {x_wall, 100}}};
-    setup.groups[0].drone = racer(radius, speed);
+    SimulationSetup setup = wall_layout(wall, 100, radius, speed, dt, lag, std::make_shared<Straight>());
     QVERIFY(!check_drone(setup.groups[0].drone, dt));
-    setup.dt = dt;
-    setup.decision_lag = lag;
-    setup.groups[0].drones = 1;
-    setup.groups[0].spawn_radius = 1e-9;
-    setup.groups[0].behavior = std::make_shared<Straight>();
     const double step = speed * dt;
     for (int k = 0; k <= 40; ++k) {  // gaps from all but touching to one step and a little more
       const double gap = 0.001 + (step + 0.05) * k / 40;
