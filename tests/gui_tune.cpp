@@ -199,11 +199,13 @@ class GuiTune : public QObject {
     QVERIFY(p->log_text().contains("--resume"));
     QVERIFY(p->wait(120000));
     QCOMPARE(read_file(out + "/tune.csv"), tune_csv);
+    const QByteArray saved = read_file(out + ".tune.json");
     type_into(p->evaluations_box(), "14");
     const std::string why = p->run(out);
     QVERIFY2(why.find("holds another tune") != std::string::npos, why.c_str());
     QVERIFY(!p->running());
     QCOMPARE(read_file(out + "/tune.csv"), tune_csv);
+    QCOMPARE(read_file(out + ".tune.json"), saved);  // the tune file beside the folder is kept too
   }
 
   void open_results_shows_a_finished_tune() {

@@ -361,7 +361,7 @@ std::string TunePage::base_json() const {
   return test.dump();
 }
 
-std::string TunePage::tune_json(std::string* why) const {
+std::string TunePage::tune_json(std::string* why, std::string* canonical) const {
   if (!base_) return *why = "no test to tune yet: From sandbox takes the sandbox's", std::string();
   json params = json::object();
   for (int r = 0; r < table_->rowCount(); ++r) {
@@ -400,7 +400,9 @@ std::string TunePage::tune_json(std::string* why) const {
   if (!racing_->isChecked() || worlds_->value() < 2) j["racing"] = false;
   const std::string text = j.dump(2) + "\n";
   // Checked as salsa tune checks it, so a run is never started only to be refused.
-  if (!check_tune(text, *host_, why)) return {};
+  const auto spec = check_tune(text, *host_, why);
+  if (!spec) return {};
+  if (canonical) *canonical = spec->canonical;
   return text;
 }
 
@@ -420,22 +422,19 @@ std::string TunePage::save(const QString& file) {
 
 std::string TunePage::run(const QString& out) {
   if (running()) return show_message("a tune is running; stop it first"), "a tune is running";
-  std::string why;
-  const std::string text = tune_json(&why);
-  if (text.empty()) return show_message(q(why)), why;
+  std::string why, canonical;
+  if (tune_json(&why, &canonical).empty()) return show_message(q(why)), why;
   const QString dir = QFileInfo(out).absoluteFilePath();
   const QString file = dir + ".tune.json";
-  if (why = save(file); !why.empty()) return why;
-  // As salsa tune decides: a folder that records this tune resumes it; another tune's folder is refused.
-  bool resume = false;
-  if (const fs::path record = dir.toStdString() + "/tune.json"; fs::exists(record)) {
-    const TuneSpec spec = load_tune(file.toStdString(), *host_, std::nullopt);
-    if (text_of(record) != spec.canonical + "\n") {
-      why = dir.toStdString() + ": holds another tune (allowed: another output folder)";
-      return show_message(q(why)), why;
-    }
-    resume = true;
+  // As salsa tune decides, before anything is written: a folder that records this tune resumes it;
+  // another tune's folder is refused (its FOLDER.tune.json is left as it is).
+  const fs::path record = dir.toStdString() + "/tune.json";
+  const bool resume = fs::exists(record);
+  if (resume && text_of(record) != canonical + "\n") {
+    why = dir.toStdString() + ": holds another tune (allowed: another output folder)";
+    return show_message(q(why)), why;
   }
+  if (why = save(file); !why.empty()) return why;
   out_ = dir;
   budget_ = static_cast<std::size_t>(evaluations_->value());
   for (QXYSeries* s : std::initializer_list<QXYSeries*>{best_, defaults_, scores_}) s->clear();

@@ -51,8 +51,8 @@ class TunePage : public QWidget {
   /// Takes the sandbox's test: the table lists its tunable numbers, its behavior's parameters ticked.
   std::string from_sandbox();
   /// The tune file the page describes (checked by the core's tune reader, as `salsa tune` checks it),
-  /// or "" with `why`.
-  std::string tune_json(std::string* why) const;
+  /// or "" with `why`; `canonical`: what OUT/tune.json records for it.
+  std::string tune_json(std::string* why, std::string* canonical = nullptr) const;
   std::string save(const QString& file);
   /// Saves the tune file beside `out` as <out>.tune.json and starts `salsa tune` of it into `out`; a
   /// folder that holds this tune already is resumed.
