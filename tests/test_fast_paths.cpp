@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <stdexcept>
 
@@ -49,6 +50,22 @@ class Recorder final : public salsa::Behavior {
     ++s.decisions;
     return steering;
   }
+};
+
+/// Logs the sightings it is handed, step by step, as (drone, target) pairs in the order they came.
+class SightingLog final : public salsa::ContactHandler {
+ public:
+  using Pair = std::pair<std::uint32_t, std::uint32_t>;
+  explicit SightingLog(salsa::Sightings wants, double dt) : wants_(wants), dt_(dt) {}
+  std::map<std::int64_t, std::vector<Pair>> by_step;
+  salsa::Sightings sightings() const override { return wants_; }
+  void on_contact(const salsa::ContactEvent& e, salsa::ContactActions&) override {
+    if (e.kind == salsa::ContactKind::target_in_view) by_step[std::llround(e.time / dt_)].push_back({e.drone, e.other});
+  }
+
+ private:
+  salsa::Sightings wants_;
+  double dt_;
 };
 
 /// A target kind whose camera sees twice as far as the drones' camera range; with `widened`, it says
@@ -417,6 +434,50 @@ class TestFastPaths : public QObject {
       QCOMPARE(some_sim->targets()[t].found_by, all_sim->targets()[t].found_by);
       QCOMPARE(some_sim->targets()[t].found_time, all_sim->targets()[t].found_time);
     }
+  }
+
+  /// Sightings::on_entry hands a handler exactly the sightings of the every-step stream that were not
+  /// in it the step before (a noisy camera's miss included), in the same order; after targets are
+  /// re-made, everything in view comes anew. Alone or beside an every-step handler, the same events.
+  void sightings_on_entry_are_the_first_of_each_stay() {
+    auto run = [this](bool with_every_step) {
+      auto recorder = std::make_shared<Recorder>();
+      recorder->steering = {0.05, -0.03};
+      salsa::SimulationSetup setup;
+      setup.map = random_map(5, 300, 6);
+      setup.groups[0].drones = 30;
+      setup.groups[0].drone.miss_probability = 0.2;
+      setup.groups[0].behavior = recorder;
+      setup.target_kind = trees();
+      setup.targets = 2000;
+      setup.seed = 3;
+      auto every = std::make_shared<SightingLog>(salsa::Sightings::every_step, setup.dt);
+      auto entry = std::make_shared<SightingLog>(salsa::Sightings::on_entry, setup.dt);
+      setup.contact_handlers = {entry, detect_targets()};
+      if (with_every_step) setup.contact_handlers.push_back(every);
+      salsa::Simulation sim(setup);
+      for (int step = 0; step < 60; ++step) {
+        if (step == 30) sim.set_targets(trees(), 2000);  // the same trees, re-made
+        sim.step();
+      }
+      return std::pair(every, entry);
+    };
+    const auto [every, entry] = run(true);
+    std::size_t all = 0, entries = 0;
+    std::vector<SightingLog::Pair> before;
+    for (std::int64_t step = 1; step <= 60; ++step) {
+      const std::vector<SightingLog::Pair>& now = every->by_step[step];
+      std::vector<SightingLog::Pair> expected;
+      for (const auto& pair : now)
+        if (step == 31 || std::find(before.begin(), before.end(), pair) == before.end()) expected.push_back(pair);
+      QVERIFY2(entry->by_step[step] == expected, qPrintable(QString("step %1: %2 entries, expected %3")
+                                                               .arg(step).arg(entry->by_step[step].size()).arg(expected.size())));
+      all += now.size(), entries += expected.size();
+      before = now;
+    }
+    qInfo("%zu sightings, %zu of them entries", all, entries);
+    QVERIFY(entries > 0 && entries * 4 < all);  // most sightings repeat the step before's
+    QCOMPARE(run(false).second->by_step, entry->by_step);
   }
 
   void nearest_neighbour_distances_match_brute_force_data() {

@@ -5,6 +5,8 @@ namespace {
 
 class DetectTargets final : public salsa::ContactHandler {
  public:
+  // A target seen again is already found: the first sighting is the one that counts.
+  salsa::Sightings sightings() const override { return salsa::Sightings::on_entry; }
   void on_contact(const salsa::ContactEvent& event, salsa::ContactActions& actions) override {
     if (event.kind == salsa::ContactKind::target_in_view) actions.mark_found(event.other, event.drone);
   }

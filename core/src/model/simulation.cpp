@@ -579,6 +579,7 @@ void Simulation::install(World&& w) noexcept {
   flying_ = static_cast<std::size_t>(std::count(drones_.status.begin(), drones_.status.end(), DroneStatus::flying));
   physics_->remove_drones_from(0);
   add_bodies();
+  seen_.clear();               // new drones and targets: whatever is in view next comes into view
   if (comm_) comm_->clear();  // new drones: nothing in flight reaches them
   comm_changed();
   if (wind_active_) track_air();  // the new drones' air velocities: their velocities as spawned
@@ -640,6 +641,7 @@ void Simulation::set_drone_count(std::size_t n, std::uint32_t group) {
   }
   flying_ = static_cast<std::size_t>(std::count(drones_.status.begin(), drones_.status.end(), DroneStatus::flying));
   if (wind_active_) track_air();
+  seen_.clear();  // ids may name other drones: whatever is in view next comes into view
   spawn_rng_ = rng;
   setup_.groups[group].drones = n;
   comm_changed();
@@ -771,6 +773,7 @@ void Simulation::set_targets(std::shared_ptr<TargetKind> kind, std::size_t count
   reset_handlers(*this);  // what a handler sees of the world (no targets) is as it will be
   // Nothing below throws.
   targets_ = std::move(next);
+  seen_.clear();  // new targets: whatever is in view next comes into view
   groups_ = std::move(next_groups);
   setup_.target_kind = std::move(kind);
   setup_.targets = count;
@@ -847,13 +850,18 @@ void Simulation::step() {
 // alone sees them); the other noise is added where the perception is built (add_noise).
 void Simulation::sense() {
   drone_grid_.build(drones_.positions, grid_range_ / 2);  // 5×5 cells of R/2 cover less than 3×3 of R
+  std::swap(seen_, seen_before_);
   seen_.resize(drones_.positions.size());
+  seen_before_.resize(drones_.positions.size());
+  entered_.resize(drones_.positions.size());
   const TargetKind* kind = targets_.states.empty() ? nullptr : setup_.target_kind.get();
   bool false_detections = false;
   for (const Group& g : groups_) false_detections = false_detections || g.noise.false_rate > 0;
   if (false_detections) phantoms_.resize(drones_.positions.size());
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
-    seen_[i].clear();
+    std::vector<TargetSeen>& seen = seen_[i];
+    seen.clear();
+    entered_[i].clear();
     if (false_detections) phantoms_[i].clear();
     if (drones_.status[i] != DroneStatus::flying) return void(drones_.hit_counts[i] = 0);  // a stopped drone sees nothing
     const Group& group = groups_[drones_.groups[i]];
@@ -867,17 +875,28 @@ void Simulation::sense() {
           drones_.hits[i * ray_slots_ + count++] = *hit;
     drones_.hit_counts[i] = count;
     const Group::Noise& noise = group.noise;
+    // Whether each target came into view: `before` is in the same grid order, so a target still in
+    // view lies past the last one met there.
+    const std::vector<TargetSeen>& before = seen_before_[i];
+    std::size_t from = 0;
+    auto sighted = [&](std::uint32_t t, Vec2 at, double d) {
+      seen.push_back({at, d, t, false});  // found: filled in where a behavior asks (perceive)
+      std::size_t k = from;
+      while (k < before.size() && before[k].id != t) ++k;
+      if (k < before.size()) from = k + 1;
+      else entered_[i].push_back(static_cast<std::uint32_t>(seen.size() - 1));
+    };
     if (kind && drones_.camera[i] && noise.miss > 0) {
       Rng rng = noise_rng(setup_.seed, NoiseStream::misses, steps_, i);  // one draw per target in view, in grid order
-      targets_.grid.query(p, group.reach, [&](std::uint32_t t, Vec2, double d2) {
+      targets_.grid.query(p, group.reach, [&](std::uint32_t t, Vec2 at, double d2) {
         const double d = std::sqrt(d2);
         if (plugin_call(target_kind, 0, [&] { return kind->in_view(d, cfg.camera_range); }) && !rng.chance(noise.miss))
-          seen_[i].emplace_back(t, d);
+          sighted(t, at, d);
       });
     } else if (kind && drones_.camera[i])
-      targets_.grid.query(p, group.reach, [&](std::uint32_t t, Vec2, double d2) {
+      targets_.grid.query(p, group.reach, [&](std::uint32_t t, Vec2 at, double d2) {
         const double d = std::sqrt(d2);
-        if (plugin_call(target_kind, 0, [&] { return kind->in_view(d, cfg.camera_range); })) seen_[i].emplace_back(t, d);
+        if (plugin_call(target_kind, 0, [&] { return kind->in_view(d, cfg.camera_range); })) sighted(t, at, d);
       });
     if (noise.false_rate > 0 && drones_.camera[i]) {  // anywhere in the camera's disc, with or without targets
       Rng rng = noise_rng(setup_.seed, NoiseStream::phantoms, steps_, i);
@@ -964,9 +983,6 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
           s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j, drones_.groups[j]});
     }
   }
-  s.targets.clear();
-  if (senses.targets)
-    for (const auto& [t, d] : seen_[id]) s.targets.push_back({targets_.states[t].position, d, t, targets_.states[t].found()});
   const GroupSetup& group = setup_.groups[g];
   Perception me;
   me.id = id;
@@ -988,6 +1004,11 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   me.battery = me.battery_capacity > 0 ? std::clamp(drones_.charge[id] / (me.battery_capacity * 3600), 0.0, 1.0) : 1.0;
   me.neighbours = s.neighbours;
   me.obstacles = {drones_.hits.data() + id * ray_slots_, drones_.hit_counts[id]};
+  s.targets.clear();
+  if (senses.targets) {
+    s.targets.assign(seen_[id].begin(), seen_[id].end());
+    for (TargetSeen& t : s.targets) t.found = targets_.states[t.id].found();
+  }
   me.targets = s.targets;
   me.world = this;
   if (setup_.comm.on) {
@@ -1202,20 +1223,42 @@ class Actions final : public ContactActions {
 }  // namespace
 
 // Detect: events to the contact handlers, serially and in a fixed order: first the targets each drone
-// had in view when it sensed (by drone), then the contacts Box2D began in its step (in its order).
-// Every event of a step carries the time the step ends, the time of the first row that can count it:
-// what was in view on the snapshot at t is found at t + dt, so a row never misses a found target.
+// had in view when it sensed (by drone; only those that came into view for a handler that asks for
+// Sightings::on_entry), then the contacts the physics began in its step (in its order). Every event of
+// a step carries the time the step ends, the time of the first row that can count it: what was in view
+// on the snapshot at t is found at t + dt, so a row never misses a found target.
 void Simulation::dispatch_sightings() {
+  for (const std::vector<TargetSeen>& seen : seen_) {
+    // Targets lie scattered in memory: ask for a drone's all at once rather than miss on each in turn.
+    for (const TargetSeen& t : seen) __builtin_prefetch(&targets_.states[t.id], 1);
+    for (const TargetSeen& t : seen) ++targets_.states[t.id].observations;
+  }
+  const auto& handlers = setup_.contact_handlers;
+  if (handlers.empty()) return;
+  std::vector<char> every(handlers.size());
+  bool any_every = false;
+  for (std::size_t k = 0; k < handlers.size(); ++k) {
+    every[k] = plugin_call(handler_kind, k, [&] { return handlers[k]->sightings(); }) != Sightings::on_entry;
+    any_every = any_every || every[k];
+  }
   const double step_end = time_at(steps_ + 1);  // time() once this step is counted
   Actions actions(targets_.states, targets_.found, drones_.positions.size(), *this, step_end);
+  auto hand_out = [&](std::uint32_t i, const TargetSeen& t, bool entered) {
+    const ContactEvent e{ContactKind::target_in_view, i, t.id, t.position, step_end};
+    for (std::size_t k = 0; k < handlers.size(); ++k)
+      if (entered || every[k]) plugin_call(handler_kind, k, [&] { actions.handler = k, handlers[k]->on_contact(e, actions); });
+  };
   for (std::uint32_t i = 0; i < seen_.size(); ++i) {
-    // Targets lie scattered in memory: ask for a drone's all at once rather than miss on each in turn.
-    for (const auto& [t, d] : seen_[i]) __builtin_prefetch(&targets_.states[t], 1);
-    for (const auto& [t, d] : seen_[i]) {
-      ++targets_.states[t].observations;
-      const ContactEvent e{ContactKind::target_in_view, i, t, targets_.states[t].position, step_end};
-      for (std::size_t k = 0; k < setup_.contact_handlers.size(); ++k)
-        plugin_call(handler_kind, k, [&] { actions.handler = k, setup_.contact_handlers[k]->on_contact(e, actions); });
+    const std::vector<std::uint32_t>& entered = entered_[i];
+    if (!any_every) {
+      for (std::uint32_t k : entered) hand_out(i, seen_[i][k], true);
+      continue;
+    }
+    auto next = entered.begin();
+    for (std::uint32_t k = 0; k < seen_[i].size(); ++k) {
+      const bool in = next != entered.end() && *next == k;
+      next += in;
+      hand_out(i, seen_[i][k], in);
     }
   }
 }

@@ -41,8 +41,20 @@ class ContactActions {
   virtual const WorldView& world() const = 0;
 };
 
+/// Which `target_in_view` events a handler hears of.
+enum class Sightings : std::uint8_t {
+  every_step,  ///< every step a drone has a target in view (the default)
+  /// only the step a target comes into a drone's view: in view now, not the step before (missed by a
+  /// noisy camera counts as not in view; after drones or targets are re-made, everything comes anew).
+  /// Enough for a handler whose answer to a repeated sighting is the same as to the first, such as
+  /// marking found; a drone keeps a tree in view for hundreds of steps, so this skips most calls.
+  on_entry,
+};
+
 class ContactHandler : public Configurable {
  public:
+  /// Asked every step before the sightings are handed out. Default: every step.
+  virtual Sightings sightings() const { return Sightings::every_step; }
   /// The test starts, or the simulation re-spawned its drones or re-placed its targets (in the GUI: a
   /// new drone count, map or target set): drop any per-drone or per-target state, since ids now name
   /// other drones and targets. `world` is the world from then on (its `time()` need not be 0). Called

@@ -345,7 +345,10 @@ class Simulation final : public WorldView {
   std::size_t flying_ = 0;     ///< drones with status flying
   PointGrid drone_grid_;
   Targets targets_;
-  std::vector<std::vector<std::pair<std::uint32_t, double>>> seen_;  ///< per drone: (target, distance) in view
+  /// Per drone: the targets in view this step (its Perception::targets but for noise) and the step
+  /// before; the positions in `seen_` of those that were not in view before (Sightings::on_entry).
+  std::vector<std::vector<TargetSeen>> seen_, seen_before_;
+  std::vector<std::vector<std::uint32_t>> entered_;
   /// Per drone: its false detections of this step, as offsets from its true position (sized only once a
   /// group has a false detection rate).
   std::vector<std::vector<Vec2>> phantoms_;
