@@ -393,6 +393,7 @@ class TestPlots : public QObject {
     QCOMPARE(lines[2], QString("c1,,10,50,tree,forest,60,fraction_found,A,\"C(x=1, y=2)\",1,0.5,0.25,0.25,,,1"));
     QCOMPARE(lines[3], QString("c1,,10,50,tree,forest,60,fraction_found,B,\"C(x=1, y=2)\",1,0.4,0.25,0.15,,,1"));
     QVERIFY(!QFileInfo::exists(out + "/did.csv"));  // one condition: nothing to difference
+    QVERIFY(!QFileInfo::exists(out + "/condition_effects.csv"));
     // Rewritten from the same file, byte for byte.
     const QByteArray first = read_file(out + "/comparison.csv");
     salsa::write_comparison(out.toStdString());
@@ -408,6 +409,9 @@ class TestPlots : public QObject {
   //   big:  A = .6 each,     B = .5 each     → A − B = .1 each
   // drop − base, per repeat: −.2 0 −.3 −.1: mean −.15, sd √(.05 / 3) = .129099, t_{0.975,3} = 3.182446
   // → −.15 ± .205426 = [−.355426, .055426]. big − base: 0 .1 −.1 .2: mean .05.
+  // Each variant against itself (condition_effects.csv): A under drop − A under base = −.2 −.1 −.3 −.2:
+  // mean −.2, sd √(.02 / 3) = .0816497 → −.2 ± .129924; A under base .55 ± .205426 (the sd above);
+  // B: 0 −.1 0 −.1, mean −.05. A under big − base (by repeat): .1 0 −.1 .2, mean .05, higher in 2.5 of 4.
   void difference_in_differences() {
     const QString out = path("did");
     QByteArray summary = "name,status,error,cell,variant,condition,condition_label,behavior,repeat,seed,drones,targets,target,map,time,fraction_found\n";
@@ -440,6 +444,28 @@ class TestPlots : public QObject {
     const QStringList big = did[2].split(',');
     QCOMPARE(big.mid(9, 3).join(','), QString("base,big,4"));  // paired by repeat: its seeds are its own
     QVERIFY2(std::abs(big[14].toDouble() - 0.05) < 1e-9, qPrintable(did[2]));
+    // Each variant under each condition against itself under the first: the same pairing.
+    const QStringList effects = non_empty_lines(QString::fromUtf8(read_file(out + "/condition_effects.csv")));
+    QCOMPARE(effects.value(0), QString("cell,drones,targets,target,map,time,metric,variant,baseline,condition,n,mean_baseline,baseline_ci_low,"
+                                       "baseline_ci_high,mean_condition,mean_diff,ci_low,ci_high,win_rate"));
+    QCOMPARE(effects.size(), 5);  // A and B under drop, then under big
+    const QStringList a_drop = effects[1].split(',');
+    QCOMPARE(a_drop.mid(0, 11).join(','), QString("c1,10,50,tree,forest,60,fraction_found,A,base,drop,4"));
+    auto about = [](const QString& field, double v, double tolerance = 1e-9) { return std::abs(field.toDouble() - v) < tolerance; };
+    QVERIFY2(about(a_drop[11], 0.55) && about(a_drop[12], 0.344574, 2e-5) && about(a_drop[13], 0.755426, 2e-5), qPrintable(effects[1]));
+    QVERIFY2(about(a_drop[14], 0.35) && about(a_drop[15], -0.2), qPrintable(effects[1]));
+    QVERIFY2(about(a_drop[16], -0.329924, 2e-5) && about(a_drop[17], -0.070076, 2e-5) && a_drop[18] == "0", qPrintable(effects[1]));
+    const QStringList b_drop = effects[2].split(',');
+    QVERIFY2(b_drop[7] == "B" && about(b_drop[15], -0.05), qPrintable(effects[2]));
+    const QStringList a_big = effects[3].split(',');
+    QCOMPARE(a_big.mid(7, 4).join(','), QString("A,base,big,4"));  // paired by repeat: its seeds are its own
+    QVERIFY2(about(a_big[15], 0.05) && a_big[18] == "0.625", qPrintable(effects[3]));
+    // A queue without conditions written into the same folder: neither file is left over.
+    write_file(out + "/summary.csv", "name,status,error,cell,variant,behavior,repeat,seed,drones,targets,target,map,time,fraction_found\n"
+                                     "a,ok,,c1,A,a,0,11,10,50,tree,forest,60,0.5\nb,ok,,c1,B,b,0,11,10,50,tree,forest,60,0.4\n");
+    salsa::write_comparison(out.toStdString());
+    QVERIFY(!QFileInfo::exists(out + "/did.csv"));
+    QVERIFY(!QFileInfo::exists(out + "/condition_effects.csv"));
   }
 
   // Many variants: each against the reference, or the first beyond max_all_pairs; few: every pair.

@@ -325,6 +325,15 @@ class TestQueueRun : public QObject {
     QCOMPARE(did[2].mid(9, 3), (QStringList{"baseline", "big", "2"}));
     // did = diff_condition − diff_baseline, the two means of comparison.csv.
     QVERIFY(std::abs(did[1][14].toDouble() - (comparison[2][13].toDouble() - comparison[1][13].toDouble())) < 1e-5);
+    // Each variant under each condition against itself under the baseline: 2 conditions × 2 variants,
+    // in the baseline's order; the difference is the two means' (comparison.csv's mean_a under each).
+    const auto effects = csv_rows(dir.filePath("out/condition_effects.csv"));
+    QCOMPARE(effects.size(), 1 + 4);
+    QCOMPARE(effects[1].mid(7, 4), (QStringList{"random_walk (defaults)", "baseline", "dropout", "2"}));
+    QCOMPARE(effects[2].mid(7, 4), (QStringList{"flocking (defaults)", "baseline", "dropout", "2"}));
+    QCOMPARE(effects[4].mid(7, 4), (QStringList{"flocking (defaults)", "baseline", "big", "2"}));
+    QVERIFY(std::abs(effects[2][15].toDouble() - (comparison[2][11].toDouble() - comparison[1][11].toDouble())) < 1e-5);
+    QVERIFY(std::abs(effects[2][11].toDouble() - comparison[1][11].toDouble()) < 1e-5);
   }
 
   // "top": comparison.csv pairs the 3 variants of each condition with the highest mean fraction_found

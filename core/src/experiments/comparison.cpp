@@ -156,6 +156,21 @@ Values by_repeat(const Values& v) {
   return out;
 }
 
+/// The 95 % t-interval of the mean of `v`'s values at the keys `other` has too (NaN for fewer than 2).
+std::pair<double, double> mean_interval(const Values& v, const Values& other) {
+  std::vector<double> x;
+  for (const auto& [key, value] : v)
+    if (other.count(key)) x.push_back(value);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (x.size() < 2) return {nan, nan};
+  double mean = 0, ss = 0;
+  for (double e : x) mean += e;
+  mean /= static_cast<double>(x.size());
+  for (double e : x) ss += (e - mean) * (e - mean);
+  const double half = t_half_width(x.size(), std::sqrt(ss / static_cast<double>(x.size() - 1)));
+  return {mean - half, mean + half};
+}
+
 }  // namespace
 
 void write_comparison(const fs::path& out, const std::string& metric) {
@@ -227,6 +242,11 @@ void write_comparison(const fs::path& out, const std::string& metric) {
     if (list.empty()) cells.push_back(groups[i].cell);
     list.push_back(i);
   }
+  // condition_effects.csv: within each cell, each variant under each later condition against itself
+  // under the first.
+  std::string effects = "cell";
+  for (const char* name : description) effects += std::string(",") + name;
+  effects += ",metric,variant,baseline,condition,n,mean_baseline,baseline_ci_low,baseline_ci_high,mean_condition,mean_diff,ci_low,ci_high,win_rate\n";
   bool any = false;
   for (const std::string& cell : cells) {
     const std::vector<std::size_t>& list = in_cell[cell];
@@ -234,6 +254,20 @@ void write_comparison(const fs::path& out, const std::string& metric) {
     for (std::size_t k = 1; k < list.size(); ++k) {
       const Group& other = groups[list[k]];
       any = true;
+      for (const std::string& v : base.variants) {
+        if (!other.values.count(v)) continue;
+        Values x0 = base.values.at(v), x1 = other.values.at(v);
+        // Paired by repeat and seed when the condition keeps the worlds, else by repeat.
+        if (std::none_of(x1.begin(), x1.end(), [&](const auto& e) { return x0.count(e.first); })) x0 = by_repeat(x0), x1 = by_repeat(x1);
+        const PairedStats s = paired_stats(x1, x0);
+        const auto [low, high] = mean_interval(x0, x1);
+        effects += csv_field(base.cell);
+        for (const auto& d : base.description) put(effects, csv_field(d));
+        for (const auto* e : {&metric, &v, &base.condition, &other.condition}) put(effects, csv_field(*e));
+        put(effects, std::to_string(s.n));
+        put_numbers(effects, {s.mean_b, low, high, s.mean_a, s.mean_diff, s.ci_low, s.ci_high, s.win_rate_a});
+        effects += '\n';
+      }
       for (const auto& [a, b] : pairs_of(base)) {
         const std::string &va = base.variants[a], &vb = base.variants[b];
         if (!other.values.count(va) || !other.values.count(vb)) continue;
@@ -251,8 +285,13 @@ void write_comparison(const fs::path& out, const std::string& metric) {
     }
   }
   std::error_code ec;
-  if (any) replace_file(out / "did.csv", did);
-  else fs::remove(out / "did.csv", ec);  // a queue without conditions has none (one left from an earlier queue goes)
+  if (any) {
+    replace_file(out / "did.csv", did);
+    replace_file(out / "condition_effects.csv", effects);
+  } else {
+    // A queue without conditions has neither (those left from an earlier queue go).
+    for (const char* name : {"did.csv", "condition_effects.csv"}) fs::remove(out / name, ec);
+  }
 }
 
 }  // namespace salsa

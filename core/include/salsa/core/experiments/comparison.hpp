@@ -1,8 +1,9 @@
 #pragma once
 // The paired comparison of behaviors: tests that share a cell (everything but the behavior and the
 // condition), a condition and a seed are pairs, so the difference between two variants is measured on
-// the same worlds; and the difference-in-differences between conditions. See docs/output-format.md
-// (comparison.csv, did.csv).
+// the same worlds; the difference-in-differences between conditions; and each variant under each
+// condition against itself under the first. See docs/output-format.md
+// (comparison.csv, did.csv, condition_effects.csv).
 #include <cstddef>
 #include <filesystem>
 #include <map>
@@ -17,8 +18,10 @@ namespace salsa {
 /// difference A − B of `metric` with its 95 % t-interval and A's win rate. When a cell has two or more
 /// conditions, also OUT/did.csv: for each pair, (A − B | condition) − (A − B | the cell's first
 /// condition), paired by repeat and seed (by repeat when the condition changes the world), with its
-/// 95 % t-interval over the per-repeat values. The reference and top are OUT/queue.json's. Throws
-/// InputError (one line naming the file) on bad input.
+/// 95 % t-interval over the per-repeat values; and OUT/condition_effects.csv: for each variant,
+/// (variant | condition) − (variant | the cell's first condition), paired the same way, with its 95 %
+/// t-interval and the first condition's mean with its own. The reference and top are OUT/queue.json's.
+/// Throws InputError (one line naming the file) on bad input.
 void write_comparison(const std::filesystem::path& out, const std::string& metric = "fraction_found");
 
 /// Half the width of the two-sided 95 % t-interval of a mean of `n` values with sample standard
