@@ -820,21 +820,22 @@ void Simulation::timed(Phase phase, const auto& fn) {
 void Simulation::step() {
   // The drones' side of a step: sense, decide and report what they saw, all on the snapshot of
   // positions the step started from.
-  auto drones = [this] {
+  auto think = [this] {
     timed(Phase::sense, [this] { sense(); });
     timed(Phase::decide, [this] { decide(); });
     if (setup_.comm.on) timed(Phase::communicate, [this] { communicate(); });
-    timed(Phase::detect, [this] { dispatch_sightings(); });
   };
+  auto report = [this] { timed(Phase::detect, [this] { dispatch_sightings(); }); };
+  auto step_physics = [this] { timed(Phase::physics, [this] { physics(); }); };
+  // While the physics steps, the other side runs: nothing one writes is read by the other (the physics
+  // owns its bodies until read_back).
   if (setup_.decision_lag == 0) {
-    drones();
+    think();
     timed(Phase::act, [this] { act(); });
-    timed(Phase::physics, [this] { physics(); });
+    parallel_->overlap(drones_.positions.size(), step_physics, report);
   } else {
-    // Last step's decisions go to Box2D, and while it steps the drones do their side. Nothing one side
-    // writes is read by the other.
-    timed(Phase::act, [this] { act(); });
-    parallel_->overlap(drones_.positions.size(), [this] { timed(Phase::physics, [this] { physics(); }); }, drones);
+    timed(Phase::act, [this] { act(); });  // last step's decisions
+    parallel_->overlap(drones_.positions.size(), step_physics, [&] { think(), report(); });
   }
   ++steps_;
   read_back();
