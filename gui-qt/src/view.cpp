@@ -6,6 +6,7 @@
 #include <QPainterPath>
 #include <QWheelEvent>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -141,6 +142,40 @@ std::optional<Pixels> direct_pixels(QPainter& painter) {
 
 }  // namespace
 
+/// A 1 px antialiased line from `a` to `b` (device pixels; a pixel's centre at +0.5) of opacity
+/// `alpha` (0–255) on a `size` picture, as plot(x, y, opacity) calls. Wu's algorithm: along the long
+/// axis, one step per pixel, shared by the two nearest pixels across. Returns the rows and columns it
+/// may have touched (empty when none).
+template <class Plot>
+QRect wu_line(QPointF a, QPointF b, int alpha, QSize size, Plot&& plot) {
+  double ax = a.x() - 0.5, ay = a.y() - 0.5, bx = b.x() - 0.5, by = b.y() - 0.5;
+  const bool steep = std::abs(by - ay) > std::abs(bx - ax);
+  if (steep) std::swap(ax, ay), std::swap(bx, by);
+  if (ax > bx) std::swap(ax, bx), std::swap(ay, by);
+  const int long_size = steep ? size.height() : size.width(), cross_size = steep ? size.width() : size.height();
+  const double gradient = bx - ax > 1e-9 ? (by - ay) / (bx - ax) : 0;
+  // Clamped first: a line may reach far off screen when zoomed in.
+  const int from = std::max(0, floor_int(std::max(ax, -1.0) + 0.5)), to = std::min(long_size - 1, floor_int(std::min(bx, long_size + 1.0) + 0.5));
+  if (from > to) return {};
+  for (int i = from; i <= to; ++i) {
+    const double across = ay + (i - ax) * gradient;
+    const int j = floor_int(across);
+    const int far = static_cast<int>(alpha * (across - j) + 0.5);
+    if (j >= 0 && j < cross_size) plot(steep ? j : i, steep ? i : j, alpha - far);
+    if (j + 1 >= 0 && j + 1 < cross_size) plot(steep ? j + 1 : i, steep ? i : j + 1, far);
+  }
+  const int j0 = std::max(0, floor_int(std::clamp(std::min(ay, by), -1.0, cross_size + 1.0)));
+  const int j1 = std::min(cross_size - 1, floor_int(std::clamp(std::max(ay, by), -1.0, cross_size + 1.0)) + 1);
+  return steep ? QRect(QPoint(j0, from), QPoint(j1, to)) : QRect(QPoint(from, j0), QPoint(to, j1));
+}
+
+/// The premultiplied colours of `colour` at each opacity 0–255.
+std::array<QRgb, 256> shades(const QColor& colour) {
+  std::array<QRgb, 256> shade;
+  for (int m = 0; m < 256; ++m) shade[static_cast<std::size_t>(m)] = qPremultiply(qRgba(colour.red(), colour.green(), colour.blue(), m));
+  return shade;
+}
+
 /// Thin antialiased lines of one colour, drawn by hand into an alpha mask that is then blended once.
 /// Qt blends each pixel of a thin line through a general span function: 10,000 drones' trails cost
 /// ~60 ms a frame that way, against a few here. Lines over each other add up as source-over does for
@@ -161,29 +196,30 @@ class LineMask {
     x0_ = size.width(), y0_ = size.height(), x1_ = -1, y1_ = -1;
   }
 
-  /// A 1 px line from `a` to `b` (device pixels; a pixel's centre at +0.5) of opacity `alpha` (0–255),
-  /// Wu's algorithm: along the long axis, one step per pixel, shared by the two nearest pixels across.
+  /// A 1 px line from `a` to `b` (device pixels) of opacity `alpha` (0–255): wu_line.
   void line(QPointF a, QPointF b, int alpha) {
-    double ax = a.x() - 0.5, ay = a.y() - 0.5, bx = b.x() - 0.5, by = b.y() - 0.5;
-    const bool steep = std::abs(by - ay) > std::abs(bx - ax);
-    if (steep) std::swap(ax, ay), std::swap(bx, by);
-    if (ax > bx) std::swap(ax, bx), std::swap(ay, by);
-    const int long_size = steep ? size_.height() : size_.width(), cross_size = steep ? size_.width() : size_.height();
-    const double gradient = bx - ax > 1e-9 ? (by - ay) / (bx - ax) : 0;
-    // Clamped first: a line may reach far off screen when zoomed in.
-    const int from = std::max(0, floor_int(std::max(ax, -1.0) + 0.5)), to = std::min(long_size - 1, floor_int(std::min(bx, long_size + 1.0) + 0.5));
-    if (from > to) return;
-    for (int i = from; i <= to; ++i) {
-      const double across = ay + (i - ax) * gradient;
-      const int j = floor_int(across);
-      const int far = static_cast<int>(alpha * (across - j) + 0.5);
-      if (j >= 0 && j < cross_size) plot(steep ? j : i, steep ? i : j, alpha - far);
-      if (j + 1 >= 0 && j + 1 < cross_size) plot(steep ? j + 1 : i, steep ? i : j + 1, far);
-    }
-    const int j0 = floor_int(std::clamp(std::min(ay, by), -1.0, cross_size + 1.0)), j1 = floor_int(std::clamp(std::max(ay, by), -1.0, cross_size + 1.0)) + 1;
-    const int lx0 = steep ? j0 : from, lx1 = steep ? j1 : to, ly0 = steep ? from : j0, ly1 = steep ? to : j1;
-    x0_ = std::min(x0_, std::max(0, lx0)), x1_ = std::max(x1_, std::min(size_.width() - 1, lx1));
-    y0_ = std::min(y0_, std::max(0, ly0)), y1_ = std::max(y1_, std::min(size_.height() - 1, ly1));
+    const QRect r = wu_line(a, b, alpha, size_, [this](int x, int y, int v) { plot(x, y, v); });
+    if (r.isEmpty()) return;
+    x0_ = std::min(x0_, r.left()), x1_ = std::max(x1_, r.right());
+    y0_ = std::min(y0_, r.top()), y1_ = std::max(y1_, r.bottom());
+  }
+
+  /// Blends the lines into `target` (of the mask's size) in `colour`, keeping them.
+  void blend_into(const Pixels& target, const QColor& colour) const {
+    if (x1_ < x0_ || y1_ < y0_ || QSize(target.width, target.height) != size_) return;
+    const std::array<QRgb, 256> shade = shades(colour);
+    for (int by = y0_ & ~7; by <= y1_; by += 8)
+      for (int bx = x0_ & ~7; bx <= x1_; bx += 8) {
+        const std::uint8_t* block = &mask_[block_index(bx, by)];
+        for (int y = 0; y < 8 && by + y <= y1_; ++y) {
+          std::uint64_t row;
+          std::memcpy(&row, block + y * 8, 8);
+          if (!row) continue;  // most of a trail's neighbourhood
+          QRgb* out = target.row(by + y) + bx;
+          for (int x = 0; x < 8 && bx + x <= x1_; ++x)
+            if (const std::uint8_t m = block[y * 8 + x]) out[x] = over(shade[m], out[x]);
+        }
+      }
   }
 
   /// The lines `other` holds (its size and what it drew), to draw more over.
@@ -195,8 +231,7 @@ class LineMask {
   /// Blends what was drawn since begin() in `colour` (its alpha ignored) over the painter's picture.
   void finish(QPainter& painter, const QColor& colour, qreal dpr) {
     if (x1_ < x0_ || y1_ < y0_) return;
-    QRgb shade[256];
-    for (int m = 0; m < 256; ++m) shade[m] = qPremultiply(qRgba(colour.red(), colour.green(), colour.blue(), m));
+    const std::array<QRgb, 256> shade = shades(colour);
     x0_ &= ~7, y0_ &= ~7;  // whole blocks
     if (const auto target = direct_pixels(painter); target && QSize(target->width, target->height) == size_) {
       for (int by = y0_; by <= y1_; by += 8)
@@ -235,10 +270,11 @@ class LineMask {
  private:
   /// The mask is stored in 8 × 8 blocks of one cache line each: a short line of any slope touches a
   /// few lines, where rows of the whole width would cost a cache miss per pixel row.
-  std::uint8_t& at(int x, int y) {
-    return mask_[(static_cast<std::size_t>(y >> 3) * static_cast<std::size_t>(blocks_x_) + static_cast<std::size_t>(x >> 3)) * 64 +
-                 static_cast<std::size_t>((y & 7) * 8 + (x & 7))];
+  std::size_t block_index(int x, int y) const {
+    return (static_cast<std::size_t>(y >> 3) * static_cast<std::size_t>(blocks_x_) + static_cast<std::size_t>(x >> 3)) * 64 +
+           static_cast<std::size_t>((y & 7) * 8 + (x & 7));
   }
+  std::uint8_t& at(int x, int y) { return mask_[block_index(x, y)]; }
   void plot(int x, int y, int alpha) {
     std::uint8_t& m = at(x, y);
     m = static_cast<std::uint8_t>(m + (alpha * (255 - m) + 127) / 255);
@@ -263,6 +299,10 @@ struct TrailLayers {
   std::vector<std::vector<std::uint32_t>> members;
   std::vector<LineMask> masks;  ///< per group
   std::vector<QPointF> ends;    ///< per drone: where its lines end (NaN: none), px
+  /// The FrameRenderer's static layer with the lines blended in, made again when either changes: a
+  /// frame then copies it and adds the heads.
+  QImage base;
+  std::uint64_t base_version = ~0ull;  ///< of the static layer it was made from
 };
 
 namespace {
@@ -518,91 +558,151 @@ void render_static(QPainter& painter, const Snapshot& snap, const ViewOptions& o
 
 namespace {
 
-/// The trails, one mask of lines per group (LineMask: as bold as Qt's 1.2 px lines at alpha 70 were),
-/// decimated on screen: a sample closer than 2 px to the last one drawn adds nothing visible, so the
-/// cost follows the trails' length in pixels, not in samples. Past a million samples (15,000 drones of
-/// 64) only every stride-th is looked at, so that 100,000 drones' trails cost what 15,000 do; the
-/// newest sample and the drone always are. With `cache` only the heads are drawn while it still holds.
-void draw_trails(QPainter& painter, const Snapshot& snap, const std::vector<std::vector<std::uint32_t>>& members,
-                 const std::vector<QPointF>& at, const QTransform& world_to_px, TrailLayers* cache) {
-  const std::size_t n = snap.positions.size(), length = snap.trail_length, groups = members.size();
+/// Where each drone is on screen (px), and the drones by group, removed ones left out.
+struct Layout {
+  std::vector<QPointF> at;
+  std::vector<std::vector<std::uint32_t>> members;
+};
+Layout layout_of(const Snapshot& snap, const QTransform& world_to_px) {
+  const std::size_t n = snap.positions.size(), groups = std::max<std::size_t>(1, snap.groups.size());
+  const Affine map(world_to_px);
+  Layout out{std::vector<QPointF>(n), std::vector<std::vector<std::uint32_t>>(groups)};
+  for (std::size_t i = 0; i < n; ++i) out.at[i] = map(snap.positions[i].x, snap.positions[i].y);
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (snap.status_of(i) != DroneStatus::removed) out.members[std::min<std::size_t>(snap.group_of(i), groups - 1)].push_back(i);
+  return out;
+}
+
+bool shows_trails(const Snapshot& snap, const ViewOptions& options) {
+  return options.trails && snap.trail_length > 1 && snap.trails && snap.trails->size() >= snap.positions.size() * snap.trail_length;
+}
+
+constexpr int trail_alpha = 85;  // as bold as Qt's 1.2 px lines at alpha 70 were
+
+/// The part of a screen `viewport` (px) whose lines are drawn: a line with an end in it.
+struct Visible {
+  double left, right, top, bottom;
+  explicit Visible(QRectF viewport) {
+    const QRectF r = viewport.adjusted(-50, -50, 50, 50);
+    left = r.left(), right = r.right(), top = r.top(), bottom = r.bottom();
+  }
+  bool operator()(QPointF q) const { return q.x() >= left && q.x() <= right && q.y() >= top && q.y() <= bottom; }
+};
+
+/// The trail samples' lines, one mask per group (LineMask), decimated on screen: a sample closer than
+/// 2 px to the last one drawn adds nothing visible, so the cost follows the trails' length in pixels,
+/// not in samples. Past a million samples (15,000 drones of 64) only every stride-th is looked at, so
+/// that 100,000 drones' trails cost what 15,000 do; the newest sample always is. Drawn into `layers`
+/// unless `kept` and they hold them already for these trails, transform, size and groups; true when
+/// drawn.
+bool draw_trail_lines(const Snapshot& snap, const Layout& layout, const QTransform& world_to_px, QSize size, qreal dpr,
+                      const Visible& shown, TrailLayers& layers, bool kept) {
+  if (kept && layers.trails == snap.trails && layers.transform == world_to_px && layers.size == size && layers.members == layout.members)
+    return false;
+  const std::size_t n = snap.positions.size(), length = snap.trail_length, groups = layout.members.size();
   constexpr std::size_t sample_budget = 1'000'000;
   const std::size_t stride = std::max<std::size_t>(1, (n * length + sample_budget - 1) / sample_budget);
-  const qreal dpr = painter.device() ? painter.device()->devicePixelRatioF() : 1;
-  const QSize size = (QSizeF(painter.viewport().size()) * dpr).toSize();
-  const QRectF visible = QRectF(painter.viewport()).adjusted(-50, -50, 50, 50);
-  const double left = visible.left(), right = visible.right(), top = visible.top(), bottom = visible.bottom();
-  const auto shown = [&](QPointF q) { return q.x() >= left && q.x() <= right && q.y() >= top && q.y() <= bottom; };
-  constexpr int alpha = 85;
-
-  thread_local TrailLayers scratch;  // without a cache (render_frame): drawn, headed and blended at once
-  TrailLayers& layers = cache ? *cache : scratch;
-  if (!cache || layers.trails != snap.trails || layers.transform != world_to_px || layers.size != size || layers.members != members) {
-    const Affine map(world_to_px);
-    const std::vector<Vec2>& trails = *snap.trails;
-    layers.masks.resize(groups);
-    layers.ends.assign(n, QPointF(std::numeric_limits<double>::quiet_NaN(), 0));
-    for (std::size_t g = 0; g < groups; ++g) {
-      LineMask& mask = layers.masks[g];
-      mask.begin(size);
-      for (std::uint32_t d : members[g]) {
-        const Vec2* trail = trails.data() + d * length;
-        bool have_last = false;
-        QPointF last;
-        for (std::size_t k = (length - 1) % stride; k < length; k += stride) {
-          const Vec2 p = trail[k];
-          if (!std::isfinite(p.x)) {
-            have_last = false;
-            continue;
-          }
-          const QPointF q = map(p.x, p.y);
-          if (have_last && std::abs(q.x() - last.x()) + std::abs(q.y() - last.y()) < 2) continue;
-          if (have_last && (shown(q) || shown(last))) mask.line(last * dpr, q * dpr, alpha);
-          last = q;
-          have_last = true;
+  const Affine map(world_to_px);
+  const std::vector<Vec2>& trails = *snap.trails;
+  layers.masks.resize(groups);
+  layers.ends.assign(n, QPointF(std::numeric_limits<double>::quiet_NaN(), 0));
+  for (std::size_t g = 0; g < groups; ++g) {
+    LineMask& mask = layers.masks[g];
+    mask.begin(size);
+    for (std::uint32_t d : layout.members[g]) {
+      const Vec2* trail = trails.data() + d * length;
+      bool have_last = false;
+      QPointF last;
+      for (std::size_t k = (length - 1) % stride; k < length; k += stride) {
+        const Vec2 p = trail[k];
+        if (!std::isfinite(p.x)) {
+          have_last = false;
+          continue;
         }
-        if (have_last) layers.ends[d] = last;
+        const QPointF q = map(p.x, p.y);
+        if (have_last && std::abs(q.x() - last.x()) + std::abs(q.y() - last.y()) < 2) continue;
+        if (have_last && (shown(q) || shown(last))) mask.line(last * dpr, q * dpr, trail_alpha);
+        last = q;
+        have_last = true;
       }
-    }
-    if (cache) {
-      layers.trails = snap.trails;
-      layers.transform = world_to_px;
-      layers.size = size;
-      layers.members = members;
+      if (have_last) layers.ends[d] = last;
     }
   }
+  if (kept) {
+    layers.trails = snap.trails;
+    layers.transform = world_to_px;
+    layers.size = size;
+    layers.members = layout.members;
+  }
+  return true;
+}
+
+/// The trails: their samples' lines, then each drone's last segment, to where it is now (the head).
+/// With `cache` the samples' lines are drawn again only when they changed.
+void draw_trails(QPainter& painter, const Snapshot& snap, const Layout& layout, const QTransform& world_to_px, TrailLayers* cache) {
+  const qreal dpr = painter.device() ? painter.device()->devicePixelRatioF() : 1;
+  const QSize size = (QSizeF(painter.viewport().size()) * dpr).toSize();
+  const Visible shown(QRectF(painter.viewport()));
+  thread_local TrailLayers scratch;  // without a cache (render_frame): drawn, headed and blended at once
+  TrailLayers& layers = cache ? *cache : scratch;
+  draw_trail_lines(snap, layout, world_to_px, size, dpr, shown, layers, cache != nullptr);
   thread_local LineMask work;
-  for (std::size_t g = 0; g < groups; ++g) {
+  for (std::size_t g = 0; g < layout.members.size(); ++g) {
     LineMask* mask = &layers.masks[g];
     if (cache) {
       work.assign_lines(*mask);
       mask = &work;
     }
-    for (std::uint32_t d : members[g])
-      if (const QPointF end = layers.ends[d]; std::isfinite(end.x()) && (shown(end) || shown(at[d]))) mask->line(end * dpr, at[d] * dpr, alpha);
-    mask->finish(painter, group_colour(g, groups), dpr);
+    for (std::uint32_t d : layout.members[g])
+      if (const QPointF end = layers.ends[d]; std::isfinite(end.x()) && (shown(end) || shown(layout.at[d])))
+        mask->line(end * dpr, layout.at[d] * dpr, trail_alpha);
+    mask->finish(painter, group_colour(g, layout.members.size()), dpr);
   }
 }
 
-void draw_dynamic(QPainter& painter, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px, TrailLayers* cache) {
+/// The heads of the trails (see draw_trails), blended straight into `pixels` (dpr 1), a band of 16
+/// rows at a time (as the drones' sprites: in id order nearly every pixel is a cache miss).
+void draw_trail_heads(const Pixels& pixels, const Layout& layout, const TrailLayers& layers, const Visible& shown) {
+  const QSize size(pixels.width, pixels.height);
+  constexpr int band = 16;
+  const int bands = std::max(1, pixels.height / band + 1);
+  std::vector<std::uint32_t> starts, order;
+  for (std::size_t g = 0; g < layout.members.size(); ++g) {
+    const auto band_of = [&](std::uint32_t d) { return static_cast<std::size_t>(std::clamp(layout.at[d].y() / band, 0.0, bands - 1.0)); };
+    const auto drawn = [&](std::uint32_t d) {
+      const QPointF end = layers.ends[d];
+      return std::isfinite(end.x()) && (shown(end) || shown(layout.at[d]));
+    };
+    starts.assign(static_cast<std::size_t>(bands) + 1, 0);
+    for (std::uint32_t d : layout.members[g])
+      if (drawn(d)) ++starts[band_of(d) + 1];
+    std::partial_sum(starts.begin(), starts.end(), starts.begin());
+    order.resize(starts.back());
+    for (std::uint32_t d : layout.members[g])
+      if (drawn(d)) order[starts[band_of(d)]++] = d;
+    const std::array<QRgb, 256> shade = shades(group_colour(g, layout.members.size()));
+    for (std::uint32_t d : order)
+      wu_line(layers.ends[d], layout.at[d], trail_alpha, size, [&](int x, int y, int v) {
+        if (v > 0) pixels.row(y)[x] = over(shade[static_cast<std::size_t>(v)], pixels.row(y)[x]);
+      });
+  }
+}
+
+/// Everything over the static layer. `trails_drawn`: the FrameRenderer drew the trails already.
+void draw_dynamic(QPainter& painter, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px, const Layout& layout,
+                  TrailLayers* cache, bool trails_drawn) {
   painter.save();
   painter.resetTransform();
   painter.setRenderHint(QPainter::Antialiasing, true);
   const double px = px_per_m(world_to_px);
   const std::size_t n = snap.positions.size();
-  const std::size_t groups = std::max<std::size_t>(1, snap.groups.size());
-  const Affine map(world_to_px);
-  std::vector<QPointF> at(n);
-  for (std::size_t i = 0; i < n; ++i) at[i] = map(snap.positions[i].x, snap.positions[i].y);
-  // Ids by group, drawn a group at a time (one brush each); removed drones are not drawn.
-  std::vector<std::vector<std::uint32_t>> members(groups);
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (snap.status_of(i) != DroneStatus::removed) members[std::min<std::size_t>(snap.group_of(i), groups - 1)].push_back(i);
+  const std::size_t groups = layout.members.size();
+  const std::vector<QPointF>& at = layout.at;
+  const std::vector<std::vector<std::uint32_t>>& members = layout.members;  // drawn a group at a time
   const auto flying = [&](std::uint32_t i) { return snap.status_of(i) == DroneStatus::flying; };
   const auto radius_of = [&](std::uint32_t i) { return std::max(3.0, snap.drone_of(i).radius * px); };
 
-  if (options.trails && snap.trail_length > 1 && snap.trails && snap.trails->size() >= n * snap.trail_length)
-    draw_trails(painter, snap, members, at, world_to_px, cache);
+  if (!trails_drawn && shows_trails(snap, options)) draw_trails(painter, snap, layout, world_to_px, cache);
 
   if (options.wind && !snap.wind.empty()) {
     // Arrows on the snapshot's grid, the strongest as long as 80 % of a grid cell; the scale is written
@@ -765,7 +865,7 @@ void draw_dynamic(QPainter& painter, const Snapshot& snap, const ViewOptions& op
 }  // namespace
 
 void render_dynamic(QPainter& painter, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px) {
-  draw_dynamic(painter, snap, options, world_to_px, nullptr);
+  draw_dynamic(painter, snap, options, world_to_px, layout_of(snap, world_to_px), nullptr, false);
 }
 
 QImage render_frame(const Snapshot& snap, const ViewOptions& options, QSize size, std::optional<QTransform> world_to_px) {
@@ -797,6 +897,7 @@ void FrameRenderer::draw(QPainter& painter, QSize size, const Snapshot& snap, co
     transform_ = world_to_px;
     drawn_found_ = snap.found;
     ++static_redraws_;
+    ++layer_version_;
   } else if (found_version_ != snap.found_version && options.targets && snap.scene) {
     // Targets found since: stamped over the layer, not a redraw of 50,000.
     QPainter p(&layer_);
@@ -804,21 +905,42 @@ void FrameRenderer::draw(QPainter& painter, QSize size, const Snapshot& snap, co
     draw_targets(p, *snap.scene, snap.found, world_to_px, [&](std::size_t i) { return i < snap.found.size() && snap.found[i] != drawn_found_[i]; });
     drawn_found_ = snap.found;
     ++found_updates_;
+    ++layer_version_;
   }
   found_version_ = snap.found_version;
   if (!trails_) trails_ = std::make_unique<TrailLayers>();
+  const Layout layout = layout_of(snap, world_to_px);
   if (dpr != 1) {
     painter.drawImage(QPointF(0, 0), layer_);
-    draw_dynamic(painter, snap, options, world_to_px, trails_.get());
+    draw_dynamic(painter, snap, options, world_to_px, layout, trails_.get(), false);
     return;
   }
   // The frame is put together in an image of our own, where trails and drones are blended straight
-  // into the pixels (direct_pixels), then shown with one copy, as the static layer was before.
+  // into the pixels (direct_pixels), then shown with one copy, as the static layer was before. It
+  // starts as the static layer with the trail samples' lines blended in, kept until either changes.
+  const bool trails = shows_trails(snap, options);
+  const QImage* base = &layer_;
+  const Visible shown{QRectF(QPointF(0, 0), QSizeF(layer_.size()))};
+  if (trails) {
+    const bool drawn = draw_trail_lines(snap, layout, world_to_px, layer_.size(), 1, shown, *trails_, true);
+    if (drawn || trails_->base_version != layer_version_ || trails_->base.size() != layer_.size()) {
+      if (trails_->base.size() != layer_.size()) trails_->base = QImage(layer_.size(), QImage::Format_ARGB32_Premultiplied);
+      std::memcpy(trails_->base.bits(), layer_.constBits(), static_cast<std::size_t>(layer_.sizeInBytes()));
+      const Pixels into{reinterpret_cast<QRgb*>(trails_->base.bits()), trails_->base.bytesPerLine() / 4, trails_->base.width(), trails_->base.height()};
+      for (std::size_t g = 0; g < layout.members.size(); ++g) trails_->masks[g].blend_into(into, group_colour(g, layout.members.size()));
+      trails_->base_version = layer_version_;
+    }
+    base = &trails_->base;
+  }
   if (frame_.size() != layer_.size()) frame_ = QImage(layer_.size(), QImage::Format_ARGB32_Premultiplied);
-  std::memcpy(frame_.bits(), layer_.constBits(), static_cast<std::size_t>(layer_.sizeInBytes()));
+  std::memcpy(frame_.bits(), base->constBits(), static_cast<std::size_t>(layer_.sizeInBytes()));
+  if (trails) {
+    const Pixels into{reinterpret_cast<QRgb*>(frame_.bits()), frame_.bytesPerLine() / 4, frame_.width(), frame_.height()};
+    draw_trail_heads(into, layout, *trails_, shown);
+  }
   {
     QPainter p(&frame_);
-    draw_dynamic(p, snap, options, world_to_px, trails_.get());
+    draw_dynamic(p, snap, options, world_to_px, layout, trails_.get(), trails);
   }
   painter.drawImage(QPointF(0, 0), frame_);
 }

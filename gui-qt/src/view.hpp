@@ -70,6 +70,7 @@ class FrameRenderer {
   ViewOptions options_;
   QTransform transform_;
   std::size_t static_redraws_ = 0, found_updates_ = 0;
+  std::uint64_t layer_version_ = 0;  ///< changes with every change of layer_
   std::vector<std::uint8_t> drawn_found_;  ///< the found flags the layer shows
   std::unique_ptr<TrailLayers> trails_;
 };
