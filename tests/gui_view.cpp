@@ -45,8 +45,10 @@ std::shared_ptr<Snapshot> fixed_scene() {
   snap->positions = {{100, 75}, {110, 80}, {80, 70}, {180, 20}};
   snap->velocities = {{5, 0}, {0, 5}, {-3, -3}, {0, 0}};
   snap->trail_length = 4;
+  auto trails = std::make_shared<std::vector<Vec2>>();
   for (const Vec2 p : snap->positions)
-    for (int k = 0; k < 4; ++k) snap->trails.push_back(k == 0 ? Vec2{std::nan(""), 0} : p - Vec2{8.0 * (4 - k), 4.0 * (4 - k)});
+    for (int k = 0; k < 4; ++k) trails->push_back(k == 0 ? Vec2{std::nan(""), 0} : p - Vec2{8.0 * (4 - k), 4.0 * (4 - k)});
+  snap->trails = trails;
   auto heat = std::make_shared<HeatMap>();
   heat->origin = {0, 0};
   heat->cell = 25;

@@ -1,13 +1,27 @@
 #pragma once
-// `salsa-gui --bench-render`: frame times of the sandbox view at 1920×1080 for 1,000 drones and 50,000
-// targets with trails on, and the simulation's speed in the GUI against headless (docs/gui.md).
+// `salsa-gui --bench-render`: frame times of the sandbox view at 1920×1080 for a random-walk swarm over
+// a forest with trails on (by default 1,000 drones and 50,000 trees), and the simulation's speed in the
+// GUI against headless (docs/gui.md).
 #include <ostream>
+#include <string>
 
 #include "salsa/core/plugins/plugin_host.hpp"
 
 namespace salsa::gui {
 
+struct BenchRenderOptions {
+  int frames = 300;
+  int drones = 1000;              ///< up to 10,000 on the 2 km forest; more on a map grown to keep their density
+  std::string physics = "box2d";  ///< or "light" (the test field)
+  static constexpr int max_drones = 100000;
+};
+
+/// The benchmark's test: `drones` random walkers over 2 km × 2 km and 50,000 trees; beyond 10,000 drones
+/// the map's area and the trees grow with them (10,000 drones and 50,000 trees per 4 km²) and the drones
+/// start spread uniformly over it.
+std::string bench_render_test(const BenchRenderOptions& options);
+
 /// Prints the report to `out`; returns the process exit status.
-int bench_render(const PluginHost& host, std::ostream& out, int frames = 300);
+int bench_render(const PluginHost& host, std::ostream& out, const BenchRenderOptions& options = {});
 
 }  // namespace salsa::gui

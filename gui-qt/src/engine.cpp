@@ -76,6 +76,7 @@ struct Engine::Worker {
   // Trails: a ring of trail_length samples per drone.
   std::size_t trail_length = 64, trail_every = 6, trail_taken = 0;
   std::vector<Vec2> trail_ring;
+  std::shared_ptr<const std::vector<Vec2>> trails_published;  // the ring oldest first, until it changes
   // Heat map: visits per cell, normalised when published.
   HeatMap heat_grid;
   std::vector<std::uint32_t> heat_counts;
@@ -198,6 +199,7 @@ struct Engine::Worker {
       const std::size_t slot = trail_taken % trail_length;
       for (std::size_t d = 0; d < positions.size(); ++d) trail_ring[d * trail_length + slot] = positions[d];
       ++trail_taken;
+      trails_published.reset();
     }
     if (sim->targets_found() != found_count) {
       const auto& targets = sim->targets();
@@ -238,6 +240,7 @@ struct Engine::Worker {
 
   // ---- Snapshots ----
   std::shared_ptr<const Snapshot> make_snapshot() {
+    const auto began = Clock::now();
     auto snap = std::make_shared<Snapshot>();
     snap->scene = scene;
     snap->stats = stats;
@@ -263,13 +266,18 @@ struct Engine::Worker {
     snap->found = found;
     snap->targets_found = found_count;
     snap->found_version = found_version;
-    if (trail_length > 0) {  // oldest first
+    if (trail_length > 0) {
+      if (!trails_published) {  // oldest first: each drone's ring from its next slot on, then the rest
+        auto trails = std::make_shared<std::vector<Vec2>>(trail_ring.size());
+        const std::size_t first = trail_taken % trail_length;
+        for (std::size_t d = 0; d < trail_ring.size() / trail_length; ++d) {
+          const Vec2* ring = trail_ring.data() + d * trail_length;
+          std::rotate_copy(ring, ring + first, ring + trail_length, trails->data() + d * trail_length);
+        }
+        trails_published = std::move(trails);
+      }
       snap->trail_length = trail_length;
-      snap->trails.resize(p.size() * trail_length);
-      const std::size_t first = trail_taken % trail_length;
-      for (std::size_t d = 0; d < p.size(); ++d)
-        for (std::size_t k = 0; k < trail_length; ++k)
-          snap->trails[d * trail_length + k] = trail_ring[d * trail_length + (first + k) % trail_length];
+      snap->trails = trails_published;
     }
     snap->heat = heat;
     if (session->current().has_wind()) {
@@ -296,6 +304,7 @@ struct Engine::Worker {
       const double wall = seconds(w1 - w0);
       snap->speed = wall > 0 ? (t1 - t0) / wall : 0;
     }
+    snap->build_ms = seconds(Clock::now() - began) * 1000;
     return snap;
   }
 
@@ -428,6 +437,7 @@ struct Engine::Worker {
 
   void reset_trails() {
     trail_taken = 0;
+    trails_published.reset();
     trail_ring.assign(sim ? sim->drone_count() * trail_length : 0, Vec2{std::numeric_limits<double>::quiet_NaN(), 0});
   }
 

@@ -94,8 +94,9 @@ struct Snapshot {
   std::size_t targets_found = 0;
   std::uint64_t found_version = 0;     ///< changes whenever `found` does (the static layer redraws)
   /// Trails: trail_length samples per drone, drone d's at [d × trail_length, (d + 1) × trail_length),
-  /// oldest first; samples not yet taken are NaN.
-  std::vector<Vec2> trails;
+  /// oldest first; samples not yet taken are NaN. Snapshots share one vector until a sample is taken
+  /// (every few steps): copying 100,000 drones' trails for each would cost more than the step.
+  std::shared_ptr<const std::vector<Vec2>> trails;
   std::size_t trail_length = 0;
   std::shared_ptr<const HeatMap> heat;     ///< a new object when it changed
   std::shared_ptr<const std::vector<StatsRow>> stats;  ///< the run's rows so far (one per stats interval)
@@ -105,6 +106,7 @@ struct Snapshot {
   double speed = 0;         ///< simulated seconds per wall second, recent
   std::string test_name;    ///< the loaded test's name
   std::size_t changes_applied = 0;  ///< timeline changes applied so far (the controls refresh when it moves)
+  double build_ms = 0;      ///< how long the worker took to make this snapshot (the render benchmark reports it)
   /// With "comm": the messages delivered for the next step as (receiver, sender) ids, at most
   /// max_links of them (the view draws them as lines).
   std::vector<std::pair<std::uint32_t, std::uint32_t>> links;

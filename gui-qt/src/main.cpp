@@ -27,7 +27,9 @@ namespace {
 
 constexpr const char* usage = R"(usage: salsa-gui [TEST.json] [options]
        salsa-gui --headless TEST.json... [salsa run options]   run tests without a window, exactly as `salsa run`
-       salsa-gui --bench-render [--frames N]                    frame times at 1920x1080, 1,000 drones, 50,000 targets
+       salsa-gui --bench-render [--frames N] [--drones N] [--physics box2d|light]
+                                                                frame times at 1920x1080, 1,000 drones (default; up to
+                                                                100,000), 50,000 trees on 2 km x 2 km (grown past 10,000 drones)
 
 options:
   --plugin-dir DIR     also search DIR for plugins (repeatable, searched first)
@@ -76,7 +78,8 @@ int main(int argc, char** argv) {
   std::optional<std::uint32_t> select;
   double after = 3;
   bool start = false, bench = false;
-  int frames = 300;
+  salsa::gui::BenchRenderOptions bench_options;
+  bool bench_only = false;  // an option that only the benchmark takes
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&](const char* what) -> std::string {
@@ -136,17 +139,29 @@ int main(int argc, char** argv) {
       }
     } else if (a == "--bench-render") {
       bench = true;
-    } else if (a == "--frames") {
+    } else if (a == "--frames" || a == "--drones") {
       const std::string v = value("a count");
+      const int low = a == "--frames" ? 10 : 1, high = a == "--frames" ? 100000 : salsa::gui::BenchRenderOptions::max_drones;
+      int n = 0;
+      std::size_t used = 0;
       try {
-        frames = std::stoi(v);
+        n = std::stoi(v, &used);
       } catch (const std::exception&) {
-        frames = 0;
+        used = 0;
       }
-      if (frames < 10 || frames > 100000) {
-        std::cerr << "salsa-gui: --frames: '" << v << "' is out of range (allowed: whole number in [10, 100000])\n";
+      if (used == 0 || used != v.size() || n < low || n > high) {
+        std::cerr << "salsa-gui: " << a << ": '" << v << "' is out of range (allowed: whole number in [" << low << ", " << high << "])\n";
         return 2;
       }
+      (a == "--frames" ? bench_options.frames : bench_options.drones) = n;
+      bench_only = true;
+    } else if (a == "--physics") {
+      bench_options.physics = value("box2d or light");
+      if (bench_options.physics != "box2d" && bench_options.physics != "light") {
+        std::cerr << "salsa-gui: --physics: '" << bench_options.physics << "' is not a physics (allowed: box2d, light)\n";
+        return 2;
+      }
+      bench_only = true;
     } else if (!a.empty() && a[0] == '-') {
       std::cerr << "salsa-gui: unknown option '" << a << "'\n" << usage;
       return 2;
@@ -156,6 +171,11 @@ int main(int argc, char** argv) {
       std::cerr << "salsa-gui: one test file at a time (got '" << test << "' and '" << a << "'); use --headless to run several\n";
       return 2;
     }
+  }
+
+  if (bench_only && !bench) {
+    std::cerr << "salsa-gui: --frames, --drones and --physics go with --bench-render (a test's own physics is its \"physics\" field)\n";
+    return 2;
   }
 
   QApplication app(argc, argv);
@@ -171,7 +191,7 @@ int main(int argc, char** argv) {
     std::cerr << ")\n";
     return 1;
   }
-  if (bench) return salsa::gui::bench_render(host, std::cout, frames);
+  if (bench) return salsa::gui::bench_render(host, std::cout, bench_options);
 
   salsa::gui::MainWindow window(shared_host, plugin_dirs);
   window.queue_page()->set_allow_large(yes);

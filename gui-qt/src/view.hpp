@@ -2,7 +2,8 @@
 // Drawing a snapshot. render_scene draws into any QPainter (the widget, a screenshot, a recording
 // frame, the render benchmark); SwarmView is the sandbox's interactive view: zoom, pan, fit, click to
 // select. Raster only: a cached static layer (obstacles, targets, heat map, spawn) redrawn only when the
-// transform, size, options or the scene / found targets / heat map change; drones drawn in batches.
+// transform, size, options or the scene / found targets / heat map change; drones stamped as pre-drawn
+// sprites and trails drawn by hand into a mask (view.cpp says why), both blended straight into the frame.
 #include <QImage>
 #include <QStringList>
 #include <QTransform>
@@ -46,10 +47,15 @@ void render_static(QPainter& painter, const Snapshot& snap, const ViewOptions& o
 QImage render_frame(const Snapshot& snap, const ViewOptions& options, QSize size,
                     std::optional<QTransform> world_to_px = std::nullopt);
 
+struct TrailLayers;
+
 /// Caches the static layer of the last frame; redraws it only when the scene, options, transform, size
-/// or (shown) heat map change. Targets found since are stamped over it.
+/// or (shown) heat map change. Targets found since are stamped over it. The trails' lines are kept too,
+/// until a sample is taken.
 class FrameRenderer {
  public:
+  FrameRenderer();
+  ~FrameRenderer();
   /// Draws `snap` into `target` (its whole size) with the cached static layer.
   void draw(QPainter& painter, QSize size, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px);
   std::size_t static_redraws() const { return static_redraws_; }  ///< whole static layers drawn (tests, benchmark)
@@ -57,13 +63,16 @@ class FrameRenderer {
 
  private:
   QImage layer_;
+  QImage frame_;  ///< the static layer with the drones over it (at one pixel per unit)
   const Scene* scene_ = nullptr;
   const HeatMap* heat_ = nullptr;
   std::uint64_t found_version_ = ~0ull;
   ViewOptions options_;
   QTransform transform_;
   std::size_t static_redraws_ = 0, found_updates_ = 0;
+  std::uint64_t layer_version_ = 0;  ///< changes with every change of layer_
   std::vector<std::uint8_t> drawn_found_;  ///< the found flags the layer shows
+  std::unique_ptr<TrailLayers> trails_;
 };
 
 class SwarmView : public QWidget {
