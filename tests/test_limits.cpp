@@ -4,6 +4,7 @@
 #include "common.hpp"
 #include "wall_layouts.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -196,6 +197,26 @@ class TestLimits : public QObject {
     Simulation sim(setup);
     QVERIFY2(seconds_since(start) < 30, qPrintable(QString("%1 s").arg(seconds_since(start))));
     for (Vec2 p : sim.drone_positions()) QVERIFY(sim.is_free(p, setup.groups[0].drone.radius));
+  }
+
+  // The default disc (drones × radius) of 20,000 drones is 20 km wide; on a 200 m map every drone
+  // outside the walls was clamped onto them, thousands onto the same corner points (a 100,000-drone
+  // test on a 6 km map ran out of memory). The disc now stops at the farthest corner: centred, it
+  // clamps drones onto the edges but never two onto one corner point.
+  void a_default_disc_wider_than_the_map_spreads_the_drones() {
+    SimulationSetup setup;
+    setup.map.bounds = {{0, 0}, {200, 200}};
+    setup.map.spawn = {100, 100};
+    setup.groups[0].drones = 20000;
+    setup.groups[0].drone.radius = 0.2;
+    setup.groups[0].behavior = std::make_shared<Straight>();
+    Simulation sim(setup);
+    std::vector<Vec2> positions(sim.drone_positions().begin(), sim.drone_positions().end());
+    std::size_t inside = 0;
+    for (Vec2 p : positions) inside += p.x > 0.2 && p.x < 199.8 && p.y > 0.2 && p.y < 199.8;
+    QVERIFY2(inside > positions.size() / 2, qPrintable(QString("%1 of %2 drones off the walls").arg(inside).arg(positions.size())));
+    std::sort(positions.begin(), positions.end(), [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+    QVERIFY(std::adjacent_find(positions.begin(), positions.end()) == positions.end());  // no two on one point
   }
 
   // (30 s: a bound against the minutes these took, loose enough for a busy sanitizer build.)

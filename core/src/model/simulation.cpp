@@ -394,7 +394,12 @@ Vec2 spawn_position(const GroupSetup& g, const Rect& bounds, const StaticGeometr
                     Rng& rng, bool& scarce) {
   const double r = g.drone.radius;
   if (g.spawn_mode == SpawnMode::disc) {
-    const double disc = g.spawn_radius > 0 ? g.spawn_radius : static_cast<double>(total) * r;
+    // The paper's default radius, drones × radius, at most the distance to the map's farthest corner:
+    // a wider disc covers no more of the map, it only clamps more drones onto the walls (100,000 drones
+    // on a 6 km map would pile up in the corners).
+    const double farthest = std::hypot(std::max(spawn.x - bounds.min.x, bounds.max.x - spawn.x),
+                                       std::max(spawn.y - bounds.min.y, bounds.max.y - spawn.y));
+    const double disc = g.spawn_radius > 0 ? g.spawn_radius : std::min(static_cast<double>(total) * r, farthest);
     Vec2 p;
     for (int tries = 0; tries < 100; ++tries) {
       p = rng.in_disc(spawn, disc);
