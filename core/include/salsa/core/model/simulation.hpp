@@ -345,10 +345,23 @@ class Simulation final : public WorldView {
   std::size_t flying_ = 0;     ///< drones with status flying
   PointGrid drone_grid_;
   Targets targets_;
-  /// Per drone: the targets in view this step (its Perception::targets but for noise) and the step
-  /// before; the positions in `seen_` of those that were not in view before (Sightings::on_entry).
-  std::vector<std::vector<TargetSeen>> seen_, seen_before_;
-  std::vector<std::vector<std::uint32_t>> entered_;
+  /// What sense keeps per drone across steps, in one place (sense visits drones in grid order, so
+  /// each drone's record is a cache miss: one, not four).
+  struct Sensed {
+    /// The targets in view this step (its Perception::targets but for noise) and the step before;
+    /// the positions in `seen` of those that were not in view before (Sightings::on_entry).
+    std::vector<TargetSeen> seen, before;
+    std::vector<std::uint32_t> entered;
+    /// The targets within reach + margin of `anchor`, in the target grid's order (targets_in_reach).
+    struct Candidate {
+      Vec2 at;
+      std::uint32_t id;
+    };
+    std::vector<Candidate> near;
+    Vec2 anchor;
+    double reach = -1;  ///< the reach `near` was made for; -1: none
+  };
+  std::vector<Sensed> sensed_;  ///< per drone; cleared: whatever is in view next comes into view
   /// Per drone: its false detections of this step, as offsets from its true position (sized only once a
   /// group has a false detection rate).
   std::vector<std::vector<Vec2>> phantoms_;
