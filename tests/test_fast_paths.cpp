@@ -36,6 +36,7 @@ class Recorder final : public salsa::Behavior {
   };
   std::vector<Seen> seen;
   Vec2 steering;  // what every drone returns
+  bool wander = false;  // instead: full force, each drone turning its own way over time
   salsa::Senses senses_declared;  // what it tells the core it reads
 
   void reset(std::size_t drones) override { seen.assign(drones, {}); }
@@ -48,7 +49,7 @@ class Recorder final : public salsa::Behavior {
     s.obstacles.assign(me.obstacles.begin(), me.obstacles.end());
     s.targets.assign(me.targets.begin(), me.targets.end());
     ++s.decisions;
-    return steering;
+    return wander ? Vec2::polar(me.max_force, 0.9 * me.id + 0.5 * me.time) : steering;
   }
 };
 
@@ -439,6 +440,53 @@ class TestFastPaths : public QObject {
   /// Sightings::on_entry hands a handler exactly the sightings of the every-step stream that were not
   /// in it the step before (a noisy camera's miss included), in the same order; after targets are
   /// re-made, everything in view comes anew. Alone or beside an every-step handler, the same events.
+  // Sense answers from a list per drone kept across steps: over a long flight at full speed (each
+  // list remade many times) and a camera change in mid-flight (the target grid remade with another
+  // cell size), every drone's targets are exactly the target grid's query, in the grid's order (the
+  // order a behavior sums them in and miss draws are made in).
+  void targets_in_view_are_the_grids_answer_in_its_order() {
+    auto recorder = std::make_shared<Recorder>();
+    recorder->wander = true;
+    salsa::SimulationSetup setup;
+    setup.map = random_map(9, 400, 8);
+    setup.groups[0].spawn_mode = salsa::SpawnMode::uniform;
+    setup.groups[0].drones = 40;
+    setup.groups[0].behavior = recorder;
+    setup.target_kind = trees();
+    setup.targets = 3000;
+    setup.seed = 5;
+    setup.threads = 2;
+    salsa::Simulation sim(setup);
+    std::vector<Vec2> targets;
+    for (const salsa::TargetState& t : sim.targets()) targets.push_back(t.position);
+    std::size_t checked = 0;
+    double flown = 0;
+    for (int step = 0; step < 600; ++step) {
+      if (step == 300) {
+        salsa::DroneConfig cfg = sim.drone_config();
+        cfg.camera_range = 25;
+        sim.set_drone_config(cfg);
+      }
+      const double reach = sim.drone_config().camera_range + setup.target_kind->radius();
+      salsa::PointGrid grid;
+      grid.build(targets, std::max(reach, 1.0));  // as the core builds its target grid
+      const std::vector<Vec2> pos(sim.drone_positions().begin(), sim.drone_positions().end());
+      sim.step();
+      for (std::uint32_t i = 0; i < pos.size(); ++i) {
+        std::vector<std::uint32_t> expected, got;
+        grid.query(pos[i], reach, [&](std::uint32_t t, Vec2, double) { expected.push_back(t); });
+        for (const salsa::TargetSeen& t : recorder->seen[i].targets) got.push_back(t.id);
+        QVERIFY2(got == expected, qPrintable(QString("step %1, drone %2: %3 targets, the grid's query %4")
+                                                 .arg(step).arg(i).arg(got.size()).arg(expected.size())));
+        checked += got.size();
+      }
+      flown += salsa::distance(pos[0], sim.drone_positions()[0]);
+    }
+    qInfo("%zu targets in view checked; drone 0 flew %.0f m", checked, flown);
+    QVERIFY(checked > 5000);
+    QVERIFY(flown > 50);  // past its list's margin (5 m, then 7.5 m) many times
+  }
+
   void sightings_on_entry_are_the_first_of_each_stay() {
     auto run = [this](bool with_every_step) {
       auto recorder = std::make_shared<Recorder>();
