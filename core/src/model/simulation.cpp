@@ -863,9 +863,6 @@ void Simulation::step() {
 // reach is on it (the triangle inequality, with 1 % to spare for rounding), so filtering it gives the
 // grid's answer: the same distances in the same order. At full speed a drone remakes its list about
 // every 30 steps. `Record` is a Simulation::Sensed.
-/// Asks the cache for the line each argument starts in.
-void prefetch(const auto&... x) { (__builtin_prefetch(&x), ...); }
-
 template <class Record, class Fn>
 void targets_in_reach(const PointGrid& grid, Record& d, Vec2 p, double reach, Fn&& fn) {
   if (!(reach > 0)) return;  // the grid finds nothing closer than 0
@@ -888,10 +885,6 @@ void targets_in_reach(const PointGrid& grid, Record& d, Vec2 p, double reach, Fn
 // alone sees them); the other noise is added where the perception is built (add_noise).
 void Simulation::sense() {
   drone_grid_.build(drones_.positions, grid_range_ / 2);  // 5×5 cells of R/2 cover less than 3×3 of R
-  // The velocities in the grid's order, beside its positions: a drone's neighbours are then read from a
-  // few runs of consecutive slots, not from ids scattered over the arrays.
-  velocities_in_order_.resize(drones_.positions.size());
-  for (std::size_t k = 0; const std::uint32_t j : drone_grid_.cell_order()) velocities_in_order_[k++] = drones_.velocities[j];
   sensed_.resize(drones_.positions.size());
   const TargetKind* kind = targets_.states.empty() ? nullptr : setup_.target_kind.get();
   bool false_detections = false;
@@ -1023,19 +1016,17 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   // reach may pass the detection range: then neighbours are those within it, in the same order).
   const double detection = senses.neighbours ? cfg.detection_range : 0, reach = setup_.comm.on ? comm_reach_ : 0;
   s.hits.clear();
-  if (detection > 0 || reach > 0) drone_grid_.gather_slots(p, std::max(detection, reach), s.hits);
-  const std::span<const std::uint32_t> order = drone_grid_.cell_order();  // slot → id
+  if (detection > 0 || reach > 0) drone_grid_.gather(p, std::max(detection, reach), s.hits);
   if (senses.neighbours) {
     const double within = reach > detection ? detection * detection : std::numeric_limits<double>::infinity();
     // The common case, every drone flying in one group, reads neither status nor group per neighbour.
     if (flying_ == drones_.positions.size() && groups_.size() == 1) {
-      for (const auto& [k, d2] : s.hits)
-        if (const std::uint32_t j = order[k]; j != id && d2 < within)
-          s.neighbours.push_back({drone_grid_.position_at(k), velocities_in_order_[k], std::sqrt(d2), j, 0});
+      for (const auto& [j, d2] : s.hits)
+        if (j != id && d2 < within) s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j, 0});
     } else {
-      for (const auto& [k, d2] : s.hits)
-        if (const std::uint32_t j = order[k]; j != id && d2 < within && drones_.status[j] == DroneStatus::flying)
-          s.neighbours.push_back({drone_grid_.position_at(k), velocities_in_order_[k], std::sqrt(d2), j, drones_.groups[j]});
+      for (const auto& [j, d2] : s.hits)
+        if (j != id && d2 < within && drones_.status[j] == DroneStatus::flying)
+          s.neighbours.push_back({drones_.positions[j], drones_.velocities[j], std::sqrt(d2), j, drones_.groups[j]});
     }
   }
   const GroupSetup& group = setup_.groups[g];
@@ -1067,7 +1058,6 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   me.targets = s.targets;
   me.world = this;
   if (setup_.comm.on) {
-    for (PointGrid::Hit& h : s.hits) h.index = order[h.index];  // the candidate senders, by id
     comm_->receive(steps_, id, setup_.comm, setup_.seed, drones_.groups, geometry_, s.hits, s.senders, s.messages, comm_counts_[id]);
     me.messages = s.messages;
     me.outbox = &comm_->outbox(id);
@@ -1109,12 +1099,6 @@ void Simulation::decide() {
     Perception me = perceive(i, senses[g], s);
     if (noise) add_noise(me, senses[g], s);
     drones_.steering[i] = plugin_call(behavior_kind, g, [&] { return behavior.decide(me, drones_.rngs[i]); });
-  }, [&](std::uint32_t j, int stage) {  // what perceive reads of a drone a few ahead (see sense)
-    if (stage == 1) return __builtin_prefetch(sensed_[j].seen.data());
-    const Drones& d = drones_;
-    prefetch(d.status[j], d.groups[j], d.positions[j], d.velocities[j], d.charge[j], d.hit_counts[j], d.rngs[j], d.steering[j], sensed_[j]);
-    if (ray_slots_ > 0) prefetch(d.hits[j * ray_slots_]);
-    if (wind_active_) prefetch(d.air[j]);
   });
 }
 

@@ -79,21 +79,7 @@ class PointGrid {
   };
   /// The same points as `query`, in the same order, appended to `out`. Written without a branch per
   /// point (about half the candidates are rejected, so a branch would mispredict half the time).
-  void gather(Vec2 p, double radius, std::vector<Hit>& out) const { gather_into<false>(p, radius, out); }
-  /// As gather, but each hit's `index` is the point's slot in cell order: `cell_order()[slot]` is its
-  /// index, `position_at(slot)` its position. Data the caller keeps in cell order is then read from
-  /// consecutive slots instead of scattered indices.
-  void gather_slots(Vec2 p, double radius, std::vector<Hit>& out) const { gather_into<true>(p, radius, out); }
-  Vec2 position_at(std::uint32_t slot) const { return sorted_[slot]; }
-
-  std::size_t size() const { return items_.size(); }
-  /// Point indices in cell order: visiting points in this order keeps neighbouring work in cache.
-  std::span<const std::uint32_t> cell_order() const { return items_; }
-  double cell_size() const { return cell_; }
-
- private:
-  template <bool by_slot>
-  void gather_into(Vec2 p, double radius, std::vector<Hit>& out) const {
+  void gather(Vec2 p, double radius, std::vector<Hit>& out) const {
     const double r2 = radius * radius;
     const auto [x0, x1, y0, y1] = cells_touched(p, radius);
     if (x0 > x1 || y0 > y1) return;
@@ -102,16 +88,22 @@ class PointGrid {
       const std::size_t row = static_cast<std::size_t>(y) * cols_;
       const std::uint32_t begin = start_[row + x0], end = start_[row + x1 + 1];
       out.resize(n + (end - begin));
-      Hit* hits = out.data();
+      Hit* slot = out.data();
       for (std::uint32_t k = begin; k < end; ++k) {
         const double d2 = distance_squared(sorted_[k], p);
-        hits[n] = {by_slot ? k : items_[k], d2};
+        slot[n] = {items_[k], d2};
         n += d2 < r2;
       }
     }
     out.resize(n);
   }
 
+  std::size_t size() const { return items_.size(); }
+  /// Point indices in cell order: visiting points in this order keeps neighbouring work in cache.
+  std::span<const std::uint32_t> cell_order() const { return items_; }
+  double cell_size() const { return cell_; }
+
+ private:
   struct CellRange {
     int x0, x1, y0, y1;
   };

@@ -344,7 +344,6 @@ class Simulation final : public WorldView {
   Drones drones_;
   std::size_t flying_ = 0;     ///< drones with status flying
   PointGrid drone_grid_;
-  std::vector<Vec2> velocities_in_order_;  ///< drones_.velocities in drone_grid_'s cell order (sense)
   Targets targets_;
   /// What sense keeps per drone across steps, in one place (sense visits drones in grid order, so
   /// each drone's record is a cache miss: one, not four).
