@@ -3,6 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
+  ccache  # another clone or preset of the same sources compiles only what differs
   dpkg-dev  # dpkg-shlibdeps: the .deb's dependencies (cpack -G DEB, test package_deb)
   libbox2d-dev
   libboost-dev libboost-program-options-dev libboost-filesystem-dev
