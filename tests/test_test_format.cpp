@@ -76,7 +76,7 @@ class TestTestFormat : public QObject {
       QCOMPARE(p.get(changed.groups[0].drone), v);
       QVERIFY(!check_change(base, {1, "drone." + spec.name, spec.max * 2 + 1}, *host_).empty());
     }
-    QVERIFY(check_change(base, {1, "drone.wingspan", 1}, *host_).find(drone_property_names()) != std::string::npos);
+    QVERIFY(check_change(base, {1, "drone.wingspan", 1}, *host_).find(drone_schema().names()) != std::string::npos);
   }
 
   void defaults_are_filled_in() {

@@ -79,11 +79,11 @@ std::uint64_t change_step(double time, double dt) { return static_cast<std::uint
 bool change_is_whole(std::string_view key) {
   if (key == "drones" || key.ends_with(".drones") || key == "fail.drone" || key == "fail.camera") return true;
   if (key.starts_with(comm_prefix)) {
-    const CommField* f = find_comm_field(key.substr(comm_prefix.size()));
+    const CommField* f = comm_schema().find(key.substr(comm_prefix.size()));
     return f && f->spec.is_integer();
   }
   const auto at = key.rfind(drone_prefix);
-  const DroneProperty* p = at != std::string_view::npos ? find_drone_property(key.substr(at + drone_prefix.size())) : nullptr;
+  const DroneProperty* p = at != std::string_view::npos ? drone_schema().find(key.substr(at + drone_prefix.size())) : nullptr;
   return p && p->spec.is_integer();
 }
 
@@ -103,8 +103,8 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
         return value + " is out of range (allowed: " + whole_in(1, max_drones) + ")";
       return {};
     }
-    const DroneProperty* property = find_drone_property(key.substr(drone_prefix.size()));
-    if (!property) return "unknown drone property (allowed: " + drone_property_names() + ")";
+    const DroneProperty* property = drone_schema().find(key.substr(drone_prefix.size()));
+    if (!property) return "unknown drone property (allowed: " + drone_schema().names() + ")";
     if (const std::string why = property->spec.check(c.value); !why.empty()) return value + " " + why;
     DroneConfig d = g.drone;
     property->set(d, c.value);
@@ -118,7 +118,7 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
                        "wind '" + test.wind_field.name + "'");
   }
   if (key.starts_with(wind_prefix)) {
-    const WindProperty* property = find_wind_property(key.substr(wind_prefix.size()));
+    const WindProperty* property = wind_schema().find(key.substr(wind_prefix.size()));
     if (!property) {
       std::string keys;
       for (const WindProperty& p : wind_schema()) keys += "wind." + p.spec.name + ", ";
@@ -136,8 +136,8 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
     return {};
   }
   if (key.starts_with(comm_prefix)) {
-    const CommField* f = find_comm_field(key.substr(comm_prefix.size()));
-    if (!f) return "unknown comm field (allowed: " + comm_field_names() + ")";
+    const CommField* f = comm_schema().find(key.substr(comm_prefix.size()));
+    if (!f) return "unknown comm field (allowed: " + comm_schema().names() + ")";
     if (!test.comm.on) return "the test has no \"comm\" (allowed: comm.<field> in a test with a \"comm\" object; \"comm\": {} gives the defaults)";
     if (const std::string why = f->spec.check(c.value); !why.empty()) return value + " " + why;
     return {};
@@ -163,7 +163,7 @@ void apply_to_test(TestSpec& test, const Change& c) {
     GroupSpec& g = test.groups[static_cast<std::size_t>(to.group)];
     if (key.starts_with(params_prefix)) g.behavior.params.set(key.substr(params_prefix.size()), c.value);
     else if (key == "drones") g.drones = static_cast<std::size_t>(c.value);
-    else find_drone_property(key.substr(drone_prefix.size()))->set(g.drone, c.value);
+    else drone_schema().find(key.substr(drone_prefix.size()))->set(g.drone, c.value);
   } else if (key == "failures.drone_mtbf") {
     test.failures.drone_mtbf = c.value;
   } else if (key == "failures.camera_mtbf") {
@@ -171,9 +171,9 @@ void apply_to_test(TestSpec& test, const Change& c) {
   } else if (key.starts_with(wind_params_prefix)) {
     test.wind_field.params.set(key.substr(wind_params_prefix.size()), c.value);
   } else if (key.starts_with(wind_prefix)) {
-    find_wind_property(key.substr(wind_prefix.size()))->set(test.wind, c.value);
+    wind_schema().find(key.substr(wind_prefix.size()))->set(test.wind, c.value);
   } else if (key.starts_with(comm_prefix)) {
-    find_comm_field(key.substr(comm_prefix.size()))->set(test.comm, c.value);
+    comm_schema().find(key.substr(comm_prefix.size()))->set(test.comm, c.value);
   }  // fail.*: events, nothing the test holds
 }
 

@@ -75,8 +75,8 @@ DroneConfig parse_drone(const json& v, const Reader& r, const std::vector<DroneC
   if (v.is_string()) return by_name(v.get<std::string>(), at);
   if (!v.is_object()) r.fail(at, show(v) + " must be an object");
   for (const auto& [key, value] : v.items())  // "name", "base" and the schema's properties
-    if (key != "name" && key != "base" && !find_drone_property(key))
-      r.fail(Reader::join(at, key), "unknown key (allowed: name, base, " + drone_property_names() + ")");
+    if (key != "name" && key != "base" && !drone_schema().find(key))
+      r.fail(Reader::join(at, key), "unknown key (allowed: name, base, " + drone_schema().names() + ")");
   DroneConfig d = v.contains("base") ? by_name(r.string(v["base"], at + ".base"), at + ".base") : DroneConfig{};
   d.name = v.contains("name") ? r.string(v["name"], at + ".name") : (v.contains("base") ? d.name + "-custom" : "custom");
   for (const DroneProperty& p : drone_schema()) {
@@ -128,7 +128,7 @@ namespace {
 void parse_wind(TestSpec& t, const json& w, const Reader& r, const PluginHost& host) {
   r.only_keys(w, "wind", {"velocity", "gusts", "field"});
   auto set = [&](const json& v, const std::string& name) {
-    const WindProperty& p = *find_wind_property(name);
+    const WindProperty& p = *wind_schema().find(name);
     p.set(t.wind, r.number(v, "wind." + name, p.spec.min, p.spec.max, p.spec.unit.c_str()));
   };
   if (w.contains("velocity")) {
@@ -200,7 +200,7 @@ void parse_group(GroupSpec& g, const json& j, const Reader& r, const PluginHost&
 CommSetup parse_comm(const json& c, const Reader& r) {
   if (!c.is_object()) r.fail("comm", show(c) + " must be an object, e.g. {\"range\": 100, \"loss\": 0.1}");
   for (const auto& [key, value] : c.items())
-    if (!find_comm_field(key)) r.fail(Reader::join("comm", key), "unknown key (allowed: " + comm_field_names() + ")");
+    if (!comm_schema().find(key)) r.fail(Reader::join("comm", key), "unknown key (allowed: " + comm_schema().names() + ")");
   CommSetup out;
   out.on = true;
   for (const CommField& f : comm_schema()) {
@@ -465,7 +465,7 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   if (t.comm.on) {  // only then: a test without it keeps its config.json bytes
     json comm = json::object();
     for (const CommField& f : comm_schema())
-      comm[f.spec.name] = f.flag ? json(f.get(t.comm) != 0) : f.whole ? json(static_cast<std::int64_t>(f.get(t.comm))) : json(f.get(t.comm));
+      comm[f.spec.name] = f.flag ? json(f.get(t.comm) != 0) : f.spec.is_integer() ? json(static_cast<std::int64_t>(f.get(t.comm))) : json(f.get(t.comm));
     j["comm"] = comm;
   }
   if (t.has_wind()) {  // only then: a test without wind keeps its config.json bytes

@@ -98,14 +98,14 @@ std::variant<Declared, std::string> declared(const TestSpec& test, const std::st
                      "behavior '" + group->behavior.name + "'");
   if (rest == "drones") return Declared{{"drones", 0, 1, 1e6, "", "", 1}, static_cast<double>(group->drones)};
   if (rest.starts_with("drone.")) {
-    const DroneProperty* p = find_drone_property(rest.substr(6));
-    if (!p) return "unknown drone property (allowed: " + drone_property_names() + ")";
+    const DroneProperty* p = drone_schema().find(rest.substr(6));
+    if (!p) return "unknown drone property (allowed: " + drone_schema().names() + ")";
     return Declared{p->spec, p->get(group->drone)};
   }
   if (key != rest) return "unknown key (allowed: groups.<name>.drones, groups.<name>.drone.<property>, groups.<name>.behavior.params.<p>)";
   if (rest.starts_with("comm.")) {
-    const CommField* f = find_comm_field(rest.substr(5));
-    if (!f) return "unknown comm field (allowed: " + comm_field_names() + ")";
+    const CommField* f = comm_schema().find(rest.substr(5));
+    if (!f) return "unknown comm field (allowed: " + comm_schema().names() + ")";
     if (!test.comm.on) return "the test has no \"comm\" (allowed: comm.<field> in a test with a \"comm\" object)";
     return Declared{f->spec, f->get(test.comm)};
   }
@@ -115,8 +115,8 @@ std::variant<Declared, std::string> declared(const TestSpec& test, const std::st
                      "wind '" + test.wind_field.name + "'");
   }
   if (rest.starts_with("wind.")) {
-    const WindProperty* p = find_wind_property(rest.substr(5));
-    if (!p) return "unknown wind key (allowed: wind." + wind_property_names() + ", wind.field.params.<p>)";
+    const WindProperty* p = wind_schema().find(rest.substr(5));
+    if (!p) return "unknown wind key (allowed: wind." + wind_schema().names() + ", wind.field.params.<p>)";
     return Declared{p->spec, p->get(test.wind)};
   }
   if (rest == "failures.drone_mtbf") return Declared{{"drone_mtbf", 0, 0, 1e9, "s", "", 0}, test.failures.drone_mtbf};

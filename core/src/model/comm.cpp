@@ -9,30 +9,18 @@
 
 namespace salsa {
 
-const std::vector<CommField>& comm_schema() {
-  static const std::vector<CommField> schema{
-      {{"range", 134, 1e-3, 1e6, "m", "farthest a message travels, centre to centre (default: the small drone's detection range)", 0.5}, &CommSetup::range},
-      {{"line_of_sight", 1, 0, 1, "", "true: a wall or obstacle between sender and receiver blocks the message", 1}, nullptr, nullptr, &CommSetup::line_of_sight},
-      {{"loss", 0, 0, 1, "", "probability a message in range and sight is lost, at any distance", 0.01}, &CommSetup::loss},
-      {{"loss_at_range", 0, 0, 1, "", "extra loss at full range, growing as (distance / range)^2: p = 1 - (1 - loss)(1 - loss_at_range (d / range)^2)", 0.01}, &CommSetup::loss_at_range},
-      {{"latency", 0, 0, 1000, "steps", "steps a message waits: 0 = received in the next step's decide", 1}, nullptr, &CommSetup::latency},
-      {{"max_received", 0, 0, 100000, "", "messages a drone receives per step, nearest senders first; 0: no cap", 1}, nullptr, &CommSetup::max_received},
-      {{"range_noise", 0, 0, 1e4, "m", "sd of the Gaussian noise on the range a receiver measures (clamped at 0)", 0.1}, &CommSetup::range_noise},
-      {{"bearing_noise", 0, 0, 10, "rad", "sd of the Gaussian noise on the bearing a receiver measures", 0.01}, &CommSetup::bearing_noise},
+const Schema<CommSetup>& comm_schema() {
+  static const Schema<CommSetup> schema{
+      field<&CommSetup::range>({"range", 134, 1e-3, 1e6, "m", "farthest a message travels, centre to centre (default: the small drone's detection range)", 0.5}),
+      field<&CommSetup::line_of_sight>({"line_of_sight", 1, 0, 1, "", "true: a wall or obstacle between sender and receiver blocks the message", 1}),
+      field<&CommSetup::loss>({"loss", 0, 0, 1, "", "probability a message in range and sight is lost, at any distance", 0.01}),
+      field<&CommSetup::loss_at_range>({"loss_at_range", 0, 0, 1, "", "extra loss at full range, growing as (distance / range)^2: p = 1 - (1 - loss)(1 - loss_at_range (d / range)^2)", 0.01}),
+      field<&CommSetup::latency>({"latency", 0, 0, 1000, "steps", "steps a message waits: 0 = received in the next step's decide", 1}),
+      field<&CommSetup::max_received>({"max_received", 0, 0, 100000, "", "messages a drone receives per step, nearest senders first; 0: no cap", 1}),
+      field<&CommSetup::range_noise>({"range_noise", 0, 0, 1e4, "m", "sd of the Gaussian noise on the range a receiver measures (clamped at 0)", 0.1}),
+      field<&CommSetup::bearing_noise>({"bearing_noise", 0, 0, 10, "rad", "sd of the Gaussian noise on the bearing a receiver measures", 0.01}),
   };
   return schema;
-}
-
-const CommField* find_comm_field(std::string_view name) {
-  for (const CommField& f : comm_schema())
-    if (f.spec.name == name) return &f;
-  return nullptr;
-}
-
-std::string comm_field_names() {
-  std::string out;
-  for (const CommField& f : comm_schema()) out += (out.empty() ? "" : ", ") + f.spec.name;
-  return out;
 }
 
 std::string comm_problem(const CommSetup& c) {

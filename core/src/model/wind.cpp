@@ -7,32 +7,18 @@
 
 namespace salsa {
 
-const std::vector<WindProperty>& wind_schema() {
+const Schema<Wind>& wind_schema() {
   // The ranges are what a test file may hold; check_wind adds the physics' limit (what a drone can be
   // carried by in one step) on top.
-  static const std::vector<WindProperty> schema{
+  static const Schema<Wind> schema{
       {{"velocity.x", 0, -1e3, 1e3, "m/s", "constant wind, x component (east)", 0.1},
        [](const Wind& w) { return w.velocity.x; }, [](Wind& w, double v) { w.velocity.x = v; }},
       {{"velocity.y", 0, -1e3, 1e3, "m/s", "constant wind, y component (north)", 0.1},
        [](const Wind& w) { return w.velocity.y; }, [](Wind& w, double v) { w.velocity.y = v; }},
-      {{"gusts.strength", 0, 0, 1e3, "m/s", "gusts' standard deviation per axis (Ornstein-Uhlenbeck, stationary); 0: none", 0.1},
-       [](const Wind& w) { return w.gust_strength; }, [](Wind& w, double v) { w.gust_strength = v; }},
-      {{"gusts.time_scale", 10, 1e-3, 1e6, "s", "gusts' autocorrelation time: correlation e^(-lag/time_scale)", 0.1},
-       [](const Wind& w) { return w.gust_time_scale; }, [](Wind& w, double v) { w.gust_time_scale = v; }},
+      field<&Wind::gust_strength>({"gusts.strength", 0, 0, 1e3, "m/s", "gusts' standard deviation per axis (Ornstein-Uhlenbeck, stationary); 0: none", 0.1}),
+      field<&Wind::gust_time_scale>({"gusts.time_scale", 10, 1e-3, 1e6, "s", "gusts' autocorrelation time: correlation e^(-lag/time_scale)", 0.1}),
   };
   return schema;
-}
-
-const WindProperty* find_wind_property(std::string_view name) {
-  for (const WindProperty& p : wind_schema())
-    if (p.spec.name == name) return &p;
-  return nullptr;
-}
-
-std::string wind_property_names() {
-  std::string out;
-  for (const WindProperty& p : wind_schema()) out += (out.empty() ? "" : ", ") + p.spec.name;
-  return out;
 }
 
 double wind_limit(const DroneConfig& d, double dt) { return std::min(d.radius, box2d_max_step) / dt - d.max_speed; }

@@ -12,6 +12,7 @@ struct Vec2 {
   constexpr Vec2(double x_, double y_) : x(x_), y(y_) {}
 
   static Vec2 polar(double length, double angle) { return {length * std::cos(angle), length * std::sin(angle)}; }
+  bool finite() const { return std::isfinite(x) && std::isfinite(y); }
 
   constexpr Vec2 operator+(Vec2 o) const { return {x + o.x, y + o.y}; }
   constexpr Vec2 operator-(Vec2 o) const { return {x - o.x, y - o.y}; }

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "salsa/core/model/schema.hpp"
 #include "salsa/grid.hpp"
 #include "salsa/parameters.hpp"
 #include "salsa/world.hpp"
@@ -30,27 +31,11 @@ struct CommSetup {
   bool operator==(const CommSetup&) const = default;
 };
 
-/// One field of CommSetup: its declaration (name, default, range, unit, meaning; step 1 for a whole
-/// number or a flag, read as true/false) and where it lives.
-struct CommField {
-  Parameter spec;
-  double CommSetup::*real = nullptr;  ///< a number, or
-  int CommSetup::*whole = nullptr;    ///< a whole number, or
-  bool CommSetup::*flag = nullptr;    ///< true/false (0 or 1 in timed changes and sweeps)
-  double get(const CommSetup& c) const { return real ? c.*real : whole ? static_cast<double>(c.*whole) : (c.*flag ? 1.0 : 0.0); }
-  void set(CommSetup& c, double v) const {
-    if (real) c.*real = v;
-    else if (whole) c.*whole = static_cast<int>(v);
-    else c.*flag = v != 0;
-  }
-};
+/// One field of CommSetup (schema.hpp): a number, a whole number, or a flag read as true/false.
+using CommField = Field<CommSetup>;
 
 /// Every field of "comm", in file order.
-const std::vector<CommField>& comm_schema();
-/// The field called `name`, or nullptr.
-const CommField* find_comm_field(std::string_view name);
-/// "range, line_of_sight, ...": the names, for messages.
-std::string comm_field_names();
+const Schema<CommSetup>& comm_schema();
 /// Empty when every field is within its declared range, else "comm.<field>: <value> is out of range
 /// (allowed: ...)".
 std::string comm_problem(const CommSetup& c);

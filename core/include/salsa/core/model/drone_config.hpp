@@ -1,12 +1,13 @@
 #pragma once
 // A drone configuration: the physical and sensing properties shared by every drone of a test, and
 // their schema, declared once: the test reader and writer, timed changes (drone.<name>), sweeps, the
-// desktop's panel and `salsa describe drone` are all driven by drone_schema(). Adding a property is a
-// member here, one line in drone_schema() (drone_config.cpp) and its use.
+// desktop's panel and `salsa describe drone` are all driven by drone_schema() (schema.hpp). Adding a
+// property is a member here, one line in drone_schema() (drone_config.cpp) and its use.
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "salsa/core/model/schema.hpp"
 #include "salsa/parameters.hpp"
 
 namespace salsa {
@@ -48,22 +49,9 @@ struct DroneConfig {
 /// folds each optional section away.
 enum class DroneSection { body, energy, noise };
 
-/// One property of DroneConfig: its declaration (name, default = the "small" drone, range, unit,
-/// meaning; step 1 for a whole number) and where it lives.
-struct DroneProperty {
-  Parameter spec;
-  double DroneConfig::*real = nullptr;  ///< a number, or
-  int DroneConfig::*whole = nullptr;    ///< a whole number
-  /// Part of the world key that pairs seeds (queue.hpp): the properties that shape the world a test
-  /// starts in. The energy model's are not, so tests that differ only in batteries share their worlds.
-  bool shapes_world = true;
-  DroneSection section = DroneSection::body;
-  double get(const DroneConfig& d) const { return real ? d.*real : static_cast<double>(d.*whole); }
-  void set(DroneConfig& d, double v) const {
-    if (real) d.*real = v;
-    else d.*whole = static_cast<int>(v);
-  }
-};
+/// One property of DroneConfig: its declaration (default = the "small" drone; step 1 for a whole
+/// number), where it lives, its section and whether it shapes the world (schema.hpp).
+using DroneProperty = Field<DroneConfig, DroneSection>;
 
 /// Whether `section` is in use for `d` (always, for the body).
 bool section_in_use(const DroneConfig& d, DroneSection section);
@@ -72,11 +60,7 @@ bool section_in_use(const DroneConfig& d, DroneSection section);
 double flight_power(const DroneConfig& d, double v);
 
 /// Every drone property, in file order.
-const std::vector<DroneProperty>& drone_schema();
-/// The property called `name`, or nullptr.
-const DroneProperty* find_drone_property(std::string_view name);
-/// "camera_range, obstacle_range, ...": the names, for messages.
-std::string drone_property_names();
+const Schema<DroneConfig, DroneSection>& drone_schema();
 
 /// The named configurations every test may use ("small" is the paper's; see docs/test-format.md).
 const std::vector<DroneConfig>& builtin_drone_configs();

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "salsa/core/model/drone_config.hpp"
+#include "salsa/core/model/schema.hpp"
 #include "salsa/parameters.hpp"
 #include "salsa/rng.hpp"
 #include "salsa/vec2.hpp"
@@ -24,16 +25,10 @@ struct Wind {
   bool operator==(const Wind&) const = default;
 };
 
-/// One number of Wind: its declaration (name as under "wind" with a dot for nesting, default, range,
-/// unit, meaning) and where it lives.
-struct WindProperty {
-  Parameter spec;   ///< name: "velocity.x", "velocity.y", "gusts.strength", "gusts.time_scale"
-  double (*get)(const Wind&);
-  void (*set)(Wind&, double);
-};
-const std::vector<WindProperty>& wind_schema();
-const WindProperty* find_wind_property(std::string_view name);
-std::string wind_property_names();  ///< "velocity.x, velocity.y, ...", for messages
+/// One number of Wind (schema.hpp), named as under "wind" with a dot for nesting: "velocity.x",
+/// "velocity.y", "gusts.strength", "gusts.time_scale".
+using WindProperty = Field<Wind>;
+const Schema<Wind>& wind_schema();
 
 /// Gusts are clamped to this many standard deviations (vector length): the strongest wind a test can
 /// make is known before it runs (check_wind). Reached with probability e^(−8) ≈ 3·10^-4 per sample.

@@ -1,0 +1,93 @@
+// The fleet model in the step: batteries drain and charge, failure clocks run, drones are grounded.
+#include "salsa/core/model/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "model/physics.hpp"
+#include "model/streams.hpp"
+#include "format.hpp"
+
+namespace salsa {
+
+using namespace detail;
+
+// Fleet: each flying drone's battery drains by the power its speed over the step takes (or charges on
+// its base), and its failure clocks advance. An empty battery lands the drone, a due failure grounds
+// it, at the end of this step. Nothing to do (and no cost) without batteries or failure rates.
+void Simulation::fleet() {
+  const double dt = setup_.dt;
+  const FailureSetup& f = setup_.failures;
+  bool batteries = false;
+  for (const GroupSetup& g : setup_.groups) batteries = batteries || g.drone.battery_capacity > 0;
+  if (!batteries && f.drone_mtbf <= 0 && f.camera_mtbf <= 0) return;
+  for (std::uint32_t i = 0; i < drones_.positions.size(); ++i) {
+    if (drones_.status[i] != DroneStatus::flying) continue;
+    const GroupSetup& g = setup_.groups[drones_.groups[i]];
+    if (g.drone.battery_capacity > 0) {
+      const double speed = drones_.velocities[i].length();
+      const bool on_base = g.drone.charge_power > 0 && speed < 1 &&
+                           distance(drones_.positions[i], groups_[drones_.groups[i]].base) <= g.drone.charge_radius;
+      if (on_base) {
+        drones_.charge[i] = std::min(drones_.charge[i] + g.drone.charge_power * dt, g.drone.battery_capacity * 3600);
+      } else {
+        // Power is drawn for the speed through the air (the ground speed without wind).
+        const double energy = flight_power(g.drone, wind_active_ ? drones_.air[i].length() : speed) * dt;
+        drones_.used[i] += energy;
+        drones_.charge[i] -= energy;
+        if (drones_.charge[i] <= 0) {
+          drones_.charge[i] = 0;
+          ground(i, DroneStatus::landed);
+          continue;
+        }
+      }
+    }
+    if (f.drone_mtbf > 0 && (drones_.exposure[i] += dt / f.drone_mtbf) >= drones_.due[i]) {
+      ground(i, DroneStatus::failed);
+      continue;
+    }
+    if (f.camera_mtbf > 0 && drones_.camera[i] && (drones_.camera_exposure[i] += dt / f.camera_mtbf) >= drones_.camera_due[i])
+      drones_.camera[i] = 0;
+  }
+}
+
+void Simulation::ground(std::uint32_t id, DroneStatus status) {
+  drones_.status[id] = status;
+  drones_.since[id] = time();
+  drones_.velocities[id] = drones_.commanded[id] = drones_.steering[id] = {};
+  if (wind_active_) drones_.air[id] = drones_.wind[id] = {};
+  physics_->disable(id);
+  --flying_;
+}
+
+void Simulation::set_failures(const FailureSetup& f) {
+  for (const auto& [name, mtbf] : {std::pair{"failures.drone_mtbf", f.drone_mtbf}, std::pair{"failures.camera_mtbf", f.camera_mtbf}})
+    if (!(std::isfinite(mtbf) && mtbf >= 0))
+      throw std::invalid_argument(std::string(name) + ": " + format::figure(mtbf) + " s is out of range (allowed: a finite time ≥ 0 s; 0: never)");
+  setup_.failures = f;
+}
+
+void Simulation::fail(std::uint32_t id, bool camera_only) {
+  if (id >= drones_.positions.size())
+    throw std::invalid_argument("drone " + std::to_string(id) + " does not exist (allowed: ids 0 to " +
+                                std::to_string(drones_.positions.size() - 1) + ")");
+  if (drones_.status[id] != DroneStatus::flying) return;  // down already
+  if (!camera_only) ground(id, DroneStatus::failed);
+  else if (drones_.camera[id]) drones_.camera[id] = 0;
+}
+
+void Simulation::fail_fraction(double fraction, bool camera_only) {
+  if (!(fraction >= 0 && fraction <= 1))
+    throw std::invalid_argument(format::figure(fraction) + " is out of range (allowed: a fraction in [0, 1])");
+  std::vector<std::uint32_t> candidates;
+  for (std::uint32_t i = 0; i < drones_.positions.size(); ++i)
+    if (drones_.status[i] == DroneStatus::flying && (!camera_only || drones_.camera[i])) candidates.push_back(i);
+  // A shuffle from the seed's own stream for this event: the same drones whatever the behavior.
+  Rng rng(setup_.seed, first_failure_stream - 1 - fraction_failures_++);
+  for (std::size_t k = candidates.size(); k > 1; --k) std::swap(candidates[k - 1], candidates[rng.index(k)]);
+  const auto count = static_cast<std::size_t>(std::llround(fraction * static_cast<double>(candidates.size())));
+  for (std::size_t k = 0; k < count; ++k) fail(candidates[k], camera_only);
+}
+
+}  // namespace salsa
