@@ -3,7 +3,7 @@
 # queue (4 behaviors x 2 swarm sizes x 3 paired repeats) and show where the pictures are.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/build.sh
+bash scripts/build.sh salsa salsa_plugins  # what the demo runs: not the desktop, nor the test suites
 out=${1:-results/demo}
 salsa=build/release/bin/salsa
 "$salsa" run examples/{flocking,pheromone-avoidance,dynamic-space-partitioning,random-walk}-forest.json --out "$out/surveys" --force
