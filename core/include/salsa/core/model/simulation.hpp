@@ -9,10 +9,12 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "salsa/behavior.hpp"
 #include "salsa/contact.hpp"
+#include "salsa/core/model/columns.hpp"
 #include "salsa/core/model/comm.hpp"
 #include "salsa/core/model/drone_config.hpp"
 #include "salsa/core/model/limits.hpp"
@@ -187,6 +189,11 @@ class Simulation final : public WorldView {
   std::span<const ObstacleHit> obstacle_hits(std::uint32_t id) const {
     return {drones_.hits.data() + id * ray_slots_, id < drones_.hit_counts.size() ? drones_.hit_counts[id] : 0u};
   }
+  /// The drones' state as named columns (columns.hpp), each a view of the array the step uses: a
+  /// model's columns are there while the model keeps them (the wind's once the test has had wind).
+  std::vector<Column> columns() const;
+  /// The column called `name`, or one with data == nullptr.
+  Column column(std::string_view name) const;
   /// Seconds spent in each phase so far (zeros unless SimulationSetup::profile).
   const std::array<double, phase_names.size()>& profile() const { return profile_; }
 
