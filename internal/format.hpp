@@ -61,16 +61,17 @@ inline std::string grouped(double v) {
   return out;
 }
 
-/// A point, "(x, y)", each coordinate as `number` writes it: the point a user can find in their file.
+/// A point as test and map files write it, "[x, y]", each coordinate as `number` writes it: the
+/// point a user can find in their file.
 inline std::string point(Vec2 p) {
-  std::string s = "(";  // appended, not "(" + ...: GCC 12 -O3 warns (-Wrestrict) on that
+  std::string s = "[";  // appended, not "[" + ...: GCC 12 -O3 warns (-Wrestrict) on that
   s += number(p.x);
   s += ", ";
   s += number(p.y);
-  return s += ')';
+  return s += ']';
 }
 
-/// A rectangle by its corners: "(x0, y0) to (x1, y1)".
-inline std::string rect(const Rect& r) { return point(r.min) + " to " + point(r.max); }
+/// A rectangle by its corners, as a map's bounds: "min [x, y], max [x, y]".
+inline std::string rect(const Rect& r) { return "min " + point(r.min) + ", max " + point(r.max); }
 
 }  // namespace salsa::format

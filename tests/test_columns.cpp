@@ -38,7 +38,7 @@ class TestColumns : public QObject {
   void views_share_memory_with_the_simulation() {
     Simulation sim(field(25));
     sim.run_steps(3);
-    const Column position = sim.column("position"), velocity = sim.column("velocity"), status = sim.column("status");
+    const StateColumn position = sim.column("position"), velocity = sim.column("velocity"), status = sim.column("status");
     // The very arrays WorldView hands to plugins: no copy was made.
     QCOMPARE(position.data, static_cast<const void*>(sim.drone_positions().data()));
     QCOMPARE(velocity.data, static_cast<const void*>(sim.drone_velocities().data()));
@@ -47,7 +47,7 @@ class TestColumns : public QObject {
     QCOMPARE(position.width, std::size_t{2});
     QCOMPARE(position.unit, std::string_view("m"));
     QCOMPARE(velocity.unit, std::string_view("m/s"));
-    QVERIFY(position.type == Column::Type::f64 && status.type == Column::Type::u8);
+    QVERIFY(position.type == StateColumn::Type::f64 && status.type == StateColumn::Type::u8);
     // Read through the column as Python would (x then y per drone): the simulation's values.
     const auto* xy = static_cast<const double*>(position.data);
     for (std::size_t i = 0; i < 25; ++i) {
@@ -63,7 +63,7 @@ class TestColumns : public QObject {
   void every_column_is_named_once_with_a_unit_and_its_size() {
     Simulation sim(field(10));
     std::set<std::string_view> names;
-    for (const Column& c : sim.columns()) {
+    for (const StateColumn& c : sim.columns()) {
       QVERIFY2(names.insert(c.name).second, std::string(c.name).c_str());
       QVERIFY2(!c.meaning.empty() && !c.model.empty(), std::string(c.name).c_str());
       QCOMPARE(c.rows, std::size_t{10});
@@ -82,7 +82,7 @@ class TestColumns : public QObject {
     w.velocity = {1, 0};
     sim.set_wind(w, nullptr);
     sim.step();
-    const Column air = sim.column("air_velocity"), wind = sim.column("wind");
+    const StateColumn air = sim.column("air_velocity"), wind = sim.column("wind");
     QCOMPARE(air.rows, std::size_t{4});
     QCOMPARE(air.data, static_cast<const void*>(sim.air_velocities().data()));
     QCOMPARE(static_cast<const double*>(wind.data)[0], 1.0);  // the wind each drone flew in
@@ -93,7 +93,7 @@ class TestColumns : public QObject {
     sim.set_drone_count(8);
     QCOMPARE(sim.column("status").rows, std::size_t{8});
     sim.set_drone_count(3);
-    const Column status = sim.column("status");
+    const StateColumn status = sim.column("status");
     QCOMPARE(status.rows, std::size_t{8});  // ids are never reused: removed drones keep their rows
     QCOMPARE(static_cast<const std::uint8_t*>(status.data)[7], static_cast<std::uint8_t>(DroneStatus::removed));
   }

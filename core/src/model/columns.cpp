@@ -8,26 +8,26 @@ namespace salsa {
 namespace {
 
 template <class T>
-constexpr Column::Type type_of() {
-  if constexpr (std::is_same_v<T, std::uint32_t>) return Column::Type::u32;
-  else if constexpr (sizeof(T) == 1) return Column::Type::u8;  // flags, DroneStatus
-  else return Column::Type::f64;                               // double, and Vec2 as two
+constexpr StateColumn::Type type_of() {
+  if constexpr (std::is_same_v<T, std::uint32_t>) return StateColumn::Type::u32;
+  else if constexpr (sizeof(T) == 1) return StateColumn::Type::u8;  // flags, DroneStatus
+  else return StateColumn::Type::f64;                               // double, and Vec2 as two
 }
 
 /// A column over `values` (a vector of double, Vec2, uint32, uint8 or DroneStatus).
 template <class T>
-Column view(std::string_view name, std::string_view unit, std::string_view model, std::string_view meaning,
+StateColumn view(std::string_view name, std::string_view unit, std::string_view model, std::string_view meaning,
             const std::vector<T>& values) {
   constexpr bool vector = std::is_same_v<T, Vec2>;
   static_assert(!vector || sizeof(Vec2) == 2 * sizeof(double), "a Vec2 is two doubles, x then y");
-  return {name, unit, meaning, model, vector ? Column::Type::f64 : type_of<T>(), vector ? 2u : 1u, values.data(), values.size()};
+  return {name, unit, meaning, model, vector ? StateColumn::Type::f64 : type_of<T>(), vector ? 2u : 1u, values.data(), values.size()};
 }
 
 }  // namespace
 
-std::vector<Column> Simulation::columns() const {
+std::vector<StateColumn> Simulation::columns() const {
   const Drones& d = drones_;
-  std::vector<Column> out{
+  std::vector<StateColumn> out{
       view("position", "m", "drone", "where the drone is", d.positions),
       view("velocity", "m/s", "drone", "its ground velocity", d.velocities),
       view("steering", "m/s", "drone", "the velocity change its behavior asked for in the last decide", d.steering),
@@ -51,8 +51,8 @@ std::vector<Column> Simulation::columns() const {
   return out;
 }
 
-Column Simulation::column(std::string_view name) const {
-  for (const Column& c : columns())
+StateColumn Simulation::column(std::string_view name) const {
+  for (const StateColumn& c : columns())
     if (c.name == name) return c;
   return {};
 }

@@ -4,23 +4,18 @@
 #include <cmath>
 #include <cstdint>
 
+#include "format.hpp"
 #include "salsa/core/model/static_geometry.hpp"
 
 namespace salsa {
 namespace {
 
-std::string num(double v) { return Parameter::format(v); }  // format::number, without the model depending on files/
 double cross(Vec2 o, Vec2 a, Vec2 b) { return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x); }
 int sign(double v) { return (v > 0) - (v < 0); }
-bool finite(Vec2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
 bool within(Vec2 a, Vec2 b, Vec2 p) {  // p, collinear with a-b, lies on the segment
   return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y && p.y <= std::max(a.y, b.y);
 }
-std::string text(Vec2 p) {  // appended, not "[" + ...: GCC 12 warns falsely (-Wrestrict) on that
-  std::string s = "[";
-  return s.append(num(p.x)).append(", ").append(num(p.y)).append("]");
-}
-std::string bounds_text(const Rect& b) { return "the bounds (min " + text(b.min) + ", max " + text(b.max) + ")"; }
+std::string bounds_text(const Rect& b) { return "the bounds (" + format::rect(b) + ")"; }
 
 }  // namespace
 
@@ -118,21 +113,21 @@ std::vector<MapProblem> map_problems(const MapData& map, double drone_radius, Ma
     return out.size() >= most;
   };
   const Rect& b = map.bounds;
-  const bool finite_bounds = finite(b.min) && finite(b.max);
+  const bool finite_bounds = b.min.finite() && b.max.finite();
   const bool ordered = finite_bounds && b.max.x > b.min.x && b.max.y > b.min.y;
   // Every size derived from the map (grids of cells, the heat map, coverage) divides its extent.
   const bool extent_ok = std::isfinite(b.width()) && std::isfinite(b.height());
   const bool bounds_ok = ordered && extent_ok;
   if (!finite_bounds) {
-    const bool min_ok = finite(b.min);
+    const bool min_ok = b.min.finite();
     if (add({Part::bounds, 0, min_ok ? "bounds.max" : "bounds.min",
-             text(min_ok ? b.max : b.min) + " is not finite (allowed: finite corners, max greater than min on both axes)"}))
+             format::point(min_ok ? b.max : b.min) + " is not finite (allowed: finite corners, max greater than min on both axes)"}))
       return out;
   } else if (!ordered) {
-    if (add({Part::bounds, 0, "bounds.max", text(b.max) + " must be greater than bounds.min " + text(b.min)})) return out;
+    if (add({Part::bounds, 0, "bounds.max", format::point(b.max) + " must be greater than bounds.min " + format::point(b.min)})) return out;
   } else if (!extent_ok) {
-    if (add({Part::bounds, 0, "bounds", "min " + text(b.min) + ", max " + text(b.max) + " span " + num(b.width()) + " × " +
-                                          num(b.height()) + " m, beyond a double (allowed: max − min below 1.7e308 on both axes)"}))
+    if (add({Part::bounds, 0, "bounds", format::rect(b) + " span " + format::number(b.width()) + " × " +
+                                          format::number(b.height()) + " m, beyond a double (allowed: max − min below 1.7e308 on both axes)"}))
       return out;
   }
 
@@ -147,15 +142,15 @@ std::vector<MapProblem> map_problems(const MapData& map, double drone_radius, Ma
       }
       bool points_finite = true;
       for (std::size_t k = 0; k < pts.size(); ++k) {
-        if (!finite(pts[k])) {
+        if (!pts[k].finite()) {
           points_finite = false;
           if (add({part, i, field + "[" + std::to_string(k) + "]",
-                   text(pts[k]) + " is not finite (allowed: a point within " + (bounds_ok ? bounds_text(b) : "the bounds") + ")"}))
+                   format::point(pts[k]) + " is not finite (allowed: a point within " + (bounds_ok ? bounds_text(b) : "the bounds") + ")"}))
             return true;
           break;  // one line per shape: the rest usually follow from the same drag
         }
         if (bounds_ok && !b.contains(pts[k])) {
-          if (add({part, i, field + "[" + std::to_string(k) + "]", text(pts[k]) + " is outside " + bounds_text(b)})) return true;
+          if (add({part, i, field + "[" + std::to_string(k) + "]", format::point(pts[k]) + " is outside " + bounds_text(b)})) return true;
           break;
         }
       }
@@ -170,21 +165,21 @@ std::vector<MapProblem> map_problems(const MapData& map, double drone_radius, Ma
   if (shapes(map.hollow, Part::hollow, "hollow", "outline", 3)) return out;
   if (shapes(map.lines, Part::line, "lines", "line", 2)) return out;
 
-  if (!finite(map.spawn)) {
-    add({Part::spawn, 0, "spawn", text(map.spawn) + " is not finite (allowed: a point in free space within the bounds)"});
+  if (!map.spawn.finite()) {
+    add({Part::spawn, 0, "spawn", format::point(map.spawn) + " is not finite (allowed: a point in free space within the bounds)"});
     return out;
   }
   if (rules == MapRules::structure) return out;  // the simulation moves a spawn point outside the walls inside
   if (bounds_ok && !b.contains(map.spawn)) {
-    add({Part::spawn, 0, "spawn", text(map.spawn) + " is outside " + bounds_text(b)});
+    add({Part::spawn, 0, "spawn", format::point(map.spawn) + " is outside " + bounds_text(b)});
   } else if (bounds_ok) {
     for (std::size_t i = 0; i < map.obstacles.size(); ++i)
       if (map.obstacles[i].size() >= 3 && inside_polygon(map.spawn, map.obstacles[i])) {
-        add({Part::spawn, 0, "spawn", text(map.spawn) + " is inside obstacles[" + std::to_string(i) + "]; drones must start in free space"});
+        add({Part::spawn, 0, "spawn", format::point(map.spawn) + " is inside obstacles[" + std::to_string(i) + "]; drones must start in free space"});
         return out;
       }
     if (out.empty() && !StaticGeometry(map, 50).is_free(map.spawn, drone_radius))  // what load_map_file asks
-      add({Part::spawn, 0, "spawn", text(map.spawn) + " is closer than a drone's radius (" + num(drone_radius) + " m) to a wall; drones must start in free space"});
+      add({Part::spawn, 0, "spawn", format::point(map.spawn) + " is closer than a drone's radius (" + format::number(drone_radius) + " m) to a wall; drones must start in free space"});
   }
   return out;
 }

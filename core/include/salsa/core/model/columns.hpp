@@ -9,7 +9,7 @@
 
 namespace salsa {
 
-struct Column {
+struct StateColumn {
   enum class Type : std::uint8_t { f64, u32, u8 };
   std::string_view name;     ///< "position", "battery_left", ...
   std::string_view unit;     ///< "m", "m/s", "J", "s"; "" for a count, an id or a code

@@ -191,9 +191,9 @@ class Simulation final : public WorldView {
   }
   /// The drones' state as named columns (columns.hpp), each a view of the array the step uses: a
   /// model's columns are there while the model keeps them (the wind's once the test has had wind).
-  std::vector<Column> columns() const;
+  std::vector<StateColumn> columns() const;
   /// The column called `name`, or one with data == nullptr.
-  Column column(std::string_view name) const;
+  StateColumn column(std::string_view name) const;
   /// Seconds spent in each phase so far (zeros unless SimulationSetup::profile).
   const std::array<double, phase_names.size()>& profile() const { return profile_; }
 
