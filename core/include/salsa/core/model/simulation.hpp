@@ -143,8 +143,8 @@ std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, con
 /// What plugins see of a drone configuration (WorldView::drone()).
 DroneProperties drone_properties(const DroneConfig& config);
 
-/// Step phases, timed separately (DESIGN §3). `communicate`: the messages broadcast in decide matched
-/// to their receivers (the comm model); `fleet`: batteries and failures.
+/// Step phases, timed separately (`salsa bench --profile`). `communicate`: the messages broadcast in
+/// decide matched to their receivers (the comm model); `fleet`: batteries and failures.
 enum class Phase { sense, decide, communicate, act, physics, fleet, detect, observe };
 inline constexpr std::array<const char*, 8> phase_names{"sense", "decide", "communicate", "act", "physics", "fleet", "detect", "observe"};
 
