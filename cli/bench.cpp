@@ -1,4 +1,4 @@
-// salsa bench: whole-workload speed figures (../shared/workloads/table1.md), beside the Box2D floor.
+// salsa bench: whole-workload speed figures (workloads: docs/benchmarks.md), beside the Box2D floor.
 #include <boost/program_options.hpp>
 #include <nlohmann/json.hpp>
 

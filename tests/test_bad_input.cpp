@@ -1,4 +1,4 @@
-// Bad input gets one line (DESIGN §7): the salsa CLI exits non-zero and prints exactly one line on
+// Bad input gets one line (docs/reliability.md): the salsa CLI exits non-zero and prints exactly one line on
 // stderr naming the file, the field and what is allowed, and writes nothing. Also: output folders
 // that already hold results are never touched unless asked, and bad plugin files do not stop a run.
 #include <QtTest>

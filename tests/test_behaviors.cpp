@@ -145,7 +145,7 @@ class TestBehaviors : public QObject {
     QCOMPARE(recorder->drones[1].max_speed, 5.0);
   }
 
-  // The flocking plugin's decision is the weighted sum of table1.md, computed by hand (see
+  // The flocking plugin's decision is Table I's weighted sum (docs/behaviors.md), computed by hand (see
   // test_sdk's steering_helpers for the terms): 1.6 alignment + 3 separation + 1 cohesion + 4 obstacles.
   void flocking_decision_is_the_table1_formula_data() {
     QTest::addColumn<double>("max_force");
@@ -180,9 +180,10 @@ class TestBehaviors : public QObject {
              qPrintable(QString("got (%1, %2), expected (%3, %4)").arg(a.x, 0, 'g', 17).arg(a.y, 0, 'g', 17).arg(x).arg(y)));
   }
 
-  // One whole step of one drone through the core, against table1.md's formulas written out here from
-  // the workload's text (no SDK helper): each term clamped to max force, the weighted sum applied as
-  // is (so the velocity may change by up to 9.6 × max force in one step), then only the speed clamped.
+  // One whole step of one drone through the core, against Table I's formulas written out here from
+  // its definition in docs/benchmarks.md (no SDK helper): each term clamped to max force, the weighted
+  // sum applied as is (so the velocity may change by up to 9.6 × max force in one step), then only the
+  // speed clamped.
   // Six drones spawn in a disc 20–45 m from the west wall, so drone 0 has neighbours and wall hits.
   void flocking_step_is_the_table1_update_data() {
     QTest::addColumn<int>("seed");
@@ -301,7 +302,7 @@ class TestBehaviors : public QObject {
   }
 
   // Each drone sweeps the region it was given, and the regions tile the free map: 30 drones on the
-  // 2 km map (the case) cover nearly all of it, every 500 m block included, empty or forest
+  // 2 km map (the forest-health map) cover nearly all of it, every 500 m block included, empty or forest
   // (the default forest at 2 km: 192 clusters). Measured 91.0 % / 99.1 % at 600 / 900 s on the empty map,
   // 80–87 % / 90–97 % in the forest (seeds 1–3); a disc around each point reached 42 % / 48 % and 24–33 %.
   void dynamic_space_partitioning_covers_the_free_map_data() {

@@ -1,6 +1,6 @@
-// Every shipped example is a test (DESIGN §7): each test file under examples/ validates and runs
-// (shortened to 5 s) through the salsa CLI and writes its data (a queue, every test it expands to);
-// each map file validates.
+// Every shipped example is a test, so none goes stale unnoticed: each test file under examples/
+// validates and runs (shortened to 5 s) through the salsa CLI and writes its data (a queue, every test
+// it expands to); each map file validates.
 #include <QDirIterator>
 #include <QJsonDocument>
 #include <QJsonObject>

@@ -1,4 +1,4 @@
-// Every JSON reader is strict and answers bad input in one line (issue 6): nesting depth, duplicate
+// Every JSON reader is strict and answers bad input in one line: nesting depth, duplicate
 // keys, numbers a double cannot hold, NaN and Infinity, text that is not UTF-8, empty files, folders
 // and oversized files; names that become folders; values printed exactly and with a bound.
 #include "common.hpp"

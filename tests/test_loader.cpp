@@ -244,7 +244,7 @@ class TestLoader : public QObject {
     QCOMPARE(salsa::PluginHost::create(host.behavior("test_dup_b_only"), {})->decide({}, rng), salsa::Vec2(2, 0));
   }
 
-  // A third-party map named like a built-in: the built-in library keeps its other maps (issue 6, item 12).
+  // A third-party map named like a built-in: the built-in library keeps its other maps.
   void shadowing_is_decided_per_registration() {
     const fs::path shadow = plugin_file("shadow", "libtest_shadow.so"), builtin = plugin_dir() / "libbasic_maps.so";
     {
@@ -304,7 +304,7 @@ class TestLoader : public QObject {
     QVERIFY(has_behavior(host, "test_once"));
   }
 
-  // Declarations are validated like a user's JSON, per registration (issue 6, item 9).
+  // Declarations are validated like a user's JSON, per registration.
   void bad_declarations_are_refused_per_registration() {
     const fs::path file = plugin_file("bad-declarations", "libtest_bad_declarations.so");
     salsa::PluginHost host;
@@ -328,8 +328,8 @@ class TestLoader : public QObject {
     QVERIFY(has_behavior(host, "test_decl_ok"));
   }
 
-  // A truncated or half-copied file was mapped as it was and died of SIGBUS inside dlopen (issue 6,
-  // item 2): every cut must be refused with a reason, and the other plugins still load.
+  // A truncated or half-copied file was mapped as it was and died of SIGBUS inside dlopen: every cut
+  // must be refused with a reason, and the other plugins still load.
   void truncated_files_are_refused_data() {
     QTest::addColumn<QByteArray>("bytes");
     QTest::addColumn<QString>("reason");
@@ -474,7 +474,7 @@ class TestLoader : public QObject {
     QVERIFY2(moved.exit_code == 0, describe(moved));
   }
 
-  // Replacing a plugin file while it was in use crashed the process (issue 6, item 3): each file is
+  // Replacing a plugin file while it was in use crashed the process: each file is
   // loaded from a private copy, removed as soon as it is mapped.
   void originals_may_change_while_loaded() {
     QTemporaryDir tmp, plugins;
@@ -538,8 +538,8 @@ class TestLoader : public QObject {
     QCOMPARE(entries(tmp.path()), QStringList{"salsa-plugin-young1"});
   }
 
-  // A symbolic link loop aborted discovery for every plugin; a dangling link read "no ELF header"
-  // (issue 6, item 6). Each bad entry now gets its own reason, and the rest load.
+  // A symbolic link loop aborted discovery for every plugin; a dangling link read "no ELF header".
+  // Each bad entry now gets its own reason, and the rest load.
   void bad_folder_entries_are_reported() {
     QTemporaryDir dir;
     QVERIFY(dir.isValid());

@@ -64,7 +64,7 @@ class SdkMap final : public salsa::MapGenerator {
   }
 };
 
-/// Sums the four steering helpers with table1.md's weights (as the flocking plugin does).
+/// Sums the four steering helpers with Table I's weights (as the flocking plugin does).
 class SdkFlock final : public salsa::Behavior {
  public:
   Vec2 decide(const salsa::Perception& me, salsa::Rng&) override {
@@ -618,7 +618,7 @@ class TestSdk : public QObject {
   }
 
   // ---------------------------------------------------------------- Steering helpers
-  // Expected values computed by hand from the formulas of /work/shared/workloads/table1.md (and in
+  // Expected values computed by hand from flocking's formulas in docs/behaviors.md (and in
   // Python): position (0, 0), velocity (1, 0), max speed 10; neighbours at (3, 4) moving (0, 2) and at
   // (-6, 8) moving (2, 0); obstacle hits at (10, 0) and (0, -5).
   void steering_helpers_data() {

@@ -1,4 +1,4 @@
-// Wind (issue 20): what a researcher relies on when the air moves — a drone that keeps still in the air
+// Wind: what a researcher relies on when the air moves — a drone that keeps still in the air
 // drifts by wind × t, max speed and power are relative to the air, gusts have the declared statistics,
 // a wind plugin is asked at each drone's position, runs are deterministic on any thread count, no wind
 // changes nothing, and a wind strong enough to carry a drone through a wall is refused.

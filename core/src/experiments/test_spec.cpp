@@ -567,7 +567,8 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   for (const GroupSpec& g : t.groups)
     if (const Problem p = check_wind(t.wind, g.drone, t.dt)) throw InputError(t.source + ": " + p.text() + (t.named_groups ? " (group " + g.name + ")" : ""));
 
-  // The map: what the plugin made is input too, checked like a map file (DESIGN §4).
+  // The map: what the plugin made is input too, checked like a map file (the simulation relies on
+  // the same map rules whoever made the map).
   try {
     Rng map_rng(t.seed, 0);
     s.map = map->generate(t.map_file, map_rng);

@@ -97,8 +97,8 @@ struct SimulationSetup {
   bool profile = false;               ///< time each phase (Simulation::profile); off saves ~12 clock reads a step
 };
 
-/// Step phases, timed separately (DESIGN §3). `communicate`: the messages broadcast in decide matched
-/// to their receivers (the comm model); `fleet`: batteries and failures.
+/// Step phases, timed separately (`salsa bench --profile`). `communicate`: the messages broadcast in
+/// decide matched to their receivers (the comm model); `fleet`: batteries and failures.
 enum class Phase { sense, decide, communicate, act, physics, fleet, detect, observe };
 inline constexpr std::array<const char*, 8> phase_names{"sense", "decide", "communicate", "act", "physics", "fleet", "detect", "observe"};
 

@@ -1,5 +1,5 @@
 #pragma once
-// Wind (issue 20): the air moves, and a drone's max speed and power draw are relative to it. A test's
+// Wind: the air moves, and a drone's max speed and power draw are relative to it. A test's
 // "wind" is the sum of a constant velocity, gusts (an Ornstein–Uhlenbeck process per axis, the same
 // everywhere on the map, drawn from the test's seed) and a field from a `wind` plugin (salsa/wind.hpp).
 // Its numbers are declared once, here (wind_schema): the test reader and writer, timed changes and

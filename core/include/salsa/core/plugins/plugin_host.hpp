@@ -54,7 +54,7 @@ class PluginHost {
   PluginHost(const PluginHost&) = delete;
   PluginHost& operator=(const PluginHost&) = delete;
 
-  /// The discovery order of DESIGN §4: the given folders, $SALSA_PLUGIN_PATH, the user folder, the
+  /// The discovery order (docs/plugins.md): the given folders, $SALSA_PLUGIN_PATH, the user folder, the
   /// install folder and, when run from a build tree, its plugins folder.
   static std::vector<SearchDir> default_search_path(const std::vector<fs::path>& extra = {});
 

@@ -1,5 +1,5 @@
 #pragma once
-// Benchmark workloads (../shared/workloads/table1.md) and the bare-Box2D floor they are compared with.
+// Benchmark workloads (defined in docs/benchmarks.md) and the bare-Box2D floor they are compared with.
 #include <cstddef>
 #include <cstdint>
 #include <string>
