@@ -123,7 +123,7 @@ class TestCorpus : public QObject {
     QDirIterator it(q(source_dir() / "tests/corpus"), {"*.case"}, QDir::Files, QDirIterator::Subdirectories);
     int n = 0;
     while (it.hasNext()) it.next(), ++n;
-    QVERIFY2(n >= 120, qPrintable(QString("the corpus holds %1 cases; issue 6 asks for at least 120").arg(n)));
+    QVERIFY2(n >= 120, qPrintable(QString("the corpus holds %1 cases; at least 120 are required").arg(n)));
   }
 
   void bad_input_data() {

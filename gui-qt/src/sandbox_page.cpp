@@ -62,7 +62,7 @@ json drone_json(const DroneConfig& d) {
   return out;
 }
 
-double drone_value(const DroneConfig& d, const std::string& name) { return drone_schema().find(name)->get(d); }
+double drone_value(const DroneConfig& d, const std::string& name) { return salsa::drone_schema().find(name)->get(d); }
 
 // The sandbox's first scene: a small forest, enough drones and trees to see the behavior work.
 constexpr const char* first_test = R"({"name": "sandbox", "behavior": "pheromone_avoidance", "drones": 20,
@@ -502,7 +502,7 @@ std::optional<TestSpec> SandboxPage::spec_from_controls(std::string* why) {
   DroneConfig d = groups_from.groups[gi].drone;
   d.name = drone_config_->currentText().toStdString();
   for (ParamPanel* panel : drone_panels())
-    for (const Parameter& p : panel->schema()) drone_schema().find(p.name)->set(d, panel->value(p.name));
+    for (const Parameter& p : panel->schema()) salsa::drone_schema().find(p.name)->set(d, panel->value(p.name));
   group["drone"] = drone_json(d);
   group["drones"] = drones_->value();
   j.erase("failures");
