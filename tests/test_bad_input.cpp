@@ -11,7 +11,7 @@ namespace {
 
 const QByteArray ok_test = R"({"behavior": "flocking", "drones": 5, "time": 2})";
 
-// A 100 m square with one square obstacle from (40, 40) to (60, 60); `spawn` is JSON or empty.
+// A 100 m square with one square obstacle from min [40, 40], max [60, 60]; `spawn` is JSON or empty.
 QByteArray map_with_obstacle(const QByteArray& spawn) {
   return R"({"bounds": {"min": [0, 0], "max": [100, 100]},)" + (spawn.isEmpty() ? QByteArray() : "\"spawn\": " + spawn + ",") +
          R"("obstacles": [[[40, 40], [60, 40], [60, 60], [40, 60]]]})";

@@ -25,7 +25,7 @@ SimulationSetup field(std::size_t drones) {
   s.map.spawn = {500, 500};
   s.groups[0].drones = drones;
   s.groups[0].behavior = std::make_shared<East>();
-  s.dt = 0.1;
+  s.dt = 0.05;  // room for a wind: (max speed + wind) x dt stays within the radius
   s.threads = 1;
   return s;
 }

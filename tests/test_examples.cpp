@@ -1,6 +1,7 @@
 // Every shipped example is a test, so none goes stale unnoticed: each test file under examples/
 // validates and runs (shortened to 5 s) through the salsa CLI and writes its data (a queue, every test
-// it expands to); each map file validates.
+// it expands to), byte for byte the data of the committed digests; each map file validates.
+#include <QCryptographicHash>
 #include <QDirIterator>
 #include <QJsonDocument>
 #include <QJsonObject>
@@ -23,6 +24,36 @@ QStringList test_names(const QString& file) {
   for (qsizetype i = 1; i < lines.size(); ++i) names << lines[i].section(' ', 0, 0);
   if (r.exit_code != 0 || lines.value(0) != QString::number(names.size()) + (names.size() == 1 ? " test" : " tests")) return {};
   return names;
+}
+
+/// Every example's data files as they were when the digests were committed (tests/data/
+/// example-digests.txt: "<example>/<test>/<file> <sha-256>"), so a change that was to change no result
+/// is shown to change none. SALSA_UPDATE_DIGESTS=1 writes the digests of this run instead.
+const char* const data_files[] = {"summary.csv", "outcome.csv", "drones.csv", "targets.csv", "map.json"};
+QString digests_file() { return q(source_dir() / "tests/data/example-digests.txt"); }
+QMap<QString, QString> read_digests() {
+  QMap<QString, QString> out;
+  for (const QString& line : non_empty_lines(QString::fromUtf8(read_file(digests_file())))) out[line.section(' ', 0, 0)] = line.section(' ', 1);
+  return out;
+}
+void check_digests(const QString& example, const QString& out, const QStringList& tests) {
+  QMap<QString, QString> digests = read_digests();
+  const bool update = qEnvironmentVariableIntValue("SALSA_UPDATE_DIGESTS") == 1;
+  for (const QString& test : tests)
+    for (const char* f : data_files) {
+      const QString path = out + "/" + test + "/" + f, key = example + "/" + test + "/" + f;
+      if (!QFileInfo::exists(path)) continue;
+      const QString digest = QString::fromLatin1(QCryptographicHash::hash(read_file(path), QCryptographicHash::Sha256).toHex());
+      if (update) digests[key] = digest;
+      else if (!digests.contains(key)) QFAIL(qPrintable("no digest for " + key + " in " + digests_file() + ": a new example? run test_examples with SALSA_UPDATE_DIGESTS=1 and commit the file"));
+      else QVERIFY2(digests[key] == digest, qPrintable(key + " changed: its bytes differ from the committed digest (a result changed)"));
+    }
+  if (!update) return;
+  QStringList lines;
+  for (auto it = digests.begin(); it != digests.end(); ++it) lines << it.key() + " " + it.value();
+  QFile file(digests_file());
+  QVERIFY(file.open(QIODevice::WriteOnly | QIODevice::Truncate));
+  file.write((lines.join('\n') + '\n').toUtf8());
 }
 
 bool is_map_file(const QString& file) {
@@ -121,6 +152,7 @@ class TestExamples : public QObject {
     for (qsizetype i = 1; i < rows.size(); ++i)
       QVERIFY2(rows[i].contains(ran.contains(rows[i].section(',', 0, 0)) ? ",ok," : ",missing,"), qPrintable(rows[i]));
     if (!big) QVERIFY(QFileInfo(out.path() + "/plots/found_boxplot.png").size() > 0);
+    check_digests(QDir(q(source_dir() / "examples")).relativeFilePath(file), out.path(), ran);
   }
 
   void tune_file_runs_data() {

@@ -309,7 +309,7 @@ class TestLimits : public QObject {
     QVERIFY(!check_resolution({{-32767, 0}, {0, 100}}, paper, dt));
     const Problem p = check_resolution({{0, 0}, {32768, 100}}, paper, dt);
     QCOMPARE(QString::fromStdString(p.text()),
-             "bounds: (0, 0) to (32768, 100): Box2D keeps positions as 32-bit floats, 0.00391 m apart at 32768 m, more "
+             "bounds: min [0, 0], max [32768, 100]: Box2D keeps positions as 32-bit floats, 0.00391 m apart at 32768 m, more "
              "than 2 % of a drone's step (max_speed 10 m/s × dt 0.0166667 s = 0.167 m), so drones would move in jumps or "
              "not at all (allowed: coordinates within ±32768 m at this max_speed and dt)");
     QVERIFY(check_resolution({{0, 0}, {1e12, 1e12}}, paper, dt));
@@ -339,7 +339,7 @@ class TestLimits : public QObject {
     QVERIFY(refusal(R"({"behavior": "random_walk", "dt": 1, "drone": {"max_speed": 10}})", *host_)
                 .startsWith("limits.json: drone.max_speed: 10 m/s × dt 1 s = 10 m per step"));
     QVERIFY(refusal(R"({"behavior": "random_walk", "map": {"name": "empty", "params": {"size": 1000000}}})", *host_)
-                .startsWith("limits.json: map 'empty': bounds: (0, 0) to (1000000, 1000000): Box2D keeps positions as 32-bit floats"));
+                .startsWith("limits.json: map 'empty': bounds: min [0, 0], max [1000000, 1000000]: Box2D keeps positions as 32-bit floats"));
     QCOMPARE(refusal(R"({"behavior": "random_walk", "map": {"name": "empty", "params": {"size": 30000}}})", *host_), QString());
   }
 
@@ -359,13 +359,13 @@ class TestLimits : public QObject {
     QTest::newRow("map: NaN hollow point") << map.arg(9) << "libtest_bad_map.so) returned hollow[0][2]: [nan, 70] is not finite";
     const QString target = R"({"behavior": "random_walk", "map": {"name": "empty", "params": {"size": 100}},
                                "targets": {"kind": "test_bad_target", "count": 10, "params": {"kind": %1}}})";
-    QTest::newRow("target: NaN position") << target.arg(1) << "libtest_bad_target.so): positions[9]: (nan, ";
-    QTest::newRow("target: outside") << target.arg(2) << "libtest_bad_target.so): positions[9]: (110, 0) is outside the bounds";
+    QTest::newRow("target: NaN position") << target.arg(1) << "libtest_bad_target.so): positions[9]: [nan, ";
+    QTest::newRow("target: outside") << target.arg(2) << "libtest_bad_target.so): positions[9]: [110, 0] is outside the bounds (min [0, 0], max [100, 100])";
     QTest::newRow("target: radius -1") << target.arg(3) << "libtest_bad_target.so): radius: -1 m (allowed: a finite radius ≥ 0 m)";
     QTest::newRow("target: radius NaN") << target.arg(4) << "libtest_bad_target.so): radius: nan m";
     QTest::newRow("target: place throws") << target.arg(5) << "libtest_bad_target.so): lost the seed list";
     QTest::newRow("target: one too few") << target.arg(6) << "libtest_bad_target.so): positions: 9 placed for 10 targets asked for";
-    QTest::newRow("target: infinite") << target.arg(7) << "libtest_bad_target.so): positions[9]: (";
+    QTest::newRow("target: infinite") << target.arg(7) << "libtest_bad_target.so): positions[9]: [";
   }
   void bad_plugin_data_is_refused() {
     QFETCH(QString, json);
@@ -377,7 +377,7 @@ class TestLimits : public QObject {
 
   void huge_map_from_a_plugin_is_refused() {
     const QString why = refusal(R"({"behavior": "random_walk", "map": {"name": "test_bad_map", "params": {"kind": 8}}})", *bad_host_);
-    QVERIFY2(why.startsWith("limits.json: map 'test_bad_map': bounds: (0, 0) to (1000000000000, 1000000000000): Box2D keeps positions"),
+    QVERIFY2(why.startsWith("limits.json: map 'test_bad_map': bounds: min [0, 0], max [1000000000000, 1000000000000]: Box2D keeps positions"),
              qPrintable(why));
   }
 
@@ -415,7 +415,7 @@ class TestLimits : public QObject {
     nan_position.set("kind", 1);
     s.target_kind = PluginHost::create(bad_target, nan_position);
     s.targets = 5;
-    QVERIFY(refused(s).startsWith("positions[4]: (nan, "));
+    QVERIFY(refused(s).startsWith("positions[4]: [nan, "));
   }
 
   // A behavior steering NaN is a failure while running: exit status 1, one line naming it and the test.
@@ -489,7 +489,7 @@ class TestLimits : public QObject {
     const QStringList lines = non_empty_lines(r.err);
     QCOMPARE(lines.size(), 1);
     QVERIFY2(lines[0].contains("nan.json") && lines[0].contains("'test_nan'") &&
-                 lines[0].contains("decide returned a non-finite steering (nan, 0) for drone 0"),
+                 lines[0].contains("decide returned a non-finite steering [nan, 0] for drone 0"),
              describe(r));
   }
 

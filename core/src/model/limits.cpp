@@ -87,7 +87,7 @@ Problem check_targets(std::span<const Vec2> positions, std::size_t count, double
     if (!positions[i].finite() || !bounds.contains(positions[i]))
       return {"positions[" + std::to_string(i) + "]",
               format::point(positions[i]) + (positions[i].finite() ? " is outside" : " is not finite (allowed: a point inside") +
-                  " the bounds " + format::rect(bounds) + (positions[i].finite() ? "" : ")")};
+                  " the bounds (" + format::rect(bounds) + ")" + (positions[i].finite() ? "" : ")")};
   return {};
 }
 
