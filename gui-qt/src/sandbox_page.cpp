@@ -793,14 +793,15 @@ std::vector<DroneConfig> SandboxPage::drone_configs() const {
 void SandboxPage::apply_drone_config(const QString& name) {
   for (const DroneConfig& c : drone_configs()) {
     if (q(c.name) != name) continue;
-    // Each property a recorded change, as if set by hand (speed last: a larger radius may allow it),
-    // then the energy model's and the noise's.
-    std::vector<std::string> fields = {"radius", "camera_range", "obstacle_range", "detection_range", "max_force", "mass", "max_speed"};
-    for (ParamPanel* section : {battery_panel_, noise_panel_})
-      for (const Parameter& p : section->schema()) fields.push_back(p.name);
-    for (const std::string& field : fields) {
-      ParamPanel* panel = battery_panel_->slider(field) ? battery_panel_ : noise_panel_->slider(field) ? noise_panel_ : drone_panel_;
-      if (panel->value(field) != drone_value(c, field)) live_change(group_key("drone." + field), drone_value(c, field));
+    // Each property of the schema a recorded change, as if set by hand: a list of our own would miss
+    // the next property added. Speed last: a larger radius may allow it (check_drone's step limit).
+    std::vector<const DroneProperty*> order;
+    for (const DroneProperty& p : salsa::drone_schema())
+      if (p.spec.name != "max_speed") order.push_back(&p);
+    order.push_back(find_drone_property("max_speed"));
+    for (const DroneProperty* p : order) {
+      const ParamPanel* panel = drone_panels()[static_cast<std::size_t>(p->section)];
+      if (panel->value(p->spec.name) != p->get(c)) live_change(group_key("drone." + p->spec.name), p->get(c));
     }
     const bool was = updating_;
     updating_ = true;

@@ -83,6 +83,7 @@ class SandboxPage : public QWidget {
   Engine& engine() { return engine_; }
   SwarmView* view() const { return view_; }
   ParamPanel* behavior_panel() const { return behavior_panel_; }
+  QComboBox* drone_config_box() const { return drone_config_; }  ///< named drone configurations: choosing one applies it
   ParamPanel* drone_panel() const { return drone_panel_; }
   ParamPanel* battery_panel() const { return battery_panel_; }   ///< the energy model's drone properties
   QToolButton* battery_toggle() const { return battery_toggle_; }  ///< shows or hides the battery panel
@@ -168,7 +169,7 @@ class SandboxPage : public QWidget {
   ParamPanel* battery_panel_ = nullptr;
   QToolButton* noise_toggle_ = nullptr;
   ParamPanel* noise_panel_ = nullptr;
-  /// The panels of the drone properties, one per section of drone_schema().
+  /// The panels of the drone properties, one per section of drone_schema(), indexed by DroneSection.
   std::array<ParamPanel*, 3> drone_panels() const { return {drone_panel_, battery_panel_, noise_panel_}; }
   QDoubleSpinBox* drone_mtbf_ = nullptr;
   QDoubleSpinBox* camera_mtbf_ = nullptr;
