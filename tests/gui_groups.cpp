@@ -2,7 +2,8 @@
 // group in its colour with a legend naming both (one group keeps today's look); the group box chooses
 // whose controls, so group B's drone count changes B alone; a saved test keeps its groups; failure
 // rates and "fail a drone" are recorded changes, and the inspector says a drone's group, status and
-// energy; the energy properties sit in their own folded section with their units, and so does sensor noise.
+// energy; the energy properties sit in their own folded section with their units, and so does sensor noise;
+// a named drone chosen in its box flies with every property it has.
 #include "common.hpp"
 
 #include <QComboBox>
@@ -282,6 +283,39 @@ class GuiGroups : public QObject {
     QCOMPARE(sandbox().engine().current_test()->groups[0].drone.miss_probability, 0.2);
     QTest::mouseClick(sandbox().noise_toggle(), Qt::LeftButton);  // folds away again
     QVERIFY(!noise->isVisibleTo(window_.get()));
+  }
+
+  // Choosing a named drone applies every property of it to the running drones, not the panel alone:
+  // "large" has 12 obstacle rays where "small" has 8, and a saved test replays them.
+  void a_chosen_drone_flies_with_all_its_properties() {
+    QVERIFY(sandbox().open_test_spec(parse_test(one_group, "one", *host_)).empty());
+    steps(5);
+    QComboBox* config = sandbox().drone_config_box();
+    QCOMPARE(config->currentText(), QString("small"));
+    config->setFocus();
+    QTest::keyClick(config, Qt::Key_End);  // the last built-in: large (as a person picks it)
+    QCOMPARE(config->currentText(), QString("large"));
+    settle();
+    const DroneConfig& large = builtin_drone_configs().back();
+    QCOMPARE(large.obstacle_rays, 12);
+    QCOMPARE(sandbox().drone_panel()->value("obstacle_rays"), 12.0);
+    sandbox().start();
+    QTRY_VERIFY(sandbox().engine().snapshot()->step >= 20);
+    sandbox().pause();
+    settle();
+    // What flies is the whole configuration, each property as "large" has it.
+    const DroneConfig flying = sandbox().engine().snapshot()->groups.at(0).drone;
+    QCOMPARE(flying.obstacle_rays, 12);
+    for (const DroneProperty& p : drone_schema()) QVERIFY2(p.get(flying) == p.get(large), p.spec.name.c_str());
+    QVERIFY(has_change(live_changes(), "drone.obstacle_rays", 12));
+    // Saved, the test holds the rays as a timed change, and flies with them when opened again.
+    QTemporaryDir dir;
+    const QString file = dir.path() + "/large.json";
+    QCOMPARE(sandbox().save_test(file), std::string());
+    QVERIFY(read_file(file).contains("\"drone.obstacle_rays\": 12"));
+    QVERIFY(sandbox().open_test(file).empty());
+    steps(10);
+    QCOMPARE(sandbox().engine().snapshot()->groups.at(0).drone.obstacle_rays, 12);
   }
 };
 

@@ -1,16 +1,14 @@
 // The sandbox's worker: one thread owns the Simulation. Commands run between steps; after each tick
-// (1/60 s of wall time) and each command the worker publishes a new immutable Snapshot.
+// (1/60 s of wall time) and each command the worker publishes a new immutable Snapshot (engine_snapshot.cpp).
 #include "engine.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <deque>
 #include <limits>
 
+#include "engine_worker.hpp"
 #include "salsa/core/files/format.hpp"
-#include "salsa/core/run/session.hpp"
-#include "salsa/core/model/simulation.hpp"
 
 namespace salsa::gui {
 namespace {
@@ -19,482 +17,240 @@ using Clock = std::chrono::steady_clock;
 constexpr auto tick = std::chrono::microseconds(16'667);  // one frame at 60 Hz
 constexpr int heat_cells = 128;                           // along the map's long side
 
-double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
-
 }  // namespace
 
-const DroneConfig& Snapshot::drone_of(std::uint32_t id) const {
-  static const DroneConfig none;
-  const std::uint32_t g = group_of(id);
-  return g < groups.size() ? groups[g].drone : none;
+Engine::Worker::Worker(std::shared_ptr<const PluginHost> h) : host(std::move(h)) {
+  publish_empty();
+  thread = std::thread([this] { loop(); });
 }
 
-struct Engine::Worker {
-  explicit Worker(std::shared_ptr<const PluginHost> h) : host(std::move(h)) {
-    publish_empty();
-    thread = std::thread([this] { loop(); });
-  }
-  ~Worker() {
-    post([this] { quit = true; });
-    thread.join();
-  }
+Engine::Worker::~Worker() {
+  post([this] { quit = true; });
+  thread.join();
+}
 
-  std::shared_ptr<const PluginHost> host;  // swapped by use_plugins; objects made from an old one keep its libraries
-  std::thread thread;
-
-  // Commands, run on the worker between steps.
-  std::mutex command_mutex;
-  std::condition_variable wake;
-  std::deque<std::function<void()>> commands;
-  bool quit = false;
-
-  // The published snapshot.
-  mutable std::mutex snapshot_mutex;
-  std::shared_ptr<const Snapshot> published;
-
-  // ---- Worker-only state ----
-  TestSpec start;  // the start state (its behavior parameters follow a hot reload)
-  std::unique_ptr<Session> session;  // the run: simulation, metrics, timeline (the same code as salsa run)
-  Simulation* sim = nullptr;         // session's
-  std::optional<std::size_t> coverage_column;  // the area_coverage metric's column, when the test has it
-  std::shared_ptr<const Scene> scene;
-  RunState state = RunState::paused;
-  std::string error;
-  Pacing pacing;
-  bool inexact_used = false;
-  std::optional<double> reloaded_at;  // the behavior's code was swapped then: no test replays two versions
-  std::optional<std::uint32_t> selected;
-  // Real-time pacing: the wall time and simulated time it counts from.
-  Clock::time_point anchor_wall;
-  double anchor_time = 0;
-  // Speed: (wall, simulated) samples over the last second or so.
-  std::deque<std::pair<Clock::time_point, double>> speed_samples;
-  // Found targets.
-  std::vector<std::uint8_t> found;
-  std::size_t found_count = 0;
-  std::uint64_t found_version = 0;
-  // Trails: a ring of trail_length samples per drone.
-  std::size_t trail_length = 64, trail_every = 6, trail_taken = 0;
-  std::vector<Vec2> trail_ring;
-  std::shared_ptr<const std::vector<Vec2>> trails_published;  // the ring oldest first, until it changes
-  // Heat map: visits per cell, normalised when published.
-  HeatMap heat_grid;
-  std::vector<std::uint32_t> heat_counts;
-  std::shared_ptr<const HeatMap> heat;
-  Clock::time_point heat_published;
-  // Live plot rows.
-  std::shared_ptr<const std::vector<StatsRow>> stats = std::make_shared<std::vector<StatsRow>>();
-  // Recording frames.
-  double frame_interval = 0;
-  std::function<void(std::shared_ptr<const Snapshot>)> frame_callback;
-
-  void post(std::function<void()> fn) {
+void Engine::Worker::loop() {
+  auto next_tick = Clock::now();
+  while (true) {
+    std::deque<std::function<void()>> todo;
     {
-      std::lock_guard lock(command_mutex);
-      commands.push_back(std::move(fn));
+      std::unique_lock lock(command_mutex);
+      if (commands.empty() && !(state == RunState::running && sim))
+        wake.wait(lock, [&] { return !commands.empty(); });
+      todo.swap(commands);
     }
-    wake.notify_one();
-  }
-  template <class R>
-  std::future<R> ask(std::function<R()> fn) {
-    auto promise = std::make_shared<std::promise<R>>();
-    auto future = promise->get_future();
-    post([this, promise, fn = std::move(fn)] {
-      try {
-        auto value = fn();
-        publish(true);  // whoever waits on the answer sees its effect in snapshot()
-        promise->set_value(std::move(value));
-      } catch (...) {
-        promise->set_exception(std::current_exception());
-      }
-    });
-    return future;
-  }
-
-  void publish_empty() {
-    auto snap = std::make_shared<Snapshot>();
-    snap->scene = std::make_shared<Scene>();
-    snap->stats = stats;
-    std::lock_guard lock(snapshot_mutex);
-    published = std::move(snap);
-  }
-
-  // ---- The loop ----
-  void loop() {
-    auto next_tick = Clock::now();
-    while (true) {
-      std::deque<std::function<void()>> todo;
-      {
-        std::unique_lock lock(command_mutex);
-        if (commands.empty() && !(state == RunState::running && sim))
-          wake.wait(lock, [&] { return !commands.empty(); });
-        todo.swap(commands);
-      }
-      for (auto& fn : todo) fn();
-      if (quit) return;
-      if (!todo.empty()) publish(true);
-      if (state != RunState::running || !sim) {
-        next_tick = Clock::now();
-        continue;
-      }
-      run_tick();
-      publish();
-      // Paced modes wait for the next frame (woken early by a command); fastest goes straight on.
-      if (pacing.mode != Pacing::fastest) {
-        next_tick += tick;
-        const auto now = Clock::now();
-        if (next_tick < now) next_tick = now;
-        std::unique_lock lock(command_mutex);
-        wake.wait_until(lock, next_tick, [&] { return !commands.empty(); });
-      }
+    for (auto& fn : todo) fn();
+    if (quit) return;
+    if (!todo.empty()) publish(true);
+    if (state != RunState::running || !sim) {
+      next_tick = Clock::now();
+      continue;
+    }
+    run_tick();
+    publish();
+    // Paced modes wait for the next frame (woken early by a command); fastest goes straight on.
+    if (pacing.mode != Pacing::fastest) {
+      next_tick += tick;
+      const auto now = Clock::now();
+      if (next_tick < now) next_tick = now;
+      std::unique_lock lock(command_mutex);
+      wake.wait_until(lock, next_tick, [&] { return !commands.empty(); });
     }
   }
+}
 
-  void run_tick() {
-    const auto began = Clock::now();
-    auto more = [&](std::size_t done) {
-      switch (pacing.mode) {
-        case Pacing::steps_per_frame: return done < static_cast<std::size_t>(std::max(1, pacing.steps));
-        case Pacing::fastest: return Clock::now() - began < tick;
-        case Pacing::real_time: {
-          // Simulated time follows the wall clock, at most a quarter second behind (no catching up).
-          const double wall = seconds(Clock::now() - anchor_wall);
-          if (wall - (sim->time() - anchor_time) > 0.25) {
-            anchor_time = sim->time();
-            anchor_wall = Clock::now() - std::chrono::milliseconds(250);
-          }
-          return sim->time() - anchor_time + sim->dt() / 2 < seconds(Clock::now() - anchor_wall) &&
-                 Clock::now() - began < tick;
+void Engine::Worker::run_tick() {
+  const auto began = Clock::now();
+  auto more = [&](std::size_t done) {
+    switch (pacing.mode) {
+      case Pacing::steps_per_frame: return done < static_cast<std::size_t>(std::max(1, pacing.steps));
+      case Pacing::fastest: return Clock::now() - began < tick;
+      case Pacing::real_time: {
+        // Simulated time follows the wall clock, at most a quarter second behind (no catching up).
+        const double wall = seconds(Clock::now() - anchor_wall);
+        if (wall - (sim->time() - anchor_time) > 0.25) {
+          anchor_time = sim->time();
+          anchor_wall = Clock::now() - std::chrono::milliseconds(250);
         }
-      }
-      return false;
-    };
-    for (std::size_t done = 0; more(done) && state == RunState::running; ++done) step();
-  }
-
-  void step() {
-    try {
-      session->step();
-    } catch (const std::exception& e) {  // one line naming the test and the plugin, as salsa run says it
-      error = e.what();
-      state = RunState::failed;
-      return;
-    }
-    after_step();
-  }
-
-  void after_step() {
-    const auto positions = sim->drone_positions();
-    if (trail_ring.size() != positions.size() * trail_length) drone_count_changed();  // a timed change
-    // Heat: one visit per flying drone per step (a stopped drone is no visit).
-    const auto status = sim->drone_status();
-    for (std::size_t i = 0; i < positions.size(); ++i) {
-      if (status[i] != DroneStatus::flying) continue;
-      const Vec2 p = positions[i];
-      const int c = std::clamp(static_cast<int>((p.x - heat_grid.origin.x) / heat_grid.cell), 0, heat_grid.cols - 1);
-      const int r = std::clamp(static_cast<int>((p.y - heat_grid.origin.y) / heat_grid.cell), 0, heat_grid.rows - 1);
-      ++heat_counts[static_cast<std::size_t>(r) * heat_grid.cols + c];
-    }
-    if (trail_length > 0 && sim->step_count() % trail_every == 0) {
-      const std::size_t slot = trail_taken % trail_length;
-      for (std::size_t d = 0; d < positions.size(); ++d) trail_ring[d * trail_length + slot] = positions[d];
-      ++trail_taken;
-      trails_published.reset();
-    }
-    if (sim->targets_found() != found_count) {
-      const auto& targets = sim->targets();
-      for (std::size_t i = 0; i < targets.size(); ++i) found[i] = targets[i].found() ? 1 : 0;
-      found_count = sim->targets_found();
-      ++found_version;
-    }
-    if (sim->step_count() % start.log_every() == 0 && !add_stats_row()) return;
-    if (frame_callback) {
-      const auto every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(frame_interval / sim->dt())));
-      if (sim->step_count() % every == 0) frame_callback(make_snapshot());
-    }
-  }
-
-  /// The summary row salsa run writes, for the live plots; false (the run failed) when a metric threw.
-  bool add_stats_row() {
-    const SummaryRow summary = summary_row(*sim);
-    StatsRow row;
-    row.time = summary.time;
-    row.found_percent = 100 * summary.fraction_found;
-    row.mean_speed = summary.mean_speed;
-    row.mean_nn_distance = summary.mean_nn_distance;
-    row.coverage_percent = std::numeric_limits<double>::quiet_NaN();
-    if (coverage_column) {
-      try {
-        row.coverage_percent = 100 * session->metrics().observe(*sim)[*coverage_column];
-      } catch (const std::exception& e) {
-        error = session->where() + ": " + e.what();
-        state = RunState::failed;
-        return false;
+        return sim->time() - anchor_time + sim->dt() / 2 < seconds(Clock::now() - anchor_wall) &&
+               Clock::now() - began < tick;
       }
     }
-    auto rows = std::make_shared<std::vector<StatsRow>>(*stats);  // published rows are never touched again
-    rows->push_back(row);
-    stats = std::move(rows);
-    return true;
-  }
+    return false;
+  };
+  for (std::size_t done = 0; more(done) && state == RunState::running; ++done) step();
+}
 
-  // ---- Snapshots ----
-  std::shared_ptr<const Snapshot> make_snapshot() {
-    const auto began = Clock::now();
-    auto snap = std::make_shared<Snapshot>();
-    snap->scene = scene;
-    snap->stats = stats;
-    snap->state = state;
-    snap->error = error;
-    snap->test_name = start.name;
-    if (!sim) return snap;
-    snap->step = sim->step_count();
-    snap->changes_applied = session->changes_applied();
-    snap->time = sim->time();
-    snap->dt = sim->dt();
-    snap->inexact = sim->dt() != start.dt;
-    for (std::uint32_t g = 0; g < sim->group_count(); ++g) snap->groups.push_back({sim->setup().groups[g].name, sim->drone_config(g)});
-    const auto p = sim->drone_positions(), v = sim->drone_velocities();
-    snap->positions.assign(p.begin(), p.end());
-    snap->velocities.assign(v.begin(), v.end());
-    const auto groups = sim->drone_groups();
-    const auto status = sim->drone_status();
-    snap->drone_groups.assign(groups.begin(), groups.end());
-    snap->status.assign(status.begin(), status.end());
-    snap->camera.resize(p.size());
-    for (std::uint32_t id = 0; id < p.size(); ++id) snap->camera[id] = sim->camera_works(id) ? 1 : 0;
-    snap->found = found;
-    snap->targets_found = found_count;
-    snap->found_version = found_version;
-    if (trail_length > 0) {
-      if (!trails_published) {  // oldest first: each drone's ring from its next slot on, then the rest
-        auto trails = std::make_shared<std::vector<Vec2>>(trail_ring.size());
-        const std::size_t first = trail_taken % trail_length;
-        for (std::size_t d = 0; d < trail_ring.size() / trail_length; ++d) {
-          const Vec2* ring = trail_ring.data() + d * trail_length;
-          std::rotate_copy(ring, ring + first, ring + trail_length, trails->data() + d * trail_length);
-        }
-        trails_published = std::move(trails);
-      }
-      snap->trail_length = trail_length;
-      snap->trails = trails_published;
-    }
-    snap->heat = heat;
-    if (session->current().has_wind()) {
-      const Rect b = sim->bounds();
-      const double t = sim->time();
-      try {  // a field plugin: its failure stops the run at the next step, which says why
-        for (int y = 0; y < Snapshot::wind_grid; ++y)
-          for (int x = 0; x < Snapshot::wind_grid; ++x) {
-            const Vec2 at{b.min.x + (x + 0.5) * b.width() / Snapshot::wind_grid, b.min.y + (y + 0.5) * b.height() / Snapshot::wind_grid};
-            snap->wind.emplace_back(at, sim->wind_at(at, t));
-          }
-      } catch (const std::exception&) {
-        snap->wind.clear();
-      }
-    }
-    if (sim->setup().comm.on)
-      for (std::uint32_t id = 0; id < p.size() && snap->links.size() < Snapshot::max_links; ++id)
-        for (const Message& m : sim->inbox(id)) snap->links.emplace_back(id, m.sender);
-    std::sort(snap->links.begin(), snap->links.end());  // inboxes come in grid order; the view looks pairs up
-    if (selected && *selected < p.size() && status[*selected] != DroneStatus::removed) snap->selected = inspect(*selected);
-    if (speed_samples.size() >= 2) {
-      const auto& [w0, t0] = speed_samples.front();
-      const auto& [w1, t1] = speed_samples.back();
-      const double wall = seconds(w1 - w0);
-      snap->speed = wall > 0 ? (t1 - t0) / wall : 0;
-    }
-    snap->build_ms = seconds(Clock::now() - began) * 1000;
-    return snap;
+void Engine::Worker::step() {
+  try {
+    session->step();
+  } catch (const std::exception& e) {  // one line naming the test and the plugin, as salsa run says it
+    error = e.what();
+    state = RunState::failed;
+    return;
   }
+  after_step();
+}
 
-  /// Whether the outputs would carry the fleet's columns now: the test's fleet model, or a fail.* change made.
-  bool fleet_on() const {
-    if (session->current().fleet()) return true;
-    const auto& timeline = session->timeline();
-    return std::any_of(timeline.begin(), timeline.begin() + static_cast<std::ptrdiff_t>(session->changes_applied()),
-                       [](const Change& c) { return c.key.starts_with("fail."); });
+void Engine::Worker::after_step() {
+  const auto positions = sim->drone_positions();
+  if (trail_ring.size() != positions.size() * trail_length) drone_count_changed();  // a timed change
+  // Heat: one visit per flying drone per step (a stopped drone is no visit).
+  const auto status = sim->drone_status();
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    if (status[i] != DroneStatus::flying) continue;
+    const Vec2 p = positions[i];
+    const int c = std::clamp(static_cast<int>((p.x - heat_grid.origin.x) / heat_grid.cell), 0, heat_grid.cols - 1);
+    const int r = std::clamp(static_cast<int>((p.y - heat_grid.origin.y) / heat_grid.cell), 0, heat_grid.rows - 1);
+    ++heat_counts[static_cast<std::size_t>(r) * heat_grid.cols + c];
   }
-
-  Inspection inspect(std::uint32_t id) const {
-    Inspection in;
-    in.id = id;
-    const std::uint32_t group = sim->drone_groups()[id];
-    in.group = sim->setup().groups[group].name;
-    const auto p = sim->drone_positions();
-    const auto status = sim->drone_status();
-    in.position = p[id];
-    in.velocity = sim->drone_velocities()[id];
-    in.commanded = sim->commanded_velocities().size() > id ? sim->commanded_velocities()[id] : Vec2{};
-    const DroneConfig& drone = sim->drone_config(group);
-    const double range = drone.detection_range;
-    if (status[id] == DroneStatus::flying)  // a stopped drone sees no one, and no one sees it
-      for (std::uint32_t j = 0; j < p.size(); ++j)  // one drone against all: cheap, and only for the selection
-        if (j != id && status[j] == DroneStatus::flying && distance_squared(p[j], p[id]) <= range * range) in.neighbours.push_back(j);
-    if (status[id] == DroneStatus::flying) {  // a stopped drone senses nothing: its last hits are stale
-      const auto hits = sim->obstacle_hits(id);
-      in.hits.assign(hits.begin(), hits.end());
-    }
-    if ((in.fleet = fleet_on())) {
-      in.status = status_name(*sim, id);
-      in.energy_used = sim->energy_used(id) / 3600;  // J to Wh
-      if (drone.battery_capacity > 0) in.battery_left = std::clamp(sim->battery_left(id) / (drone.battery_capacity * 3600), 0.0, 1.0);
-    }
-    if (drone.position_noise > 0) in.perceived = sim->perceived_position(id);
-    if (session->current().has_wind()) in.air_velocity = sim->air_velocities()[id];
-    if (sim->setup().comm.on) {
-      in.heard.emplace();
-      for (const Message& m : sim->inbox(id)) in.heard->push_back(m.sender);
-      std::sort(in.heard->begin(), in.heard->end());
-    }
-    try {  // plugin code on the worker thread: a throw must not end the desktop
-      in.memory = sim->behavior(group).inspect(id);
-    } catch (const std::exception& e) {
-      const PluginFailure failure("behavior", group, e.what());  // its message on one line
-      in.memory = failed_plugin(failure, session->current(), *host) + " failed in inspect: " + failure.what();
-    } catch (...) {
-      in.memory = failed_plugin(PluginFailure("behavior", group, ""), session->current(), *host) +
-                  " failed in inspect: an exception that is not a std::exception";
-    }
-    return in;
-  }
-
-  /// `now_all`: the heat map too, whenever it was last drawn (after commands; while running, 4 times a second).
-  void publish(bool now_all = false) {
-    const auto now = Clock::now();
-    if (sim) {
-      speed_samples.emplace_back(now, sim->time());
-      while (speed_samples.size() > 2 && now - speed_samples.front().first > std::chrono::seconds(1)) speed_samples.pop_front();
-      if (now_all || !heat || now - heat_published > std::chrono::milliseconds(250)) publish_heat(now);
-    }
-    auto snap = make_snapshot();
-    std::lock_guard lock(snapshot_mutex);
-    published = std::move(snap);
-  }
-
-  void publish_heat(Clock::time_point now) {
-    auto h = std::make_shared<HeatMap>(heat_grid);
-    const std::uint32_t most = heat_counts.empty() ? 0 : *std::max_element(heat_counts.begin(), heat_counts.end());
-    h->values.resize(heat_counts.size());
-    for (std::size_t i = 0; i < heat_counts.size(); ++i)
-      h->values[i] = most ? static_cast<float>(100.0 * heat_counts[i] / most) : 0.f;
-    heat = std::move(h);
-    heat_published = now;
-  }
-
-  // ---- Commands ----
-  std::string load(TestSpec test) {
-    std::unique_ptr<Session> next;
-    try {
-      const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-      next = std::make_unique<Session>(test, *host, SessionOptions{static_cast<int>(std::max(1u, cores - 1)), nullptr});
-    } catch (const std::exception& e) {
-      return e.what();
-    }
-    // Nothing below throws (but for memory): the new start state replaces the old one whole.
-    session = std::move(next);
-    sim = &session->simulation();
-    coverage_column.reset();
-    const auto columns = session->metrics().step_columns();
-    for (std::size_t i = 0; i < columns.size(); ++i)
-      if (columns[i] == "coverage") coverage_column = i;  // area_coverage's
-    start = std::move(test);
-    state = RunState::paused;
-    error.clear();
-    inexact_used = false;
-    reloaded_at.reset();
-    pacing.dt_factor = 1;
-    selected.reset();
-    auto s = std::make_shared<Scene>();
-    s->map = sim->map();
-    for (std::uint32_t g = 0; g < sim->group_count(); ++g) s->bases.push_back(sim->base(g));
-    for (const auto& t : sim->targets()) s->targets.push_back(t.position);
-    s->target_radius = sim->setup().target_kind ? sim->setup().target_kind->radius() : 0;
-    scene = std::move(s);
-    found.assign(sim->targets().size(), 0);
-    found_count = 0;
-    ++found_version;
-    reset_trails();
-    const Rect b = sim->bounds();
-    heat_grid = {};
-    heat_grid.origin = b.min;
-    heat_grid.cell = std::max(b.width(), b.height()) / heat_cells;
-    heat_grid.cols = std::max(1, static_cast<int>(std::ceil(b.width() / heat_grid.cell)));
-    heat_grid.rows = std::max(1, static_cast<int>(std::ceil(b.height() / heat_grid.cell)));
-    heat_counts.assign(static_cast<std::size_t>(heat_grid.cols) * heat_grid.rows, 0);
-    heat.reset();
-    stats = std::make_shared<std::vector<StatsRow>>();
-    add_stats_row();  // time 0
-    speed_samples.clear();
-    return {};
-  }
-
-  /// Drones were added or removed: trails start over; a removed drone is no longer selected.
-  void drone_count_changed() {
-    reset_trails();
-    if (selected && (*selected >= sim->drone_count() || sim->drone_status()[*selected] == DroneStatus::removed)) selected.reset();
-  }
-
-  void reset_trails() {
-    trail_taken = 0;
+  if (trail_length > 0 && sim->step_count() % trail_every == 0) {
+    const std::size_t slot = trail_taken % trail_length;
+    for (std::size_t d = 0; d < positions.size(); ++d) trail_ring[d * trail_length + slot] = positions[d];
+    ++trail_taken;
     trails_published.reset();
-    trail_ring.assign(sim ? sim->drone_count() * trail_length : 0, Vec2{std::numeric_limits<double>::quiet_NaN(), 0});
   }
+  if (sim->targets_found() != found_count) {
+    const auto& targets = sim->targets();
+    for (std::size_t i = 0; i < targets.size(); ++i) found[i] = targets[i].found() ? 1 : 0;
+    found_count = sim->targets_found();
+    ++found_version;
+  }
+  if (sim->step_count() % start.log_every() == 0 && !add_stats_row()) return;
+  if (frame_callback) {
+    const auto every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(frame_interval / sim->dt())));
+    if (sim->step_count() % every == 0) frame_callback(make_snapshot());
+  }
+}
 
-  std::string set(const std::string& key, double value) {
-    if (!sim) return "no test loaded";
-    if (state == RunState::failed) return "the run stopped: " + error + " (reset to go on)";
+bool Engine::Worker::add_stats_row() {
+  const SummaryRow summary = summary_row(*sim);
+  StatsRow row;
+  row.time = summary.time;
+  row.found_percent = 100 * summary.fraction_found;
+  row.mean_speed = summary.mean_speed;
+  row.mean_nn_distance = summary.mean_nn_distance;
+  row.coverage_percent = std::numeric_limits<double>::quiet_NaN();
+  if (coverage_column) {
     try {
-      session->change(key, value);
+      row.coverage_percent = 100 * session->metrics().observe(*sim)[*coverage_column];
     } catch (const std::exception& e) {
-      return e.what();
+      error = session->where() + ": " + e.what();
+      state = RunState::failed;
+      return false;
     }
-    if (key.ends_with("drones")) drone_count_changed();
-    return {};
   }
+  auto rows = std::make_shared<std::vector<StatsRow>>(*stats);  // published rows are never touched again
+  rows->push_back(row);
+  stats = std::move(rows);
+  return true;
+}
 
-  /// Plugins from a rescan. `reload`: the running behavior's file was rebuilt, so the simulation goes on
-  /// with the new code: same parameter values (those the new version still declares, in its ranges),
-  /// positions and velocities kept, per-drone memory fresh. If the new code refuses, the old keeps running.
-  /// Plugins from a rescan. Each group whose behavior is in `rebuilt` goes on with the new code: same
-  /// parameter values (those the new version still declares, in its ranges), positions and velocities
-  /// kept, per-drone memory fresh. If the new code refuses, that group's old code keeps running.
-  std::string use_plugins(std::shared_ptr<const PluginHost> next, const std::vector<std::string>& rebuilt) {
-    for (std::uint32_t g = 0; sim && g < start.groups.size(); ++g) {
-      const std::string name = session->current().groups[g].behavior.name;
-      if (std::find(rebuilt.begin(), rebuilt.end(), name) == rebuilt.end()) continue;
-      const std::string whose = start.groups.size() > 1 ? "group '" + start.groups[g].name + "': " : "";
-      try {
-        const auto& entry = next->behavior(name);
-        auto kept = [&](const ParameterValues& old) {  // the new declaration, with the old values it allows
-          ParameterValues values(entry.factory.parameters);
-          for (const auto& p : entry.factory.parameters)
-            if (old.has(p.name) && old.get(p.name) >= p.min && old.get(p.name) <= p.max) values.set(p.name, old.get(p.name));
-          return values;
-        };
-        const ParameterValues values = kept(session->current().groups[g].behavior.params);
-        session->use_plugins(*next, PluginHost::create(entry, values), values, g);
-        start.groups[g].behavior.params = kept(start.groups[g].behavior.params);
-        reloaded_at = sim->time();
-        if (state == RunState::failed) state = RunState::paused, error.clear();
-      } catch (const PluginFailure& e) {  // the new code's reset threw
-        return whose + "the old code keeps running: " + failed_plugin(e, session->current(), *next) + " failed: " + e.what();
-      } catch (const std::exception& e) {
-        return whose + "the old code keeps running: " + e.what();
-      }
+std::string Engine::Worker::load(TestSpec test) {
+  std::unique_ptr<Session> next;
+  try {
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    next = std::make_unique<Session>(test, *host, SessionOptions{static_cast<int>(std::max(1u, cores - 1)), nullptr});
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  // Nothing below throws (but for memory): the new start state replaces the old one whole.
+  session = std::move(next);
+  sim = &session->simulation();
+  coverage_column.reset();
+  const auto columns = session->metrics().step_columns();
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    if (columns[i] == "coverage") coverage_column = i;  // area_coverage's
+  start = std::move(test);
+  state = RunState::paused;
+  error.clear();
+  inexact_used = false;
+  reloaded_at.reset();
+  pacing.dt_factor = 1;
+  selected.reset();
+  auto s = std::make_shared<Scene>();
+  s->map = sim->map();
+  for (std::uint32_t g = 0; g < sim->group_count(); ++g) s->bases.push_back(sim->base(g));
+  for (const auto& t : sim->targets()) s->targets.push_back(t.position);
+  s->target_radius = sim->setup().target_kind ? sim->setup().target_kind->radius() : 0;
+  scene = std::move(s);
+  found.assign(sim->targets().size(), 0);
+  found_count = 0;
+  ++found_version;
+  reset_trails();
+  const Rect b = sim->bounds();
+  heat_grid = {};
+  heat_grid.origin = b.min;
+  heat_grid.cell = std::max(b.width(), b.height()) / heat_cells;
+  heat_grid.cols = std::max(1, static_cast<int>(std::ceil(b.width() / heat_grid.cell)));
+  heat_grid.rows = std::max(1, static_cast<int>(std::ceil(b.height() / heat_grid.cell)));
+  heat_counts.assign(static_cast<std::size_t>(heat_grid.cols) * heat_grid.rows, 0);
+  heat.reset();
+  stats = std::make_shared<std::vector<StatsRow>>();
+  add_stats_row();  // time 0
+  speed_samples.clear();
+  return {};
+}
+
+void Engine::Worker::drone_count_changed() {
+  reset_trails();
+  if (selected && (*selected >= sim->drone_count() || sim->drone_status()[*selected] == DroneStatus::removed)) selected.reset();
+}
+
+void Engine::Worker::reset_trails() {
+  trail_taken = 0;
+  trails_published.reset();
+  trail_ring.assign(sim ? sim->drone_count() * trail_length : 0, Vec2{std::numeric_limits<double>::quiet_NaN(), 0});
+}
+
+std::string Engine::Worker::set(const std::string& key, double value) {
+  if (!sim) return "no test loaded";
+  if (state == RunState::failed) return "the run stopped: " + error + " (reset to go on)";
+  try {
+    session->change(key, value);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  if (key.ends_with("drones")) drone_count_changed();
+  return {};
+}
+
+std::string Engine::Worker::use_plugins(std::shared_ptr<const PluginHost> next, const std::vector<std::string>& rebuilt) {
+  for (std::uint32_t g = 0; sim && g < start.groups.size(); ++g) {
+    const std::string name = session->current().groups[g].behavior.name;
+    if (std::find(rebuilt.begin(), rebuilt.end(), name) == rebuilt.end()) continue;
+    const std::string whose = start.groups.size() > 1 ? "group '" + start.groups[g].name + "': " : "";
+    try {
+      const auto& entry = next->behavior(name);
+      auto kept = [&](const ParameterValues& old) {  // the new declaration, with the old values it allows
+        ParameterValues values(entry.factory.parameters);
+        for (const auto& p : entry.factory.parameters)
+          if (old.has(p.name) && old.get(p.name) >= p.min && old.get(p.name) <= p.max) values.set(p.name, old.get(p.name));
+        return values;
+      };
+      const ParameterValues values = kept(session->current().groups[g].behavior.params);
+      session->use_plugins(*next, PluginHost::create(entry, values), values, g);
+      start.groups[g].behavior.params = kept(start.groups[g].behavior.params);
+      reloaded_at = sim->time();
+      if (state == RunState::failed) state = RunState::paused, error.clear();
+    } catch (const PluginFailure& e) {  // the new code's reset threw
+      return whose + "the old code keeps running: " + failed_plugin(e, session->current(), *next) + " failed: " + e.what();
+    } catch (const std::exception& e) {
+      return whose + "the old code keeps running: " + e.what();
     }
-    if (session) session->use_plugins(*next);
-    host = std::move(next);
-    return {};
   }
+  if (session) session->use_plugins(*next);
+  host = std::move(next);
+  return {};
+}
 
-  void start_running() {
-    if (!sim || state == RunState::failed) return;
-    state = RunState::running;
-    anchor_wall = Clock::now();
-    anchor_time = sim->time();
-  }
-};
+void Engine::Worker::start_running() {
+  if (!sim || state == RunState::failed) return;
+  state = RunState::running;
+  anchor_wall = Clock::now();
+  anchor_time = sim->time();
+}
+
 
 Engine::Engine(std::shared_ptr<const PluginHost> host) : worker_(std::make_unique<Worker>(std::move(host))) {}
 Engine::Engine(const PluginHost& host) : Engine(std::shared_ptr<const PluginHost>(&host, [](const PluginHost*) {})) {}

@@ -9,7 +9,7 @@
 #include <atomic>
 #include <optional>
 
-#include "view.hpp"
+#include "frame_renderer.hpp"
 
 namespace salsa::gui {
 

@@ -30,6 +30,7 @@ class QLabel;
 class QLineEdit;
 class QPlainTextEdit;
 class QPushButton;
+class QVBoxLayout;
 
 namespace salsa::gui {
 
@@ -83,6 +84,7 @@ class SandboxPage : public QWidget {
   Engine& engine() { return engine_; }
   SwarmView* view() const { return view_; }
   ParamPanel* behavior_panel() const { return behavior_panel_; }
+  QComboBox* drone_config_box() const { return drone_config_; }  ///< named drone configurations: choosing one applies it
   ParamPanel* drone_panel() const { return drone_panel_; }
   ParamPanel* battery_panel() const { return battery_panel_; }   ///< the energy model's drone properties
   QToolButton* battery_toggle() const { return battery_toggle_; }  ///< shows or hides the battery panel
@@ -117,19 +119,21 @@ class SandboxPage : public QWidget {
   void recording_changed(bool on);
 
  private:
-  void build_controls();
+  void build_controls();  ///< the left dock (run controls, then the forms), the right docks' parts, the status figures
+
+  // ---- The forms (sandbox_forms.cpp): the controls that show, build and read the test's settings.
+  void build_forms(QVBoxLayout* column);
   /// The start state the controls describe (parsed like a test file, so the CLI's checks apply).
   std::optional<TestSpec> spec_from_controls(std::string* why);
-  /// Loads `test` as the new start state; on refusal shows why and puts the controls back.
-  std::string load(const TestSpec& test);
   /// Shows `test` in the controls, emitting nothing. Panels of the same schema are updated in place.
   void show_test(const TestSpec& test);
+  /// Shows `d` in the drone panels (the caller holds updating_).
+  void show_drone(const DroneConfig& d);
   /// A start-state control changed: reloads once control returns to the event loop. Never at once: the
   /// reload rebuilds controls, and the one that asked may still be handling its key or focus event.
   void schedule_reload();
   void reload_from_controls();
   void seed_edited();
-  void live_change(const std::string& key, double value);
   /// `rest` ("drones", "drone.radius", "behavior.params.k") as the chosen group's key: plain with one
   /// group (saved tests stay in the single form), "groups.<name>.<rest>" with more.
   std::string group_key(const std::string& rest) const;
@@ -137,11 +141,17 @@ class SandboxPage : public QWidget {
   std::size_t chosen_group(const TestSpec& t) const;
   void apply_drone_config(const QString& name);
   void save_drone_config();
+  std::vector<DroneConfig> drone_configs() const;  ///< built-in, then the user's saved ones
+
+  // ---- The page (sandbox_page.cpp)
+  /// Loads `test` as the new start state; on refusal shows why and puts the controls back.
+  std::string load(const TestSpec& test);
+  /// A recorded change of the running test (keys as in changes.hpp); refused, the controls show what runs.
+  void live_change(const std::string& key, double value);
   void set_pacing();
   void show_message(const QString& text, bool error = true);
   void fill_plugin_lists();
   void refresh();  ///< 60 Hz: the latest snapshot to the view; status, charts and inspector a few times a second
-  std::vector<DroneConfig> drone_configs() const;  ///< built-in, then the user's saved ones
 
   std::shared_ptr<const PluginHost> host_;
   Engine engine_;
@@ -168,7 +178,7 @@ class SandboxPage : public QWidget {
   ParamPanel* battery_panel_ = nullptr;
   QToolButton* noise_toggle_ = nullptr;
   ParamPanel* noise_panel_ = nullptr;
-  /// The panels of the drone properties, one per section of drone_schema().
+  /// The panels of the drone properties, one per section of drone_schema(), indexed by DroneSection.
   std::array<ParamPanel*, 3> drone_panels() const { return {drone_panel_, battery_panel_, noise_panel_}; }
   QDoubleSpinBox* drone_mtbf_ = nullptr;
   QDoubleSpinBox* camera_mtbf_ = nullptr;

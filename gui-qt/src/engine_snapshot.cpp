@@ -1,0 +1,164 @@
+// The engine's snapshots: what the worker publishes for the view, the plots and the inspector.
+#include <algorithm>
+#include <limits>
+
+#include "engine_worker.hpp"
+
+namespace salsa::gui {
+
+const DroneConfig& Snapshot::drone_of(std::uint32_t id) const {
+  static const DroneConfig none;
+  const std::uint32_t g = group_of(id);
+  return g < groups.size() ? groups[g].drone : none;
+}
+
+void Engine::Worker::publish_empty() {
+  auto snap = std::make_shared<Snapshot>();
+  snap->scene = std::make_shared<Scene>();
+  snap->stats = stats;
+  std::lock_guard lock(snapshot_mutex);
+  published = std::move(snap);
+}
+
+std::shared_ptr<const Snapshot> Engine::Worker::make_snapshot() {
+  const auto began = Clock::now();
+  auto snap = std::make_shared<Snapshot>();
+  snap->scene = scene;
+  snap->stats = stats;
+  snap->state = state;
+  snap->error = error;
+  snap->test_name = start.name;
+  if (!sim) return snap;
+  snap->step = sim->step_count();
+  snap->changes_applied = session->changes_applied();
+  snap->time = sim->time();
+  snap->dt = sim->dt();
+  snap->inexact = sim->dt() != start.dt;
+  for (std::uint32_t g = 0; g < sim->group_count(); ++g) snap->groups.push_back({sim->setup().groups[g].name, sim->drone_config(g)});
+  const auto p = sim->drone_positions(), v = sim->drone_velocities();
+  snap->positions.assign(p.begin(), p.end());
+  snap->velocities.assign(v.begin(), v.end());
+  const auto groups = sim->drone_groups();
+  const auto status = sim->drone_status();
+  snap->drone_groups.assign(groups.begin(), groups.end());
+  snap->status.assign(status.begin(), status.end());
+  snap->camera.resize(p.size());
+  for (std::uint32_t id = 0; id < p.size(); ++id) snap->camera[id] = sim->camera_works(id) ? 1 : 0;
+  snap->found = found;
+  snap->targets_found = found_count;
+  snap->found_version = found_version;
+  if (trail_length > 0) {
+    if (!trails_published) {  // oldest first: each drone's ring from its next slot on, then the rest
+      auto trails = std::make_shared<std::vector<Vec2>>(trail_ring.size());
+      const std::size_t first = trail_taken % trail_length;
+      for (std::size_t d = 0; d < trail_ring.size() / trail_length; ++d) {
+        const Vec2* ring = trail_ring.data() + d * trail_length;
+        std::rotate_copy(ring, ring + first, ring + trail_length, trails->data() + d * trail_length);
+      }
+      trails_published = std::move(trails);
+    }
+    snap->trail_length = trail_length;
+    snap->trails = trails_published;
+  }
+  snap->heat = heat;
+  if (session->current().has_wind()) {
+    const Rect b = sim->bounds();
+    const double t = sim->time();
+    try {  // a field plugin: its failure stops the run at the next step, which says why
+      for (int y = 0; y < Snapshot::wind_grid; ++y)
+        for (int x = 0; x < Snapshot::wind_grid; ++x) {
+          const Vec2 at{b.min.x + (x + 0.5) * b.width() / Snapshot::wind_grid, b.min.y + (y + 0.5) * b.height() / Snapshot::wind_grid};
+          snap->wind.emplace_back(at, sim->wind_at(at, t));
+        }
+    } catch (const std::exception&) {
+      snap->wind.clear();
+    }
+  }
+  if (sim->setup().comm.on)
+    for (std::uint32_t id = 0; id < p.size() && snap->links.size() < Snapshot::max_links; ++id)
+      for (const Message& m : sim->inbox(id)) snap->links.emplace_back(id, m.sender);
+  std::sort(snap->links.begin(), snap->links.end());  // inboxes come in grid order; the view looks pairs up
+  if (selected && *selected < p.size() && status[*selected] != DroneStatus::removed) snap->selected = inspect(*selected);
+  if (speed_samples.size() >= 2) {
+    const auto& [w0, t0] = speed_samples.front();
+    const auto& [w1, t1] = speed_samples.back();
+    const double wall = seconds(w1 - w0);
+    snap->speed = wall > 0 ? (t1 - t0) / wall : 0;
+  }
+  snap->build_ms = seconds(Clock::now() - began) * 1000;
+  return snap;
+}
+
+bool Engine::Worker::fleet_on() const {
+  if (session->current().fleet()) return true;
+  const auto& timeline = session->timeline();
+  return std::any_of(timeline.begin(), timeline.begin() + static_cast<std::ptrdiff_t>(session->changes_applied()),
+                     [](const Change& c) { return c.key.starts_with("fail."); });
+}
+
+Inspection Engine::Worker::inspect(std::uint32_t id) const {
+  Inspection in;
+  in.id = id;
+  const std::uint32_t group = sim->drone_groups()[id];
+  in.group = sim->setup().groups[group].name;
+  const auto p = sim->drone_positions();
+  const auto status = sim->drone_status();
+  in.position = p[id];
+  in.velocity = sim->drone_velocities()[id];
+  in.commanded = sim->commanded_velocities().size() > id ? sim->commanded_velocities()[id] : Vec2{};
+  const DroneConfig& drone = sim->drone_config(group);
+  const double range = drone.detection_range;
+  if (status[id] == DroneStatus::flying)  // a stopped drone sees no one, and no one sees it
+    for (std::uint32_t j = 0; j < p.size(); ++j)  // one drone against all: cheap, and only for the selection
+      if (j != id && status[j] == DroneStatus::flying && distance_squared(p[j], p[id]) <= range * range) in.neighbours.push_back(j);
+  if (status[id] == DroneStatus::flying) {  // a stopped drone senses nothing: its last hits are stale
+    const auto hits = sim->obstacle_hits(id);
+    in.hits.assign(hits.begin(), hits.end());
+  }
+  if ((in.fleet = fleet_on())) {
+    in.status = status_name(*sim, id);
+    in.energy_used = sim->energy_used(id) / 3600;  // J to Wh
+    if (drone.battery_capacity > 0) in.battery_left = std::clamp(sim->battery_left(id) / (drone.battery_capacity * 3600), 0.0, 1.0);
+  }
+  if (drone.position_noise > 0) in.perceived = sim->perceived_position(id);
+  if (session->current().has_wind()) in.air_velocity = sim->air_velocities()[id];
+  if (sim->setup().comm.on) {
+    in.heard.emplace();
+    for (const Message& m : sim->inbox(id)) in.heard->push_back(m.sender);
+    std::sort(in.heard->begin(), in.heard->end());
+  }
+  try {  // plugin code on the worker thread: a throw must not end the desktop
+    in.memory = sim->behavior(group).inspect(id);
+  } catch (const std::exception& e) {
+    const PluginFailure failure("behavior", group, e.what());  // its message on one line
+    in.memory = failed_plugin(failure, session->current(), *host) + " failed in inspect: " + failure.what();
+  } catch (...) {
+    in.memory = failed_plugin(PluginFailure("behavior", group, ""), session->current(), *host) +
+                " failed in inspect: an exception that is not a std::exception";
+  }
+  return in;
+}
+
+void Engine::Worker::publish(bool now_all) {
+  const auto now = Clock::now();
+  if (sim) {
+    speed_samples.emplace_back(now, sim->time());
+    while (speed_samples.size() > 2 && now - speed_samples.front().first > std::chrono::seconds(1)) speed_samples.pop_front();
+    if (now_all || !heat || now - heat_published > std::chrono::milliseconds(250)) publish_heat(now);
+  }
+  auto snap = make_snapshot();
+  std::lock_guard lock(snapshot_mutex);
+  published = std::move(snap);
+}
+
+void Engine::Worker::publish_heat(Clock::time_point now) {
+  auto h = std::make_shared<HeatMap>(heat_grid);
+  const std::uint32_t most = heat_counts.empty() ? 0 : *std::max_element(heat_counts.begin(), heat_counts.end());
+  h->values.resize(heat_counts.size());
+  for (std::size_t i = 0; i < heat_counts.size(); ++i)
+    h->values[i] = most ? static_cast<float>(100.0 * heat_counts[i] / most) : 0.f;
+  heat = std::move(h);
+  heat_published = now;
+}
+
+}  // namespace salsa::gui
