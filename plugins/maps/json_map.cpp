@@ -6,19 +6,13 @@
 #include <nlohmann/json.hpp>
 #include <salsa/sdk.hpp>
 
+#include "format.hpp"       // how salsa writes points in messages
 #include "strict_json.hpp"  // the core's strict reading: depth, duplicate keys, numbers, UTF-8, file checks
 
 namespace {
 
 using nlohmann::json;
 
-std::string text(salsa::Vec2 p) {  // appended, not "[" + ...: GCC 12 -O3 warns (-Wrestrict) on that
-  std::string s = "[";
-  s += salsa::Parameter::format(p.x);
-  s += ", ";
-  s += salsa::Parameter::format(p.y);
-  return s += ']';
-}
 std::string shown(const json& j) { return salsa::strict_json::shown(j); }
 
 bool inside_polygon(salsa::Vec2 p, const salsa::Polyline& poly) {  // even-odd rule
@@ -51,7 +45,7 @@ class Reader {
     if (!bounds.contains("min") || !bounds.contains("max")) fail("bounds", "needs both \"min\" and \"max\"");
     map.bounds = {point(bounds["min"], "bounds.min"), point(bounds["max"], "bounds.max")};
     if (!(map.bounds.max.x > map.bounds.min.x && map.bounds.max.y > map.bounds.min.y))
-      fail("bounds.max", text(map.bounds.max) + " must be greater than bounds.min " + text(map.bounds.min));
+      fail("bounds.max", salsa::format::point(map.bounds.max) + " must be greater than bounds.min " + salsa::format::point(map.bounds.min));
 
     map.obstacles = polylines(root, "obstacles", "polygon", 3, map.bounds);
     map.hollow = polylines(root, "hollow", "outline", 3, map.bounds);
@@ -59,10 +53,10 @@ class Reader {
 
     map.spawn = root.contains("spawn") ? point(root["spawn"], "spawn") : map.bounds.centre();
     if (!map.bounds.contains(map.spawn))
-      fail("spawn", text(map.spawn) + " is outside " + bounds_text(map.bounds));
+      fail("spawn", salsa::format::point(map.spawn) + " is outside " + bounds_text(map.bounds));
     for (std::size_t i = 0; i < map.obstacles.size(); ++i)
       if (inside_polygon(map.spawn, map.obstacles[i]))
-        fail("spawn", text(map.spawn) +
+        fail("spawn", salsa::format::point(map.spawn) +
                           (root.contains("spawn") ? "" : " (the default, centre of the bounds)") +
                           " is inside obstacles[" + std::to_string(i) + "]; drones must start in free space");
     return map;
@@ -89,7 +83,7 @@ class Reader {
   }
 
   static std::string bounds_text(const salsa::Rect& b) {
-    return "the bounds (min " + text(b.min) + ", max " + text(b.max) + ")";
+    return "the bounds (" + salsa::format::rect(b) + ")";
   }
 
   std::vector<salsa::Polyline> polylines(const json& root, const std::string& key, const std::string& what,
@@ -106,7 +100,7 @@ class Reader {
       for (std::size_t j = 0; j < list[i].size(); ++j) {
         const std::string at = field + "[" + std::to_string(j) + "]";
         pts.push_back(point(list[i][j], at));
-        if (!bounds.contains(pts.back())) fail(at, text(pts.back()) + " is outside " + bounds_text(bounds));
+        if (!bounds.contains(pts.back())) fail(at, salsa::format::point(pts.back()) + " is outside " + bounds_text(bounds));
       }
       // A closed outline may repeat its first point at the end; the closing edge is implied anyway.
       if (min_points == 3 && pts.size() > 1 && pts.front() == pts.back()) pts.pop_back();
