@@ -1,5 +1,6 @@
 #pragma once
-// Reading test and queue JSON with one-line errors (test_spec.cpp, queue.cpp). Internal to libsalsa.
+// Reading test and queue JSON with one-line errors (test_reader.cpp; the queue's pieces, queue_reader.hpp),
+// and what the test's writer and setup share with it. Internal to libsalsa.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -112,5 +113,8 @@ CommSetup parse_comm(const json& c, const Reader& r);
 std::vector<DroneConfig> drone_configs_file(const std::filesystem::path& file);
 /// One test object; a test without "seed" gets the paired seed of queue seed 1 (queue.hpp).
 TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host);
+/// A contact handler's values over its declared defaults (a TestSpec made in code may give none): what
+/// config.json records and the handler is made with (test_writer.cpp, test_setup.cpp).
+ParameterValues handler_params(const PluginChoice& c, const PluginHost& host);
 
 }  // namespace salsa::detail
