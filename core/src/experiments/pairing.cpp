@@ -2,22 +2,13 @@
 // the parameters it changes) that the comparison sets apart on each world.
 #include "salsa/core/experiments/queue.hpp"
 
-#include "experiments/queue_reader.hpp"
+#include "experiments/fnv1a.hpp"
+#include "experiments/test_reader.hpp"
 
 namespace salsa {
 
 using detail::fnv1a64;
 using detail::num;
-
-namespace detail {
-
-std::uint64_t fnv1a64(std::string_view text) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (const unsigned char c : text) h = (h ^ c) * 0x100000001b3ull;
-  return h;
-}
-
-}  // namespace detail
 
 namespace {
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "salsa/core/files/names.hpp"
+#include "experiments/fnv1a.hpp"
 #include "experiments/queue_reader.hpp"
 
 namespace salsa::detail {

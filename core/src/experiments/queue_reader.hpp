@@ -1,9 +1,7 @@
 #pragma once
-// Reading a queue file in pieces (queue.cpp, sweep.cpp, conditions.cpp, dotted_keys.cpp, queue_names.cpp,
-// pairing.cpp): what they share. Internal to libsalsa.
-#include <cstdint>
+// Reading a queue file in pieces (queue.cpp, sweep.cpp, conditions.cpp, dotted_keys.cpp, queue_names.cpp):
+// what they share. Internal to libsalsa.
 #include <string>
-#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -29,11 +27,6 @@ void join(std::string& to, const std::string& part, const char* separator);
 /// How a test object's behavior shows in its name: "flocking"; with groups, theirs joined by '+' ("flocking+random_walk",
 /// which name_safe makes "flocking_random_walk").
 std::string behavior_name(const json& test);
-
-// ---- Paired seeds (pairing.cpp)
-
-/// 64-bit FNV-1a over the bytes of `text`.
-std::uint64_t fnv1a64(std::string_view text);
 
 // ---- Dotted keys: any number of the test, by the dotted key timed changes use (dotted_keys.cpp)
 
