@@ -28,6 +28,6 @@ namespace salsa::cli {
 /// folders alone (summarize.cpp).
 void finish_queue(const std::filesystem::path& out, const PluginHost& host, bool draw_plots);
 /// A tune folder's plots (convergence, each parameter, the Pareto front) from its candidates.csv and
-/// tune_plots.json alone (tune.cpp); call plots::start_plotting() first. Throws InputError.
+/// tune_plots.json alone (tune_folder_plots.cpp); call plots::start_plotting() first. Throws InputError.
 void draw_tune_folder(const std::filesystem::path& out);
 }  // namespace salsa::cli

@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "engine_worker.hpp"
-#include "salsa/core/files/format.hpp"
+#include "format.hpp"
 
 namespace salsa::gui {
 namespace {

@@ -1,5 +1,6 @@
 #pragma once
-// Reading test and queue JSON with one-line errors (test_spec.cpp, queue.cpp). Internal to libsalsa.
+// Reading test and queue JSON with one-line errors (test_reader.cpp; the queue's pieces, queue_reader.hpp),
+// and what the test's writer and setup share with it. Internal to libsalsa.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -11,13 +12,13 @@
 
 #include "salsa/core/experiments/test_spec.hpp"
 #include "strict_json.hpp"
+#include "format.hpp"
 
 namespace salsa::detail {
 
 using json = nlohmann::ordered_json;
 
 inline std::string show(const json& v) { return strict_json::shown(v); }
-inline std::string num(double v) { return Parameter::format(v); }
 
 /// Reads JSON values with one-line errors: "<where>: <field>: <value> <what is allowed>".
 class Reader {
@@ -44,14 +45,14 @@ class Reader {
     }
   }
   double number(const json& v, const std::string& field, double lo, double hi, const char* unit = "") const {
-    const std::string range = "[" + num(lo) + ", " + num(hi) + "]" + (*unit ? std::string(" ") + unit : "");
+    const std::string range = "[" + format::number(lo) + ", " + format::number(hi) + "]" + (*unit ? std::string(" ") + unit : "");
     if (!v.is_number()) fail(field, show(v) + " is not a number (allowed: " + range + ")");
     const double x = v.get<double>();
     if (!(x >= lo && x <= hi)) fail(field, show(v) + " is out of range (allowed: " + range + ")");
     return x;
   }
   std::uint64_t integer(const json& v, const std::string& field, double lo, double hi) const {
-    const std::string range = "whole number in [" + num(lo) + ", " + num(hi) + "]";
+    const std::string range = "whole number in [" + format::number(lo) + ", " + format::number(hi) + "]";
     if (!v.is_number() || v.get<double>() != std::floor(v.get<double>()))
       fail(field, show(v) + " is not a whole number (allowed: " + range + ")");
     if (!(v.get<double>() >= lo && v.get<double>() <= hi)) fail(field, show(v) + " is out of range (allowed: " + range + ")");
@@ -112,5 +113,8 @@ CommSetup parse_comm(const json& c, const Reader& r);
 std::vector<DroneConfig> drone_configs_file(const std::filesystem::path& file);
 /// One test object; a test without "seed" gets the paired seed of queue seed 1 (queue.hpp).
 TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host);
+/// A contact handler's values over its declared defaults (a TestSpec made in code may give none): what
+/// config.json records and the handler is made with (test_writer.cpp, test_setup.cpp).
+ParameterValues handler_params(const PluginChoice& c, const PluginHost& host);
 
 }  // namespace salsa::detail

@@ -15,6 +15,7 @@
 #include "salsa/core/model/wind.hpp"
 #include "salsa/core/run/runner.hpp"
 #include "strict_json.hpp"
+#include "format.hpp"
 
 namespace salsa {
 
@@ -23,7 +24,6 @@ using json = nlohmann::ordered_json;
 
 namespace {
 
-std::string num(double v) { return Parameter::format(v); }
 std::string show(const json& v) { return strict_json::shown(v); }
 
 /// One-line refusals: "<file>: <field>: <message>".
@@ -41,14 +41,14 @@ struct Refuse {
         (*this)((field.empty() ? "" : field + ".") + strict_json::printable(item.key()), "unknown key (allowed: " + list + ")");  // a key is user text
   }
   double number(const json& v, const std::string& field, double lo, double hi) const {
-    const std::string range = "[" + num(lo) + ", " + num(hi) + "]";
+    const std::string range = "[" + format::number(lo) + ", " + format::number(hi) + "]";
     if (!v.is_number()) (*this)(field, show(v) + " is not a number (allowed: " + range + ")");
     const double x = v.get<double>();
     if (!(x >= lo && x <= hi)) (*this)(field, show(v) + " is out of range (allowed: " + range + ")");
     return x;
   }
   std::uint64_t whole(const json& v, const std::string& field, double lo, double hi) const {
-    const std::string range = "whole number in [" + num(lo) + ", " + num(hi) + "]";
+    const std::string range = "whole number in [" + format::number(lo) + ", " + format::number(hi) + "]";
     if (!v.is_number() || v.get<double>() != std::floor(v.get<double>()))
       (*this)(field, show(v) + " is not a whole number (allowed: " + range + ")");
     if (!(v.get<double>() >= lo && v.get<double>() <= hi)) (*this)(field, show(v) + " is out of range (allowed: " + range + ")");
@@ -179,13 +179,13 @@ Objective read_objective(const json& v, const std::string& field, const Refuse& 
 
 }  // namespace
 
-std::string Objective::name() const { return at ? column + "@" + num(*at) : column; }
+std::string Objective::name() const { return at ? column + "@" + format::number(*at) : column; }
 
 std::string Objective::aggregate_name() const {
   switch (aggregate) {
     case Aggregate::mean: return "mean";
     case Aggregate::median: return "median";
-    case Aggregate::quantile: return "quantile " + num(quantile);
+    case Aggregate::quantile: return "quantile " + format::number(quantile);
   }
   return "";
 }
@@ -302,11 +302,11 @@ TuneSpec load_tune(const fs::path& file, const PluginHost& host, std::optional<s
       (std::string(end) == "min" ? p.min : p.max) = v.get<double>();
     }
     if (!(p.min < p.max))
-      refuse(field, "[" + num(p.min) + ", " + num(p.max) + "] is an empty range (allowed: min < max within " + declared_range + ")");
+      refuse(field, "[" + format::number(p.min) + ", " + format::number(p.max) + "] is an empty range (allowed: min < max within " + declared_range + ")");
     if (item.value().contains("log")) {
       if (!item.value()["log"].is_boolean()) refuse(field + ".log", show(item.value()["log"]) + " is not true or false");
       p.log = item.value()["log"].get<bool>();
-      if (p.log && !(p.min > 0)) refuse(field + ".log", "true needs a range of positive numbers, and min is " + num(p.min) + " (allowed: min > 0)");
+      if (p.log && !(p.min > 0)) refuse(field + ".log", "true needs a range of positive numbers, and min is " + format::number(p.min) + " (allowed: min > 0)");
     }
     if (spec.parameters.size() == 64) refuse("parameters", "more than 64 parameters (allowed: at most 64)");
     spec.parameters.push_back(p);

@@ -17,7 +17,7 @@
 #include <optional>
 #include <sstream>
 
-#include "salsa/core/files/format.hpp"
+#include "format.hpp"
 #include "salsa/core/files/map_file.hpp"
 #include "salsa/core/run/metrics.hpp"
 #include "salsa/core/run/session.hpp"

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "salsa/core/files/format.hpp"
+#include "format.hpp"
 
 namespace salsa {
 
