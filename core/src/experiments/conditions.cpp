@@ -1,5 +1,4 @@
-// A queue's "base" and "conditions": test objects laid over each other, and what each condition sets
-// and how it reads.
+// A queue's "base" and "conditions": test objects laid over each other, what each condition sets and says.
 #include <string_view>
 
 #include "experiments/queue_reader.hpp"

@@ -1,5 +1,4 @@
-// What pairs the tests of a queue: the world key and its paired seed, and the variant (the behavior and
-// the parameters it changes) that the comparison sets apart on each world.
+// What pairs a queue's tests: the world key and its paired seed, and the variant the comparison sets apart on each world.
 #include "salsa/core/experiments/queue.hpp"
 
 #include "experiments/fnv1a.hpp"

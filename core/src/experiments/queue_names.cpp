@@ -1,5 +1,4 @@
-// How a queue names its tests: safe characters, numbers and parameters as tokens, the file's name for a
-// test without one, and names cut to fit a folder.
+// How a queue names its tests: safe characters, values as tokens, the file's name for a test without one, names cut to fit.
 #include <cctype>
 #include <cstdio>
 

@@ -1,5 +1,4 @@
-// A queue's "sweep": its axes (behaviors, maps, drones, targets, drone, set) read as values and checked
-// against the base and the conditions, before anything is multiplied out.
+// A queue's "sweep": its axes read as values and checked against the base and conditions, before anything is multiplied out.
 #include "salsa/core/files/format.hpp"
 
 #include <algorithm>

@@ -1,5 +1,4 @@
-// From a test to a live simulation's setup: its plugins created, the map made and checked, spawn points
-// and targets placed, what the physics cannot do refused; map files read and checked the same way.
+// From a test to a simulation's setup: plugins created, the map made and checked, spawns and targets placed; map files.
 #include "salsa/core/experiments/test_spec.hpp"
 
 #include "experiments/test_reader.hpp"
