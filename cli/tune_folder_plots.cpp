@@ -1,5 +1,4 @@
-// A tune folder's plots (convergence, each parameter, the Pareto front), drawn from its files alone:
-// tune_plots.json and candidates.csv, as `salsa tune` and `salsa plot` draw them.
+// A tune folder's plots (convergence, each parameter, the Pareto front), drawn from tune_plots.json and candidates.csv.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>

@@ -1,5 +1,4 @@
-// A tune's output files: tune.csv (one row per evaluation), candidates.csv, best.json and front/, the
-// report (report.txt) and the plots' record (tune_plots.json).
+// A tune's output files: tune.csv, candidates.csv, best.json and front/, report.txt and tune_plots.json.
 #include <nlohmann/json.hpp>
 
 #include <charconv>

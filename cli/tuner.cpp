@@ -1,6 +1,4 @@
-// The tune loop: the search's points as candidates, each run on the tuning worlds in blocks with racing
-// between them (a paired t-test), within the budget; scores, the incumbent and the Pareto front; the best
-// few validated on held-out worlds.
+// The tune loop: candidates run on the tuning worlds in blocks, raced, scored and ranked within the budget, then validated.
 #include <boost/math/distributions/students_t.hpp>
 
 #include <algorithm>

@@ -1,6 +1,5 @@
 #pragma once
-// salsa tune's Tuner: the tune loop (tuner.cpp) and its output files and report (tune_report.cpp), for
-// cmd_tune (tune.cpp).
+// salsa tune's Tuner: the tune loop (tuner.cpp), its output files and report (tune_report.cpp).
 #include <chrono>
 #include <cstdint>
 #include <map>

@@ -1,5 +1,4 @@
-// The queue's comparison plots: comparison.png (each pair of variants A − B in a cell and condition) and
-// did.png (how a condition changes A − B against the baseline), rows of estimates with 95 % intervals.
+// The queue's comparison plots: comparison.png and did.png, paired differences A − B with their 95 % intervals.
 #include "salsa/plots/results.hpp"
 
 #include <algorithm>

@@ -1,6 +1,5 @@
 #pragma once
-// The queue's comparison plots (comparison_plots.cpp): paired differences A − B with their 95 % intervals,
-// from comparison.csv and did.csv.
+// The queue's comparison plots (comparison_plots.cpp), from comparison.csv and did.csv.
 #include <filesystem>
 
 #include "queue_rows.hpp"

@@ -1,5 +1,4 @@
-// What the plots of a run share: Qt set up for drawing, a run's files read (names, strict JSON), and
-// values drawn as lines and bands.
+// What the plots of a run share: Qt set up, the run's files read, and values drawn as lines and bands.
 #include "salsa/plots/results.hpp"
 
 #include <QPainterPath>

@@ -1,6 +1,5 @@
 #pragma once
-// What the plots of a run share (test_data.cpp, test_plots.cpp, queue_rows.cpp, queue_plots.cpp,
-// comparison_plots.cpp): reading its files, and values drawn as lines and bands on a Figure.
+// What the plots of a run share (plot_helpers.cpp): the run's files read, values drawn as lines and bands on a Figure.
 #include <nlohmann/json.hpp>
 
 #include <filesystem>

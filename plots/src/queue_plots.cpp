@@ -1,6 +1,4 @@
-// The plots of a queue (OUT/plots/): targets found per behavior and swarm size (box plots), values over
-// time per variant and condition with their intervals over repeats, targets found against each swept
-// behavior parameter; and the comparison plots (comparison_plots.cpp).
+// The plots of a queue (OUT/plots/): box plots, values over time with their intervals, targets found per swept parameter.
 #include "salsa/plots/results.hpp"
 
 #include <algorithm>

@@ -1,5 +1,4 @@
-// A queue folder's tests as its plots group them: OUT/summary.csv's ok tests read, the settings a sweep
-// varies kept apart as conditions, and the orders the plots show variants, sizes and conditions in.
+// A queue folder's tests as its plots group them: OUT/summary.csv's ok tests, swept settings kept apart, in plot order.
 #include "salsa/plots/results.hpp"
 
 #include <algorithm>

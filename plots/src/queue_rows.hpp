@@ -1,6 +1,5 @@
 #pragma once
-// A queue folder's tests as its plots group them (queue_rows.cpp): OUT/summary.csv's ok tests, each with
-// its variant, swarm size, condition and behavior parameters, in the orders the plots show them.
+// A queue folder's tests as its plots group them (queue_rows.cpp).
 #include <filesystem>
 #include <map>
 #include <string>

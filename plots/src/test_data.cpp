@@ -1,5 +1,4 @@
-// One test folder's files read for its plots: the map's geometry (map.json, or the map file config.json
-// names), summary.csv with its groups' and message columns, drones.csv (paths, stops, speeds), targets.csv.
+// One test folder's files read for its plots: the map's geometry, summary.csv, drones.csv and targets.csv.
 #include "salsa/plots/results.hpp"
 
 #include <algorithm>

@@ -1,6 +1,5 @@
 #pragma once
-// One test folder's files, each read once, as its plots need them (test_data.cpp): config.json, map.json
-// (or the map file), summary.csv, drones.csv and targets.csv.
+// One test folder's files, each read once, as its plots need them (test_data.cpp).
 #include <QPolygonF>
 
 #include <filesystem>

@@ -1,6 +1,4 @@
-// The plots of one test (TEST/plots/): values over time (targets found, nearest-neighbour distance,
-// coverage, drones alive, energy, messages), the drones' trajectories over the map, where they were (a
-// heat map) and their speeds.
+// The plots of one test (TEST/plots/): values over time, the drones' trajectories, a heat map of where they were, speeds.
 #include "salsa/plots/results.hpp"
 
 #include <QPolygonF>

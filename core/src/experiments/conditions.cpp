@@ -1,8 +1,8 @@
-// A queue's "base" and "conditions": test objects laid over each other, and what each condition sets
-// and how it reads.
+// A queue's "base" and "conditions": test objects laid over each other, what each condition sets and says.
 #include <string_view>
 
 #include "experiments/queue_reader.hpp"
+#include "format.hpp"
 
 namespace salsa::detail {
 
@@ -36,7 +36,7 @@ namespace {
 
 /// A JSON value in words: numbers as config.json writes them, strings bare.
 std::string words(const json& v) {
-  if (v.is_number()) return num(v.get<double>());
+  if (v.is_number()) return format::number(v.get<double>());
   if (v.is_string()) return v.get<std::string>();
   return show(v);
 }

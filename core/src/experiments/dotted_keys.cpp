@@ -1,5 +1,4 @@
-// Dotted keys into a test object ("groups.scouts.drone.max_speed"): checked, followed and made to exist,
-// for sweep.set, a condition's "set" and salsa tune's candidates (set_numbers).
+// Dotted keys into a test object ("groups.scouts.drones"): checked, followed and set (sweep.set, conditions, tune).
 #include "salsa/core/experiments/queue.hpp"
 
 #include <algorithm>

@@ -1,6 +1,5 @@
 #pragma once
-// 64-bit FNV-1a: a stable hash (the same on every machine and release) for paired seeds, names cut to fit a
-// folder, and the queue folder's cells and configs hash. Internal to libsalsa.
+// 64-bit FNV-1a, a hash stable across machines and releases (paired seeds, cut names, queue folder hashes). Internal to libsalsa.
 #include <cstdint>
 #include <string_view>
 

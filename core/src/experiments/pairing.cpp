@@ -1,9 +1,9 @@
-// What pairs the tests of a queue: the world key and its paired seed, and the variant (the behavior and
-// the parameters it changes) that the comparison sets apart on each world.
+// What pairs a queue's tests: the world key and its paired seed, and the variant the comparison sets apart on each world.
 #include "salsa/core/experiments/queue.hpp"
 
 #include "experiments/fnv1a.hpp"
 #include "experiments/test_reader.hpp"
+#include "format.hpp"
 
 namespace salsa {
 
@@ -71,7 +71,7 @@ std::string describe_choice(const PluginChoice& choice, const Parameters& schema
   std::string changed;
   for (const Parameter& p : schema)
     if (choice.params.has(p.name) && choice.params.get(p.name) != p.value)
-      changed += (changed.empty() ? "" : " ") + p.name + "=" + num(choice.params.get(p.name));
+      changed += (changed.empty() ? "" : " ") + p.name + "=" + format::number(choice.params.get(p.name));
   return changed.empty() ? choice.name : choice.name + "(" + changed + ")";
 }
 
@@ -86,7 +86,7 @@ std::string variant(const TestSpec& t, const PluginHost& host) {
   auto one = [&](const PluginChoice& b) {
     std::vector<std::pair<std::string, std::string>> changed;
     for (const Parameter& p : host.behavior(b.name).factory.parameters)
-      if (b.params.has(p.name) && b.params.get(p.name) != p.value) changed.emplace_back(p.name, num(b.params.get(p.name)));
+      if (b.params.has(p.name) && b.params.get(p.name) != p.value) changed.emplace_back(p.name, format::number(b.params.get(p.name)));
     return variant_label(b.name, changed);
   };
   if (t.groups.size() == 1) return one(t.groups[0].behavior);

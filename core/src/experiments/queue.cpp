@@ -1,5 +1,4 @@
-// Reading a queue file into its tests: the file's shape, the explicit tests under each condition, the
-// sweep multiplied out, the count checked, the comparison's pairs, seeds, repeats and unique names.
+// Reading a queue file into its tests: explicit and swept, counted, paired, seeded, repeated and uniquely named.
 #include "salsa/core/experiments/queue.hpp"
 
 #include "format.hpp"

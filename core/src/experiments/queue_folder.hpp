@@ -1,6 +1,5 @@
 #pragma once
-// What the queue folder's record (queue_record.cpp: OUT/queue.json) and its summary (queue_summary.cpp:
-// OUT/summary.csv) share. Internal to libsalsa.
+// What the queue folder's record (queue_record.cpp) and summary (queue_summary.cpp) share. Internal to libsalsa.
 #include <nlohmann/json.hpp>
 
 #include <cstdint>

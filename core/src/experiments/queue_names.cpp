@@ -1,11 +1,11 @@
-// How a queue names its tests: safe characters, numbers and parameters as tokens, the file's name for a
-// test without one, and names cut to fit a folder.
+// How a queue names its tests: safe characters, values as tokens, the file's name for a test without one, names cut to fit.
 #include <cctype>
 #include <cstdio>
 
 #include "salsa/core/files/names.hpp"
 #include "experiments/fnv1a.hpp"
 #include "experiments/queue_reader.hpp"
+#include "format.hpp"
 
 namespace salsa::detail {
 
@@ -16,7 +16,7 @@ std::string name_safe(std::string text) {
 }
 
 std::string number_token(double v) {
-  std::string s = num(v);
+  std::string s = format::number(v);
   std::erase(s, '+');
   return s;
 }

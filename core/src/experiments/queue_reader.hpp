@@ -1,6 +1,5 @@
 #pragma once
-// Reading a queue file in pieces (queue.cpp, sweep.cpp, conditions.cpp, dotted_keys.cpp, queue_names.cpp):
-// what they share. Internal to libsalsa.
+// What the pieces that read a queue file share (queue, sweep, conditions, dotted_keys, queue_names). Internal to libsalsa.
 #include <string>
 #include <utility>
 #include <vector>

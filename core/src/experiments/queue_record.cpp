@@ -1,6 +1,4 @@
-// OUT/queue.json: the record of the queue that writes OUT (its tests' names, a hash of their configs, the
-// command), OUT claimed for it (another queue refused unless --resume or --force), and whether a folder
-// holds salsa results.
+// OUT/queue.json: the record of the queue that writes OUT, OUT claimed for it, and whether a folder holds salsa results.
 #include "salsa/core/experiments/queue_summary.hpp"
 
 #include <unistd.h>

@@ -1,5 +1,4 @@
-// OUT/summary.csv (one row per test: every input of its config.json, its outcome) and timing.csv, made from
-// the queue folder's test folders alone; a test's cell.
+// OUT/summary.csv (one row per test: its config.json's inputs, its outcome) and timing.csv, from the test folders alone.
 #include "salsa/core/experiments/queue_summary.hpp"
 
 #include <unistd.h>

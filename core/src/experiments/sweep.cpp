@@ -1,5 +1,4 @@
-// A queue's "sweep": its axes (behaviors, maps, drones, targets, drone, set) read as values and checked
-// against the base and the conditions, before anything is multiplied out.
+// A queue's "sweep": its axes read as values and checked against the base and conditions, before anything is multiplied out.
 #include "format.hpp"
 
 #include <algorithm>
@@ -39,7 +38,7 @@ std::vector<double> range_values(const json& v, const std::string& field, const 
   for (const char* key : {"from", "to", "step"})
     if (v.contains(key) && !v[key].is_number()) r.fail(field + "." + key, show(v[key]) + " is not a number" + forms);
   const double from = v["from"].get<double>(), to = v["to"].get<double>();
-  if (to < from) r.fail(field + ".to", show(v["to"]) + " is below \"from\" " + num(from) + " (allowed: to ≥ from)");
+  if (to < from) r.fail(field + ".to", show(v["to"]) + " is below \"from\" " + format::number(from) + " (allowed: to ≥ from)");
   std::vector<double> out;
   if (v.contains("step")) {
     const double step = v["step"].get<double>();
@@ -56,7 +55,7 @@ std::vector<double> range_values(const json& v, const std::string& field, const 
   } else {
     const auto count = static_cast<std::size_t>(r.integer(v["count"], field + ".count", 1, max_queue_tests));
     if (count == 1 && from != to)
-      r.fail(field + ".count", "1 gives one value, but \"from\" " + num(from) + " and \"to\" " + num(to) +
+      r.fail(field + ".count", "1 gives one value, but \"from\" " + format::number(from) + " and \"to\" " + format::number(to) +
                                    " differ (allowed: a count ≥ 2, or from = to)");
     const double step = count > 1 ? (to - from) / static_cast<double>(count - 1) : 0;
     for (std::size_t i = 0; i < count; ++i)
@@ -91,7 +90,7 @@ std::vector<double> swept_numbers(const json& v, const std::string& field, const
       add(v[i].get<double>(), at, show(v[i]));
     }
   } else if (v.is_object()) {
-    for (const double x : range_values(v, field, r)) add(x, field, show(v) + " gives " + num(x) + ", which");
+    for (const double x : range_values(v, field, r)) add(x, field, show(v) + " gives " + format::number(x) + ", which");
   } else {
     r.fail(field, show(v) + " is not a number, a list of numbers or a range {\"from\", \"to\", \"step\" or \"count\"} (allowed: " +
                       allowed.value + ")");
@@ -258,7 +257,7 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host, const S
     if (axis.is_object()) {
       for (const double x : range_values(axis, "sweep.drones", r)) {
         if (x != std::floor(x) || x < 1 || x > 1'000'000)
-          r.fail("sweep.drones", show(axis) + " gives " + num(x) + ", which is out of range (allowed: whole number in [1, 1000000])");
+          r.fail("sweep.drones", show(axis) + " gives " + format::number(x) + ", which is out of range (allowed: whole number in [1, 1000000])");
         counts.push_back(x);
       }
     } else {
@@ -280,7 +279,7 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host, const S
         r.fail(origin("targets") + ".count", "also swept by sweep.targets (allowed: one or the other)");
       for (const double x : range_values(axis, "sweep.targets", r)) {
         if (x != std::floor(x) || x < 0 || x > 10'000'000)
-          r.fail("sweep.targets", show(axis) + " gives " + num(x) + ", which is out of range (allowed: whole number in [0, 10000000])");
+          r.fail("sweep.targets", show(axis) + " gives " + format::number(x) + ", which is out of range (allowed: whole number in [0, 10000000])");
         sweep.targets.push_back({{{"targets", {{"count", x}}}}, "t" + number_token(x), "targets[" + std::to_string(sweep.targets.size()) + "]"});
       }
     } else {

@@ -1,5 +1,4 @@
-// Reading a test: one test object, each field checked with a one-line error naming the file, the field,
-// the value and what is allowed; drone configurations and their files; strict JSON files.
+// Reading a test: a test object, drone configurations and their files, strict JSON; one-line errors for bad input.
 #include "salsa/core/experiments/test_spec.hpp"
 
 #include <tuple>

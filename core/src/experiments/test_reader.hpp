@@ -1,6 +1,5 @@
 #pragma once
-// Reading test and queue JSON with one-line errors (test_reader.cpp; the queue's pieces, queue_reader.hpp),
-// and what the test's writer and setup share with it. Internal to libsalsa.
+// Reading test and queue JSON with one-line errors, and what a test's reader, writer and setup share. Internal to libsalsa.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>

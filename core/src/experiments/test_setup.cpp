@@ -1,8 +1,8 @@
-// From a test to a live simulation's setup: its plugins created, the map made and checked, spawn points
-// and targets placed, what the physics cannot do refused; map files read and checked the same way.
+// From a test to a simulation's setup: plugins created, the map made and checked, spawns and targets placed; map files.
 #include "salsa/core/experiments/test_spec.hpp"
 
 #include "experiments/test_reader.hpp"
+#include "format.hpp"
 
 namespace salsa {
 
@@ -81,9 +81,9 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   for (const GroupSpec& g : t.groups) {
     const Vec2 spawn = g.spawn.value_or(s.map.spawn);
     if (!geometry.is_free(spawn, g.drone.radius))
-      throw InputError(t.source + ": " + (g.spawn ? in(g) + "spawn.point" : in(g) + map_name) + ": spawn point [" + num(spawn.x) + ", " +
-                       num(spawn.y) + "] is inside an obstacle or outside the bounds (allowed: free space, at least the drone radius " +
-                       num(g.drone.radius) + " m from any wall)");
+      throw InputError(t.source + ": " + (g.spawn ? in(g) + "spawn.point" : in(g) + map_name) + ": spawn point [" + format::number(spawn.x) + ", " +
+                       format::number(spawn.y) + "] is inside an obstacle or outside the bounds (allowed: free space, at least the drone radius " +
+                       format::number(g.drone.radius) + " m from any wall)");
   }
 
   // The targets, placed as the simulation will place them: the kind's radius and positions are input too.
@@ -123,8 +123,8 @@ MapData load_map_file(const std::filesystem::path& file, const PluginHost& host,
   }
   if (const Problem p = check_map(map)) throw InputError(file.string() + ": " + p.text());  // before a grid is sized from it
   if (!StaticGeometry(map, 50).is_free(map.spawn, drone_radius))
-    throw InputError(file.string() + ": spawn: [" + num(map.spawn.x) + ", " + num(map.spawn.y) +
-                     "] is inside an obstacle or outside the bounds (allowed: free space, at least " + num(drone_radius) +
+    throw InputError(file.string() + ": spawn: [" + format::number(map.spawn.x) + ", " + format::number(map.spawn.y) +
+                     "] is inside an obstacle or outside the bounds (allowed: free space, at least " + format::number(drone_radius) +
                      " m from any wall)");
   return map;
 }

@@ -1,5 +1,4 @@
-// The TestSpec's own queries (steps, drones, groups, fleet), the first test of a list that is the same as
-// an earlier one, and a test's expected wall time.
+// The TestSpec's own queries, the first of a list of tests that repeats an earlier one, and a test's expected wall time.
 #include "salsa/core/experiments/test_spec.hpp"
 
 #include "format.hpp"

@@ -1,5 +1,4 @@
-// Writing a test: the resolved test as config.json holds it (every default filled in, the plugins'
-// versions and files), enough to rerun it exactly.
+// Writing a test: the resolved test as config.json holds it (defaults filled in, the plugins' versions), enough to rerun it.
 #include "salsa/core/experiments/test_spec.hpp"
 
 #include "experiments/test_reader.hpp"

@@ -1,6 +1,4 @@
-// A plugin file's static initialisers, which run inside dlopen before salsa sees the file's entry point:
-// first in a child process (the probe), then in salsa's own under a guard that names the file should they
-// end the process.
+// A plugin file's static initialisers: run first in a child (the probe), then in salsa under a guard naming the file.
 #include <dlfcn.h>
 #include <fcntl.h>
 #include <signal.h>

@@ -1,7 +1,5 @@
 #pragma once
-// Loading one plugin file, in pieces that PluginHost::load_file (plugin_host.cpp) puts together: the words
-// of a refusal (refusals.cpp), the file read, hashed and copied (plugin_file.cpp), its static initialisers
-// run (initialisers.cpp). Internal to libsalsa.
+// Loading one plugin file in pieces (refusals.cpp, plugin_file.cpp, initialisers.cpp) for PluginHost. Internal to libsalsa.
 #include <cstdint>
 #include <string>
 #include <string_view>

@@ -1,5 +1,4 @@
-// A plugin file before it is mapped: what is wrong with the folder entry, its bytes read once and hashed,
-// the private copy that gets loaded, and dlopen's complaint said about the original.
+// A plugin file before it is mapped: the folder entry checked, its bytes read and hashed, the private copy, dlopen's complaint.
 #include <dlfcn.h>
 #include <fcntl.h>
 #include <sys/file.h>

@@ -1,5 +1,4 @@
-// PluginHost: the folders searched, each plugin file loaded (read and checked, its initialisers run, the
-// ABI handshake, its registrations admitted one by one), the registries' lookups and object creation.
+// PluginHost: the folders searched, a plugin file loaded and its registrations admitted, the registries' lookups, creation.
 #include "salsa/core/plugins/plugin_host.hpp"
 
 #include <boost/dll/shared_library.hpp>

@@ -1,5 +1,4 @@
-// Why a plugin file or a registration is refused, in words: errno and exception text, the rules a name
-// and a declared parameter list meet, and how a plugin's toolchain differs from salsa's.
+// Why a plugin file or registration is refused, in words: errno and exception text, name and parameter rules, toolchains.
 #include <cxxabi.h>
 
 #include <algorithm>
