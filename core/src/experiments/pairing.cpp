@@ -8,7 +8,6 @@
 namespace salsa {
 
 using detail::fnv1a64;
-using detail::num;
 
 namespace {
 

@@ -8,7 +8,6 @@ namespace salsa {
 
 using detail::handler_params;
 using detail::json;
-using detail::num;
 
 namespace {
 /// "map 'forest' (plugin basic_maps, /usr/lib/salsa/plugins/libbasic_maps.so)": whose data it is.
