@@ -12,6 +12,17 @@ namespace salsa {
 
 using namespace detail;
 
+namespace {
+
+/// A drone's steering, or a failure naming its group's behavior when it is not a finite vector.
+Vec2 finite_steering(Vec2 a, std::uint32_t group, std::size_t drone) {
+  if (!a.finite())
+    throw PluginFailure(behavior_kind, group, "decide returned a non-finite steering " + format::point(a) + " for drone " + std::to_string(drone));
+  return a;
+}
+
+}  // namespace
+
 // Act: add the steering to the velocity as it is, clamp the speed to max speed, hand the velocity to
 // Box2D. Max force bounds each steering term (the SDK's helpers clamp to it), not a behavior's weighted
 // sum of terms: table1's flocking applies 1.6 + 3 + 1 + 4 = 9.6 × max force at most.
@@ -20,9 +31,7 @@ void Simulation::act() {
   for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
     if (drones_.status[i] != DroneStatus::flying) continue;
     const std::uint32_t g = drones_.groups[i];
-    const Vec2 a = drones_.steering[i];
-    if (!std::isfinite(a.x) || !std::isfinite(a.y))
-      throw PluginFailure(behavior_kind, g, "decide returned a non-finite steering " + format::point(a) + " for drone " + std::to_string(i));
+    const Vec2 a = finite_steering(drones_.steering[i], g, i);
     const Vec2 v = (drones_.velocities[i] + a).clamped(groups_[g].properties.max_speed);
     drones_.commanded[i] = v;
   }
@@ -44,9 +53,7 @@ void Simulation::act_in_wind() {
   for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
     if (drones_.status[i] != DroneStatus::flying) continue;
     const std::uint32_t g = drones_.groups[i];
-    const Vec2 a = drones_.steering[i];
-    if (!std::isfinite(a.x) || !std::isfinite(a.y))
-      throw PluginFailure(behavior_kind, g, "decide returned a non-finite steering " + format::point(a) + " for drone " + std::to_string(i));
+    const Vec2 a = finite_steering(drones_.steering[i], g, i);
     const Vec2 p = drones_.positions[i];
     const Vec2 w = wind_at(p, t);
     if (field) {
