@@ -22,8 +22,8 @@ commands:
   validate FILE...   check test, queue and map files without running them
   queue expand FILE  print the tests a queue expands to (count, then one line each)
   plugins            list the plugins found, the folders searched and the files refused
-  describe NAME      print a plugin's parameters (name, default, min, max, unit, meaning); NAME drone:
-                     the drone properties
+  describe NAME      print a plugin's parameters (name, default, min, max, unit, meaning); NAME drone,
+                     comm, wind or failures: that model's settings
   bench WORKLOAD     measure speed (table1, scale)
   plot FOLDER|FILE   redraw the plots of a results or test folder; chart a bench JSON or summary.csv
   new-plugin KIND NAME  write NAME/: a plugin (behavior, target, map, contact-handler, metric, wind), its test and CMakeLists.txt

@@ -94,7 +94,7 @@ int cmd_describe(int argc, char** argv) {
                 << Parameter::format(p.min) << std::setw(10) << Parameter::format(p.max) << std::setw(14)
                 << (p.unit.empty() ? "-" : p.unit) << p.description << (p.is_integer() ? " (whole number)" : "") << "\n";
   };
-  // The test's own models, declared once each (drone_schema, comm_schema, wind_schema): their numbers.
+  // The test's own models, declared once each (drone_schema, comm_schema, wind_schema, failure_schema).
   auto specs_of = [](const auto& schema) {
     Parameters out;
     for (const auto& entry : schema) out.push_back(entry.spec);
@@ -119,6 +119,13 @@ int cmd_describe(int argc, char** argv) {
                  "and sweeps set its fields as comm.<field>; line_of_sight is true or false (1 or 0 in changes and sweeps).\n"
                  "Loss at distance d: p = 1 - (1 - loss)(1 - loss_at_range (d / range)^2).\n\n";
     table(specs_of(comm_schema()));
+    return 0;
+  }
+  if (name == "failures") {  // not a plugin: a test's random failures (failure_schema)
+    std::cout << "failures: a test's random failures (\"failures\": {...}; absent: no drone fails on its own). Each drone's\n"
+                 "failure times come from the seed alone, so every behavior of a repeat loses the same drones at the\n"
+                 "same times. Timed changes and sweeps set them as failures.<name>.\n\n";
+    table(specs_of(failure_schema()));
     return 0;
   }
   PluginHost host;

@@ -728,11 +728,13 @@ class TestLoader : public QObject {
     for (const char* p : {"separation_distance", "alignment_weight", "cohesion_weight", "separation_weight",
                           "obstacle_avoidance_weight"})
       QVERIFY2(r.out.contains(p), describe(r));
-    // The test's own models, not plugins: each declared once (drone_schema, comm_schema, wind_schema).
+    // The test's own models, not plugins: each declared once (drone_schema, comm_schema, wind_schema,
+    // failure_schema).
     for (const auto& [name, fields] : std::vector<std::pair<QString, QStringList>>{
              {"drone", {"camera_range", "battery_capacity", "position_noise"}},
              {"comm", {"range", "loss_at_range", "latency"}},
-             {"wind", {"velocity.x", "gusts.strength", "gusts.time_scale", "wind fields"}}}) {
+             {"wind", {"velocity.x", "gusts.strength", "gusts.time_scale", "wind fields"}},
+             {"failures", {"drone_mtbf", "camera_mtbf", "1000000000"}}}) {
       const CliResult model = run_salsa({"describe", name});
       QVERIFY2(model.exit_code == 0, describe(model));
       for (const QString& f : fields) QVERIFY2(model.out.contains(f), describe(model));

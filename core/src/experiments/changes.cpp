@@ -19,6 +19,7 @@ constexpr std::string_view drone_prefix = "drone.";
 constexpr std::string_view wind_prefix = "wind.";
 constexpr std::string_view wind_params_prefix = "wind.field.params.";
 constexpr std::string_view comm_prefix = "comm.";
+constexpr std::string_view failures_prefix = "failures.";
 constexpr double max_drones = 1'000'000;  // as "drones" in a test file
 constexpr double max_id = 4294967294.0;   // ids are 32-bit
 
@@ -131,10 +132,11 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
       if (const Problem p = check_wind(w, g.drone, test.dt)) return p.what + (test.groups.size() > 1 ? " (group " + g.name + ")" : "");
     return {};
   }
-  if (key == "failures.drone_mtbf" || key == "failures.camera_mtbf") {
-    if (!(c.value >= 0 && c.value <= 1e9)) return value + " is out of range (allowed: [0, 1e9] s; 0: never)";
-    return {};
-  }
+  if (key.starts_with(failures_prefix))
+    if (const auto* f = failure_schema().find(key.substr(failures_prefix.size()))) {
+      if (const std::string why = f->spec.check(c.value); !why.empty()) return value + " " + why;
+      return {};
+    }
   if (key.starts_with(comm_prefix)) {
     const CommField* f = comm_schema().find(key.substr(comm_prefix.size()));
     if (!f) return "unknown comm field (allowed: " + comm_schema().names() + ")";
@@ -164,10 +166,8 @@ void apply_to_test(TestSpec& test, const Change& c) {
     if (key.starts_with(params_prefix)) g.behavior.params.set(key.substr(params_prefix.size()), c.value);
     else if (key == "drones") g.drones = static_cast<std::size_t>(c.value);
     else drone_schema().find(key.substr(drone_prefix.size()))->set(g.drone, c.value);
-  } else if (key == "failures.drone_mtbf") {
-    test.failures.drone_mtbf = c.value;
-  } else if (key == "failures.camera_mtbf") {
-    test.failures.camera_mtbf = c.value;
+  } else if (key.starts_with(failures_prefix)) {
+    failure_schema().find(key.substr(failures_prefix.size()))->set(test.failures, c.value);
   } else if (key.starts_with(wind_params_prefix)) {
     test.wind_field.params.set(key.substr(wind_params_prefix.size()), c.value);
   } else if (key.starts_with(wind_prefix)) {

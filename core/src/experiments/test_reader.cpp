@@ -225,9 +225,12 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
   if (j.contains("comm")) t.comm = parse_comm(j["comm"], r);
   if (j.contains("failures")) {
     const json& f = j["failures"];
-    r.only_keys(f, "failures", {"drone_mtbf", "camera_mtbf"});
-    if (f.contains("drone_mtbf")) t.failures.drone_mtbf = r.number(f["drone_mtbf"], "failures.drone_mtbf", 0, 1e9, "s");
-    if (f.contains("camera_mtbf")) t.failures.camera_mtbf = r.number(f["camera_mtbf"], "failures.camera_mtbf", 0, 1e9, "s");
+    std::vector<const char*> names;
+    for (const auto& field : failure_schema()) names.push_back(field.spec.name.c_str());
+    r.only_keys(f, "failures", names);
+    for (const auto& field : failure_schema())
+      if (f.contains(field.spec.name))
+        field.set(t.failures, r.number(f[field.spec.name], "failures." + field.spec.name, field.spec.min, field.spec.max, field.spec.unit.c_str()));
   }
   if (j.contains("wind")) parse_wind(t, j["wind"], r, host);
 

@@ -2,6 +2,7 @@
 #include "salsa/core/experiments/test_spec.hpp"
 
 #include "experiments/test_reader.hpp"
+#include "salsa/core/model/map_check.hpp"
 #include "format.hpp"
 
 namespace salsa {
@@ -120,11 +121,9 @@ MapData load_map_file(const std::filesystem::path& file, const PluginHost& host,
   } catch (const std::exception& e) {
     throw InputError(file.string() + ": " + e.what());
   }
-  if (const Problem p = check_map(map)) throw InputError(file.string() + ": " + p.text());  // before a grid is sized from it
-  if (!StaticGeometry(map, 50).is_free(map.spawn, drone_radius))
-    throw InputError(file.string() + ": spawn: [" + format::number(map.spawn.x) + ", " + format::number(map.spawn.y) +
-                     "] is inside an obstacle or outside the bounds (allowed: free space, at least " + format::number(drone_radius) +
-                     " m from any wall)");
+  // The map rules a drawn or saved map meets (map_check.hpp), the map creator's and `salsa validate`'s alike.
+  if (const auto problems = map_problems(map, drone_radius, MapRules::drawing, 1); !problems.empty())
+    throw InputError(file.string() + ": " + problems[0].field + ": " + problems[0].message);
   return map;
 }
 

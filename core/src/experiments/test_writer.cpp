@@ -63,7 +63,8 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   } else {
     group_json(t.groups[0], j);
   }
-  if (t.failures != FailureSetup{}) j["failures"] = {{"drone_mtbf", t.failures.drone_mtbf}, {"camera_mtbf", t.failures.camera_mtbf}};
+  if (t.failures != FailureSetup{})
+    for (const auto& field : failure_schema()) j["failures"][field.spec.name] = field.get(t.failures);
   if (t.comm.on) {  // only then: a test without it keeps its config.json bytes
     json comm = json::object();
     for (const CommField& f : comm_schema())

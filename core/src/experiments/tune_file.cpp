@@ -119,8 +119,8 @@ std::variant<Declared, std::string> declared(const TestSpec& test, const std::st
     if (!p) return "unknown wind key (allowed: wind." + wind_schema().names() + ", wind.field.params.<p>)";
     return Declared{p->spec, p->get(test.wind)};
   }
-  if (rest == "failures.drone_mtbf") return Declared{{"drone_mtbf", 0, 0, 1e9, "s", "", 0}, test.failures.drone_mtbf};
-  if (rest == "failures.camera_mtbf") return Declared{{"camera_mtbf", 0, 0, 1e9, "s", "", 0}, test.failures.camera_mtbf};
+  if (rest.starts_with("failures."))
+    if (const auto* f = failure_schema().find(rest.substr(9))) return Declared{f->spec, f->get(test.failures)};
   if (rest.starts_with("map.params."))
     return in_schema(host.map(test.map.name).factory.parameters, rest.substr(11), test.map.params, "map '" + test.map.name + "'");
   if (rest == "targets.count") return Declared{{"count", 0, 0, 1e7, "", "", 1}, static_cast<double>(test.targets)};
@@ -219,7 +219,7 @@ std::vector<TunableNumber> tunable_numbers(const TestSpec& test, const PluginHos
     if (!test.wind_field.name.empty())
       for (const Parameter& p : host.wind(test.wind_field.name).factory.parameters) keys.push_back("wind.field.params." + p.name);
   }
-  keys.insert(keys.end(), {"failures.drone_mtbf", "failures.camera_mtbf"});
+  for (const auto& f : failure_schema()) keys.push_back("failures." + f.spec.name);
   for (const Parameter& p : host.map(test.map.name).factory.parameters) keys.push_back("map.params." + p.name);
   keys.push_back("targets.count");
   for (const Parameter& p : host.target_kind(test.target.name).factory.parameters) keys.push_back("targets.params." + p.name);

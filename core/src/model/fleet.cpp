@@ -61,10 +61,18 @@ void Simulation::ground(std::uint32_t id, DroneStatus status) {
   --flying_;
 }
 
+const Schema<FailureSetup>& failure_schema() {
+  static const Schema<FailureSetup> schema{
+      field<&FailureSetup::drone_mtbf>({"drone_mtbf", 0, 0, 1e9, "s", "mean time to failure of a whole drone, its own exponential clock drawn from the seed; 0: never", 0}),
+      field<&FailureSetup::camera_mtbf>({"camera_mtbf", 0, 0, 1e9, "s", "mean time to failure of a drone's camera: it flies on, finding nothing; 0: never", 0}),
+  };
+  return schema;
+}
+
 void Simulation::set_failures(const FailureSetup& f) {
-  for (const auto& [name, mtbf] : {std::pair{"failures.drone_mtbf", f.drone_mtbf}, std::pair{"failures.camera_mtbf", f.camera_mtbf}})
-    if (!(std::isfinite(mtbf) && mtbf >= 0))
-      throw std::invalid_argument(std::string(name) + ": " + format::figure(mtbf) + " s is out of range (allowed: a finite time ≥ 0 s; 0: never)");
+  for (const auto& field : failure_schema())
+    if (const double v = field.get(f); !field.spec.check(v).empty())
+      throw std::invalid_argument("failures." + field.spec.name + ": " + format::figure(v) + " s " + field.spec.check(v));
   setup_.failures = f;
 }
 

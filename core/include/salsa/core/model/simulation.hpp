@@ -70,6 +70,9 @@ struct FailureSetup {
   double camera_mtbf = 0;  ///< s, of its camera only (it flies on, seeing no targets); 0: never
   bool operator==(const FailureSetup&) const = default;
 };
+/// FailureSetup's fields, declared once (schema.hpp): a test's "failures", its timed changes and sweeps
+/// (failures.<name>) and its tune keys follow it.
+const Schema<FailureSetup>& failure_schema();
 
 struct SimulationSetup {
   MapData map;
