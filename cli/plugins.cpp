@@ -3,6 +3,7 @@
 #include <array>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <type_traits>
 
@@ -114,18 +115,19 @@ int cmd_describe(int argc, char** argv) {
     }
     return 0;
   }
-  if (name == "comm") {  // not a plugin: a test's communication model (comm_schema)
-    std::cout << "comm: a test's communication model (\"comm\": {...}; absent: drones exchange no messages). Timed changes\n"
-                 "and sweeps set its fields as comm.<field>; line_of_sight is true or false (1 or 0 in changes and sweeps).\n"
-                 "Loss at distance d: p = 1 - (1 - loss)(1 - loss_at_range (d / range)^2).\n\n";
-    table(specs_of(comm_schema()));
-    return 0;
-  }
-  if (name == "failures") {  // not a plugin: a test's random failures (failure_schema)
-    std::cout << "failures: a test's random failures (\"failures\": {...}; absent: no drone fails on its own). Each drone's\n"
-                 "failure times come from the seed alone, so every behavior of a repeat loses the same drones at the\n"
-                 "same times. Timed changes and sweeps set them as failures.<name>.\n\n";
-    table(specs_of(failure_schema()));
+  // Models with no plugin behind them: what the model is, then its settings.
+  const std::map<std::string, std::pair<const char*, Parameters>> models{
+      {"comm", {"comm: a test's communication model (\"comm\": {...}; absent: drones exchange no messages). Timed changes\n"
+                "and sweeps set its fields as comm.<field>; line_of_sight is true or false (1 or 0 in changes and sweeps).\n"
+                "Loss at distance d: p = 1 - (1 - loss)(1 - loss_at_range (d / range)^2).\n\n",
+                specs_of(comm_schema())}},
+      {"failures", {"failures: a test's random failures (\"failures\": {...}; absent: no drone fails on its own). Each drone's\n"
+                    "failure times come from the seed alone, so every behavior of a repeat loses the same drones at the\n"
+                    "same times. Timed changes and sweeps set them as failures.<name>.\n\n",
+                    specs_of(failure_schema())}}};
+  if (const auto m = models.find(name); m != models.end()) {
+    std::cout << m->second.first;
+    table(m->second.second);
     return 0;
   }
   PluginHost host;
