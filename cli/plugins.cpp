@@ -89,10 +89,10 @@ int cmd_describe(int argc, char** argv) {
   const std::string name = vm["name"].as<std::string>();
   auto table = [](const Parameters& parameters) {
     std::cout << "  " << std::left << std::setw(28) << "PARAMETER" << std::setw(10) << "DEFAULT" << std::setw(10) << "MIN"
-              << std::setw(10) << "MAX" << std::setw(14) << "UNIT" << "MEANING\n";
+              << std::setw(12) << "MAX" << std::setw(14) << "UNIT" << "MEANING\n";
     for (const auto& p : parameters)
       std::cout << "  " << std::setw(28) << p.name << std::setw(10) << Parameter::format(p.value) << std::setw(10)
-                << Parameter::format(p.min) << std::setw(10) << Parameter::format(p.max) << std::setw(14)
+                << Parameter::format(p.min) << std::setw(12) << Parameter::format(p.max) << std::setw(14)
                 << (p.unit.empty() ? "-" : p.unit) << p.description << (p.is_integer() ? " (whole number)" : "") << "\n";
   };
   // The test's own models, declared once each (drone_schema, comm_schema, wind_schema, failure_schema).
