@@ -81,6 +81,11 @@ QString condition_words(const ConditionLabels& labels, const std::string& condit
   return QString::fromStdString(condition + (it == labels.end() || it->second.empty() ? "" : " (" + it->second + ")"));
 }
 QString metric_words(const std::string& metric) { return QString::fromStdString(metric == "fraction_found" ? "targets found" : metric); }
+/// Column `c` of the current row in the plot's unit: a fraction metric in percentage points.
+std::optional<double> in_plot_unit(CsvReader& in, std::size_t c, const std::string& metric) {
+  const auto v = in.optional_number(c);
+  return v && metric.starts_with("fraction") ? std::optional(*v * 100) : v;
+}
 
 }  // namespace
 
@@ -94,8 +99,7 @@ void forest(const fs::path& csv, const fs::path& file, const ConditionLabels& la
   std::string metric;
   while (in.next()) {
     metric = std::string(in[c_metric]);
-    const double scale = metric.starts_with("fraction") ? 100 : 1;
-    auto scaled = [&](std::size_t c) { auto v = in.optional_number(c); return v ? std::optional(*v * scale) : v; };
+    auto scaled = [&](std::size_t c) { return in_plot_unit(in, c, metric); };
     const auto win = in.optional_number(c_win);
     const std::string condition(c_condition ? in[*c_condition] : std::string_view{});
     rows.push_back({(condition.empty() ? "" : condition_words(labels, condition) + ", ") + text_of(in[c_drones]) + " drones",
@@ -116,8 +120,7 @@ void did_plot(const fs::path& csv, const fs::path& file, const ConditionLabels& 
   std::string metric;
   while (in.next()) {
     metric = std::string(in[c_metric]);
-    const double scale = metric.starts_with("fraction") ? 100 : 1;
-    auto scaled = [&](std::size_t c) { auto v = in.optional_number(c); return v ? std::optional(*v * scale) : v; };
+    auto scaled = [&](std::size_t c) { return in_plot_unit(in, c, metric); };
     rows.push_back({condition_words(labels, std::string(in[c_cond])) + " against " + text_of(in[c_base]) + ", " + text_of(in[c_drones]) + " drones",
                     text_of(in[c_a]) + " − " + text_of(in[c_b]), "n = " + text_of(in[c_n]) + " repeats", scaled(c_did), scaled(c_lo), scaled(c_hi)});
   }
