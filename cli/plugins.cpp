@@ -7,9 +7,8 @@
 #include <memory>
 #include <type_traits>
 
-#include "salsa/core/model/comm.hpp"
+#include "salsa/core/experiments/test_models.hpp"
 #include "salsa/core/model/drone_config.hpp"
-#include "salsa/core/model/wind.hpp"
 #include "salsa/core/plugins/plugin_host.hpp"
 #include "commands.hpp"
 #include "options.hpp"
@@ -95,17 +94,13 @@ int cmd_describe(int argc, char** argv) {
                 << Parameter::format(p.min) << std::setw(12) << Parameter::format(p.max) << std::setw(14)
                 << (p.unit.empty() ? "-" : p.unit) << p.description << (p.is_integer() ? " (whole number)" : "") << "\n";
   };
-  // The test's own models, declared once each (drone_schema, comm_schema, wind_schema, failure_schema).
-  auto specs_of = [](const auto& schema) {
-    Parameters out;
-    for (const auto& entry : schema) out.push_back(entry.spec);
-    return out;
-  };
   if (name == "drone") {  // not a plugin: the drone properties every test has (drone_schema)
     std::cout << "drone: the properties of a test's \"drone\" (or a group's; defaults: the \"small\" drone); timed changes\n"
                  "set them as drone.<property> (groups.<name>.drone.<property>). The battery and power model (Zeng, Xu &\n"
                  "Zhang 2019) are off while battery_capacity is 0; sensor noise is off while its five properties are 0.\n\n";
-    table(specs_of(drone_schema()));
+    Parameters specs;
+    for (const DroneProperty& p : drone_schema()) specs.push_back(p.spec);
+    table(specs);
     std::cout << "\n  named configurations (\"drone\": \"NAME\", or {\"base\": \"NAME\", ...}):\n";
     for (const DroneConfig& c : builtin_drone_configs()) {
       std::cout << "  " << std::setw(8) << c.name;
@@ -115,33 +110,25 @@ int cmd_describe(int argc, char** argv) {
     }
     return 0;
   }
-  // Models with no plugin behind them: what the model is, then its settings.
-  const std::map<std::string, std::pair<const char*, Parameters>> models{
-      {"comm", {"comm: a test's communication model (\"comm\": {...}; absent: drones exchange no messages). Timed changes\n"
-                "and sweeps set its fields as comm.<field>; line_of_sight is true or false (1 or 0 in changes and sweeps).\n"
-                "Loss at distance d: p = 1 - (1 - loss)(1 - loss_at_range (d / range)^2).\n\n",
-                specs_of(comm_schema())}},
-      {"failures", {"failures: a test's random failures (\"failures\": {...}; absent: no drone fails on its own). Each drone's\n"
-                    "failure times come from the seed alone, so every behavior of a repeat loses the same drones at the\n"
-                    "same times. Timed changes and sweeps set them as failures.<name>.\n\n",
-                    specs_of(failure_schema())}}};
-  if (const auto m = models.find(name); m != models.end()) {
-    std::cout << m->second.first;
-    table(m->second.second);
+  // A test's models with no plugin behind them (test_models.hpp): what the model is, then its settings;
+  // the wind also lists the fields that can join it.
+  for (const TestModel& m : test_models()) {
+    if (m.key != name) continue;
+    std::cout << m.meaning << "\n\n";
+    Parameters specs;
+    for (const ModelField& f : m.fields) specs.push_back(f.spec);
+    table(specs);
+    if (name == "wind") {
+      PluginHost host;
+      load_plugins(host, vm, true);
+      std::cout << "\n  wind fields (\"field\": \"NAME\"; salsa describe NAME lists its parameters):";
+      for (const auto& e : host.winds()) std::cout << " " << e.factory.name;
+      std::cout << (host.winds().empty() ? " none loaded\n" : "\n");
+    }
     return 0;
   }
   PluginHost host;
   load_plugins(host, vm, true);
-  if (name == "wind") {  // not a plugin: a test's wind (wind_schema), and the wind fields that can join it
-    std::cout << "wind: a test's moving air (\"wind\": {\"velocity\", \"gusts\", \"field\"}; absent: still air). The wind at a\n"
-                 "drone is velocity + gust(t) + field(x, y, t); max speed and power are relative to the air. Timed changes\n"
-                 "and sweeps set its numbers as wind.<name> and a field's parameters as wind.field.params.<p>.\n\n";
-    table(specs_of(wind_schema()));
-    std::cout << "\n  wind fields (\"field\": \"NAME\"; salsa describe NAME lists its parameters):";
-    for (const auto& e : host.winds()) std::cout << " " << e.factory.name;
-    std::cout << (host.winds().empty() ? " none loaded\n" : "\n");
-    return 0;
-  }
   bool found = false;
   auto describe = [&](const char* kind, const auto& entries) {
     for (const auto& e : entries) {

@@ -55,7 +55,7 @@ class TestChanges : public QObject {
                               << "chg.json: changes[0].set.drone.max_speed: 100 m/s × dt";
     QTest::newRow("unknown key") << R"([{"time": 1, "set": {"colour": 1}}])"
                                  << "chg.json: changes[0].set.colour: unknown key (allowed: behavior.params.<name>, drones, drone.<property>, "
-                                    "groups.<name>.<any of those>, failures.drone_mtbf";
+                                    "groups.<name>.<any of those>, failures.<drone_mtbf, camera_mtbf>, comm.<range";
     QTest::newRow("no set") << R"([{"time": 1}])" << "chg.json: changes[0].set: missing";
     QTest::newRow("not a list") << R"({"time": 1})" << "chg.json: changes: {\"time\":1} must be a list";
   }

@@ -8,6 +8,7 @@
 
 #include "salsa/core/plugins/plugin_host.hpp"
 #include "salsa/core/model/simulation.hpp"
+#include "salsa/core/experiments/test_models.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 
 namespace salsa {
@@ -16,10 +17,7 @@ namespace {
 constexpr std::string_view groups_prefix = "groups.";
 constexpr std::string_view params_prefix = "behavior.params.";
 constexpr std::string_view drone_prefix = "drone.";
-constexpr std::string_view wind_prefix = "wind.";
 constexpr std::string_view wind_params_prefix = "wind.field.params.";
-constexpr std::string_view comm_prefix = "comm.";
-constexpr std::string_view failures_prefix = "failures.";
 constexpr double max_drones = 1'000'000;  // as "drones" in a test file
 constexpr double max_id = 4294967294.0;   // ids are 32-bit
 
@@ -73,14 +71,21 @@ std::string check_param(const Parameters& schema, std::string_view name, double 
   return "unknown parameter of " + plugin + " (declared: " + (declared.empty() ? "none" : declared) + ")";
 }
 
+/// "wind.velocity.x, wind.velocity.y, ..., wind.field.params.<name>": a model's keys, for messages.
+std::string model_keys(const TestModel& m) {
+  std::string out;
+  for (const ModelField& f : m.fields) out += (out.empty() ? "" : ", ") + m.key + "." + f.spec.name;
+  return out + (m.other_forms.empty() ? "" : ", " + m.other_forms);
+}
+
 }  // namespace
 
 std::uint64_t change_step(double time, double dt) { return static_cast<std::uint64_t>(std::llround(time / dt)); }
 
 bool change_is_whole(std::string_view key) {
   if (key == "drones" || key.ends_with(".drones") || key == "fail.drone" || key == "fail.camera") return true;
-  if (key.starts_with(comm_prefix)) {
-    const CommField* f = comm_schema().find(key.substr(comm_prefix.size()));
+  if (const TestModel* m = model_of_key(key)) {
+    const ModelField* f = m->find(key.substr(m->key.size() + 1));
     return f && f->spec.is_integer();
   }
   const auto at = key.rfind(drone_prefix);
@@ -118,31 +123,17 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
     return check_param(host.wind(test.wind_field.name).factory.parameters, key.substr(wind_params_prefix.size()), c.value, value,
                        "wind '" + test.wind_field.name + "'");
   }
-  if (key.starts_with(wind_prefix)) {
-    const WindProperty* property = wind_schema().find(key.substr(wind_prefix.size()));
-    if (!property) {
-      std::string keys;
-      for (const WindProperty& p : wind_schema()) keys += "wind." + p.spec.name + ", ";
-      return "unknown key (allowed: " + keys + "wind.field.params.<name>)";
-    }
-    if (const std::string why = property->spec.check(c.value); !why.empty()) return value + " " + why;
-    Wind w = test.wind;
-    property->set(w, c.value);
-    for (const GroupSpec& g : test.groups)
-      if (const Problem p = check_wind(w, g.drone, test.dt)) return p.what + (test.groups.size() > 1 ? " (group " + g.name + ")" : "");
-    return {};
-  }
-  if (key.starts_with(failures_prefix))
-    if (const auto* f = failure_schema().find(key.substr(failures_prefix.size()))) {
-      if (const std::string why = f->spec.check(c.value); !why.empty()) return value + " " + why;
-      return {};
-    }
-  if (key.starts_with(comm_prefix)) {
-    const CommField* f = comm_schema().find(key.substr(comm_prefix.size()));
-    if (!f) return "unknown comm field (allowed: " + comm_schema().names() + ")";
-    if (!test.comm.on) return "the test has no \"comm\" (allowed: comm.<field> in a test with a \"comm\" object; \"comm\": {} gives the defaults)";
+  if (const TestModel* m = model_of_key(key)) {
+    const ModelField* f = m->find(key.substr(m->key.size() + 1));
+    if (!f) return "unknown key (allowed: " + model_keys(*m) + ")";
+    if (!m->changes_while_off && !m->in_use(test))
+      return "the test has no \"" + m->key + "\" (allowed: " + m->key + ".<field> in a test with a \"" + m->key + "\" object; \"" + m->key +
+             "\": {} gives the defaults)";
     if (const std::string why = f->spec.check(c.value); !why.empty()) return value + " " + why;
-    return {};
+    if (!m->problem) return {};
+    TestSpec changed = test;
+    f->set(changed, c.value);
+    return m->problem(changed);
   }
   if (key == "fail.drone" || key == "fail.camera") {
     if (!(c.value >= 0 && c.value <= max_id) || c.value != std::floor(c.value))
@@ -153,9 +144,10 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
     if (!(c.value >= 0 && c.value <= 1)) return value + " is out of range (allowed: a fraction in [0, 1])";
     return {};
   }
-  return "unknown key (allowed: behavior.params.<name>, drones, drone.<property>, groups.<name>.<any of those>, "
-         "failures.drone_mtbf, failures.camera_mtbf, fail.drone, fail.camera, fail.fraction, fail.camera_fraction, comm.<field>, "
-         "wind.<velocity.x, velocity.y, gusts.strength, gusts.time_scale>, wind.field.params.<name>)";
+  std::string models;
+  for (const TestModel& m : test_models()) models += m.key + ".<" + m.names() + ">, " + (m.other_forms.empty() ? "" : m.other_forms + ", ");
+  return "unknown key (allowed: behavior.params.<name>, drones, drone.<property>, groups.<name>.<any of those>, " + models +
+         "fail.drone, fail.camera, fail.fraction, fail.camera_fraction)";
 }
 
 void apply_to_test(TestSpec& test, const Change& c) {
@@ -166,14 +158,10 @@ void apply_to_test(TestSpec& test, const Change& c) {
     if (key.starts_with(params_prefix)) g.behavior.params.set(key.substr(params_prefix.size()), c.value);
     else if (key == "drones") g.drones = static_cast<std::size_t>(c.value);
     else drone_schema().find(key.substr(drone_prefix.size()))->set(g.drone, c.value);
-  } else if (key.starts_with(failures_prefix)) {
-    failure_schema().find(key.substr(failures_prefix.size()))->set(test.failures, c.value);
   } else if (key.starts_with(wind_params_prefix)) {
     test.wind_field.params.set(key.substr(wind_params_prefix.size()), c.value);
-  } else if (key.starts_with(wind_prefix)) {
-    wind_schema().find(key.substr(wind_prefix.size()))->set(test.wind, c.value);
-  } else if (key.starts_with(comm_prefix)) {
-    comm_schema().find(key.substr(comm_prefix.size()))->set(test.comm, c.value);
+  } else if (const TestModel* m = model_of_key(key)) {
+    m->find(key.substr(m->key.size() + 1))->set(test, c.value);
   }  // fail.*: events, nothing the test holds
 }
 
@@ -200,8 +188,6 @@ void apply_change(Simulation& sim, TestSpec& test, const Change& c, const Plugin
     sim.set_drone_count(changed.groups[g].drones, g);
   } else if (to.group >= 0) {
     sim.set_drone_config(changed.groups[g].drone, g);
-  } else if (key.starts_with("failures.")) {
-    sim.set_failures(changed.failures);
   } else if (key.starts_with(wind_params_prefix)) {
     WindField& field = *sim.wind_field_ptr();
     const ParameterValues old = field.parameters();
@@ -214,10 +200,8 @@ void apply_change(Simulation& sim, TestSpec& test, const Change& c, const Plugin
       field.set_parameters(old);
       throw PluginFailure("wind", 0, "an exception that is not a std::exception");
     }
-  } else if (key.starts_with(wind_prefix)) {
-    sim.set_wind(changed.wind, sim.wind_field_ptr());
-  } else if (key.starts_with(comm_prefix)) {
-    sim.set_comm(changed.comm);
+  } else if (const TestModel* m = model_of_key(key)) {
+    if (m->apply) m->apply(sim, changed);
   } else if (key == "fail.drone" || key == "fail.camera") {
     try {
       sim.fail(static_cast<std::uint32_t>(c.value), key == "fail.camera");

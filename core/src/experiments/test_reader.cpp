@@ -4,6 +4,7 @@
 #include <tuple>
 
 #include "salsa/core/experiments/changes.hpp"
+#include "salsa/core/experiments/test_models.hpp"
 #include "salsa/core/run/metrics.hpp"
 #include "salsa/core/files/names.hpp"
 #include "salsa/core/experiments/queue.hpp"
@@ -14,6 +15,15 @@ namespace salsa {
 using detail::Reader;
 
 namespace detail {
+
+std::vector<const char*> test_keys() {
+  std::vector<const char*> keys{"name", "behavior", "drone", "drone_configs", "drones", "groups"};
+  for (const TestModel& m : test_models()) keys.push_back(m.key.c_str());
+  for (const char* k : {"map", "spawn", "targets", "contact_handlers", "metrics", "time", "dt", "log_interval", "velocity_iterations",
+                        "position_iterations", "decision_lag", "physics", "seed", "repeat", "changes", "condition", "versions"})
+    keys.push_back(k);
+  return keys;
+}
 
 json read_json_file(const std::filesystem::path& file, std::string_view expected) {
   try {
@@ -90,43 +100,15 @@ std::pair<std::string, json> name_and_params(const json& v, const Reader& r, con
 
 namespace {
 
-/// "wind": {"velocity": [x, y], "gusts": {"strength", "time_scale"}, "field": "name" | {"name", "params"}},
-/// each number as wind_schema() declares it. "velocity" may also be {"x": ..., "y": ...} (either left
-/// out: 0): the form sweep.set's wind.velocity.x fills in.
-void parse_wind(TestSpec& t, const json& w, const Reader& r, const PluginHost& host) {
-  r.only_keys(w, "wind", {"velocity", "gusts", "field"});
-  auto set = [&](const json& v, const std::string& name) {
-    const WindProperty& p = *wind_schema().find(name);
-    p.set(t.wind, r.number(v, "wind." + name, p.spec.min, p.spec.max, p.spec.unit.c_str()));
-  };
-  if (w.contains("velocity")) {
-    const json& v = w["velocity"];
-    if (v.is_object()) {
-      r.only_keys(v, "wind.velocity", {"x", "y"});
-      for (const char* axis : {"x", "y"})
-        if (v.contains(axis)) set(v[axis], std::string("velocity.") + axis);
-    } else if (v.is_array() && v.size() == 2) {
-      set(v[0], "velocity.x");
-      set(v[1], "velocity.y");
-    } else {
-      r.fail("wind.velocity", show(v) + " must be a velocity [x, y] in m/s (or {\"x\": ..., \"y\": ...})");
-    }
-  }
-  if (w.contains("gusts")) {
-    const json& g = w["gusts"];
-    r.only_keys(g, "wind.gusts", {"strength", "time_scale"});
-    for (const char* key : {"strength", "time_scale"})
-      if (g.contains(key)) set(g[key], std::string("gusts.") + key);
-  }
-  if (w.contains("field")) {
-    json params;
-    std::tie(t.wind_field.name, params) = name_and_params(w["field"], r, "wind.field");
-    try {
-      t.wind_field.params = r.params(params, "wind.field.params", host.wind(t.wind_field.name).factory.parameters,
-                                     "wind '" + t.wind_field.name + "'");
-    } catch (const UnknownPlugin& e) {
-      r.fail("wind.field", e.what());
-    }
+/// The wind's field ("field": "name" | {"name", "params"}); its numbers are a model's (test_models.hpp).
+void parse_wind_field(TestSpec& t, const json& w, const Reader& r, const PluginHost& host) {
+  json params;
+  std::tie(t.wind_field.name, params) = name_and_params(w, r, "wind.field");
+  try {
+    t.wind_field.params = r.params(params, "wind.field.params", host.wind(t.wind_field.name).factory.parameters,
+                                   "wind '" + t.wind_field.name + "'");
+  } catch (const UnknownPlugin& e) {
+    r.fail("wind.field", e.what());
   }
 }
 
@@ -165,30 +147,58 @@ void parse_group(GroupSpec& g, const json& j, const Reader& r, const PluginHost&
 
 }  // namespace
 
-CommSetup parse_comm(const json& c, const Reader& r) {
-  if (!c.is_object()) r.fail("comm", show(c) + " must be an object, e.g. {\"range\": 100, \"loss\": 0.1}");
-  for (const auto& [key, value] : c.items())
-    if (!comm_schema().find(key)) r.fail(Reader::join("comm", key), "unknown key (allowed: " + comm_schema().names() + ")");
-  CommSetup out;
-  out.on = true;
-  for (const CommField& f : comm_schema()) {
-    if (!c.contains(f.spec.name)) continue;
-    const std::string field = "comm." + f.spec.name;
-    const json& v = c[f.spec.name];
+void parse_model(TestSpec& t, const TestModel& m, const json& section, const Reader& r) {
+  // The section's keys: each field's first part ("gusts" of "gusts.strength"), then those read elsewhere.
+  std::vector<std::string> keys;
+  for (const ModelField& f : m.fields)
+    if (const std::string first = f.spec.name.substr(0, f.spec.name.find('.')); std::find(keys.begin(), keys.end(), first) == keys.end())
+      keys.push_back(first);
+  keys.insert(keys.end(), m.other_keys.begin(), m.other_keys.end());
+  std::vector<const char*> allowed;
+  for (const std::string& k : keys) allowed.push_back(k.c_str());
+  r.only_keys(section, m.key, allowed);
+  auto read = [&](const ModelField& f, const json& v, const std::string& field) {
     if (f.flag) {  // true or false; 0 and 1 too, as a sweep or a timed change gives them
-      if (v.is_boolean()) f.set(out, v.get<bool>() ? 1 : 0);
-      else if (v.is_number() && (v.get<double>() == 0 || v.get<double>() == 1)) f.set(out, v.get<double>());
+      if (v.is_boolean()) f.set(t, v.get<bool>() ? 1 : 0);
+      else if (v.is_number() && (v.get<double>() == 0 || v.get<double>() == 1)) f.set(t, v.get<double>());
       else r.fail(field, show(v) + " is not true or false (allowed: true, false, 1, 0)");
     } else {
-      f.set(out, f.spec.is_integer() ? static_cast<double>(r.integer(v, field, f.spec.min, f.spec.max))
-                                     : r.number(v, field, f.spec.min, f.spec.max, f.spec.unit.c_str()));
+      f.set(t, f.spec.is_integer() ? static_cast<double>(r.integer(v, field, f.spec.min, f.spec.max))
+                                   : r.number(v, field, f.spec.min, f.spec.max, f.spec.unit.c_str()));
     }
+  };
+  for (const std::string& k : keys) {
+    if (!section.contains(k) || std::find(m.other_keys.begin(), m.other_keys.end(), k) != m.other_keys.end()) continue;
+    const std::string at = m.key + "." + k;
+    if (const ModelField* f = m.find(k)) {
+      read(*f, section[k], at);
+      continue;
+    }
+    // A nested object ({"strength": ..., "time_scale": ...}); x and y also as a vector [x, y].
+    const ModelField* x = m.find(k + ".x");
+    const ModelField* y = m.find(k + ".y");
+    const json& v = section[k];
+    if (x && y && v.is_array()) {
+      if (v.size() != 2) r.fail(at, show(v) + " must be [x, y] in " + x->spec.unit + " (or {\"x\": ..., \"y\": ...})");
+      read(*x, v[0], at + ".x");
+      read(*y, v[1], at + ".y");
+      continue;
+    }
+    if (x && y && !v.is_object()) r.fail(at, show(v) + " must be [x, y] in " + x->spec.unit + " (or {\"x\": ..., \"y\": ...})");
+    std::vector<std::string> inner;
+    for (const ModelField& f : m.fields)
+      if (f.spec.name.starts_with(k + ".")) inner.push_back(f.spec.name.substr(k.size() + 1));
+    std::vector<const char*> inner_allowed;
+    for (const std::string& i : inner) inner_allowed.push_back(i.c_str());
+    r.only_keys(v, at, inner_allowed);
+    for (const std::string& i : inner)
+      if (v.contains(i)) read(*m.find(k + "." + i), v[i], at + "." + i);
   }
-  return out;
+  if (m.given) m.given(t);
 }
 
 TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
-  r.only_keys(j, "", test_keys);
+  r.only_keys(j, "", test_keys());
   TestSpec t;
   if (j.contains("name")) {
     t.name = r.string(j["name"], "name");
@@ -222,17 +232,9 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
   } else {
     parse_group(t.groups[0], j, r, host, named, "");
   }
-  if (j.contains("comm")) t.comm = parse_comm(j["comm"], r);
-  if (j.contains("failures")) {
-    const json& f = j["failures"];
-    std::vector<const char*> names;
-    for (const auto& field : failure_schema()) names.push_back(field.spec.name.c_str());
-    r.only_keys(f, "failures", names);
-    for (const auto& field : failure_schema())
-      if (f.contains(field.spec.name))
-        field.set(t.failures, r.number(f[field.spec.name], "failures." + field.spec.name, field.spec.min, field.spec.max, field.spec.unit.c_str()));
-  }
-  if (j.contains("wind")) parse_wind(t, j["wind"], r, host);
+  for (const TestModel& m : test_models())
+    if (j.contains(m.key)) parse_model(t, m, j[m.key], r);
+  if (j.contains("wind") && j["wind"].contains("field")) parse_wind_field(t, j["wind"]["field"], r, host);
 
   // map: "name" | "file.json" | {"name", "params", "file"}
   {

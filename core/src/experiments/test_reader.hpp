@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "salsa/core/experiments/test_models.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 #include "strict_json.hpp"
 #include "format.hpp"
@@ -96,18 +97,16 @@ class Reader {
   std::filesystem::path base_;
 };
 
-/// The keys of a test object.
-inline const std::vector<const char*> test_keys{
-    "name", "behavior", "drone", "drone_configs", "drones", "groups", "failures", "comm", "wind", "map", "spawn", "targets",
-    "contact_handlers", "metrics", "time", "dt", "log_interval", "velocity_iterations", "position_iterations", "decision_lag",
-    "physics", "seed", "repeat", "changes", "condition", "versions"};
+/// The keys of a test object: its own, with the test models' sections after "groups" (test_models.hpp).
+std::vector<const char*> test_keys();
 
 /// Every JSON file salsa reads comes through here: strict (see strict_json.hpp), one line per problem.
 json read_json_file(const std::filesystem::path& file, std::string_view expected);
 /// A drone configuration at `at` ("drone" in a test, its name in a drone configuration file).
 DroneConfig parse_drone(const json& v, const Reader& r, const std::vector<DroneConfig>& named, const std::string& at);
-/// The "comm" object: its fields (comm_schema), each checked against its declared range; on.
-CommSetup parse_comm(const json& c, const Reader& r);
+/// A test model's section (test_models.hpp): each field checked against its declared range, nested
+/// objects by the dots of the fields' names.
+void parse_model(TestSpec& t, const TestModel& m, const json& section, const Reader& r);
 /// The built-in configurations, then those of a drone configuration file.
 std::vector<DroneConfig> drone_configs_file(const std::filesystem::path& file);
 /// One test object; a test without "seed" gets the paired seed of queue seed 1 (queue.hpp).

@@ -1,6 +1,7 @@
 // Writing a test: the resolved test as config.json holds it (defaults filled in, the plugins' versions), enough to rerun it.
 #include "salsa/core/experiments/test_spec.hpp"
 
+#include "salsa/core/experiments/test_models.hpp"
 #include "experiments/test_reader.hpp"
 
 namespace salsa {
@@ -22,6 +23,21 @@ namespace {
 json params_json(const ParameterValues& v) {
   json out = json::object();
   for (const auto& [k, x] : v.items()) out[k] = x;
+  return out;
+}
+/// A model's section: its fields nested by the dots in their names, {"x", "y"} pairs as [x, y].
+json model_json(const TestSpec& t, const TestModel& m) {
+  json out = json::object();
+  for (const ModelField& f : m.fields) {
+    json* at = &out;
+    for (std::size_t start = 0, dot; (dot = f.spec.name.find('.', start)) != std::string::npos; start = dot + 1)
+      at = &(*at)[f.spec.name.substr(start, dot - start)];
+    const double v = f.get(t);
+    (*at)[f.spec.name.substr(f.spec.name.rfind('.') + 1)] =
+        f.flag ? json(v != 0) : f.spec.is_integer() ? json(static_cast<std::int64_t>(v)) : json(v);
+  }
+  for (auto& [key, value] : out.items())
+    if (value.is_object() && value.size() == 2 && value.contains("x") && value.contains("y")) value = json::array({value["x"], value["y"]});
   return out;
 }
 template <class Base>
@@ -63,19 +79,9 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   } else {
     group_json(t.groups[0], j);
   }
-  if (t.failures != FailureSetup{})
-    for (const auto& field : failure_schema()) j["failures"][field.spec.name] = field.get(t.failures);
-  if (t.comm.on) {  // only then: a test without it keeps its config.json bytes
-    json comm = json::object();
-    for (const CommField& f : comm_schema())
-      comm[f.spec.name] = f.flag ? json(f.get(t.comm) != 0) : f.spec.is_integer() ? json(static_cast<std::int64_t>(f.get(t.comm))) : json(f.get(t.comm));
-    j["comm"] = comm;
-  }
-  if (t.has_wind()) {  // only then: a test without wind keeps its config.json bytes
-    j["wind"] = {{"velocity", {t.wind.velocity.x, t.wind.velocity.y}},
-                 {"gusts", {{"strength", t.wind.gust_strength}, {"time_scale", t.wind.gust_time_scale}}}};
-    if (!t.wind_field.name.empty()) j["wind"]["field"] = {{"name", t.wind_field.name}, {"params", params_json(t.wind_field.params)}};
-  }
+  for (const TestModel& m : test_models())  // only those in use: a test without one keeps its config.json bytes
+    if (m.in_use(t)) j[m.key] = model_json(t, m);
+  if (!t.wind_field.name.empty()) j["wind"]["field"] = {{"name", t.wind_field.name}, {"params", params_json(t.wind_field.params)}};
   j["map"] = {{"name", t.map.name}, {"params", params_json(t.map.params)}};
   if (!t.map_file.empty()) j["map"]["file"] = t.map_file;
   if (!t.named_groups) j["spawn"] = spawn_json(t.groups[0]);

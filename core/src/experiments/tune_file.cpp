@@ -10,9 +10,8 @@
 #include <variant>
 
 #include "salsa/core/experiments/queue.hpp"
-#include "salsa/core/model/comm.hpp"
+#include "salsa/core/experiments/test_models.hpp"
 #include "salsa/core/model/drone_config.hpp"
-#include "salsa/core/model/wind.hpp"
 #include "salsa/core/run/runner.hpp"
 #include "strict_json.hpp"
 #include "format.hpp"
@@ -103,24 +102,18 @@ std::variant<Declared, std::string> declared(const TestSpec& test, const std::st
     return Declared{p->spec, p->get(group->drone)};
   }
   if (key != rest) return "unknown key (allowed: groups.<name>.drones, groups.<name>.drone.<property>, groups.<name>.behavior.params.<p>)";
-  if (rest.starts_with("comm.")) {
-    const CommField* f = comm_schema().find(rest.substr(5));
-    if (!f) return "unknown comm field (allowed: " + comm_schema().names() + ")";
-    if (!test.comm.on) return "the test has no \"comm\" (allowed: comm.<field> in a test with a \"comm\" object)";
-    return Declared{f->spec, f->get(test.comm)};
-  }
   if (rest.starts_with("wind.field.params.")) {
     if (test.wind_field.name.empty()) return "the test has no wind field";
     return in_schema(host.wind(test.wind_field.name).factory.parameters, rest.substr(18), test.wind_field.params,
                      "wind '" + test.wind_field.name + "'");
   }
-  if (rest.starts_with("wind.")) {
-    const WindProperty* p = wind_schema().find(rest.substr(5));
-    if (!p) return "unknown wind key (allowed: wind." + wind_schema().names() + ", wind.field.params.<p>)";
-    return Declared{p->spec, p->get(test.wind)};
+  if (const TestModel* m = model_of_key(rest)) {
+    const ModelField* f = m->find(rest.substr(m->key.size() + 1));
+    if (!f) return "unknown " + m->key + " key (allowed: " + m->key + "." + m->names() + (m->other_forms.empty() ? "" : ", " + m->other_forms) + ")";
+    if (!m->changes_while_off && !m->in_use(test))
+      return "the test has no \"" + m->key + "\" (allowed: " + m->key + ".<field> in a test with a \"" + m->key + "\" object)";
+    return Declared{f->spec, f->get(test)};
   }
-  if (rest.starts_with("failures."))
-    if (const auto* f = failure_schema().find(rest.substr(9))) return Declared{f->spec, f->get(test.failures)};
   if (rest.starts_with("map.params."))
     return in_schema(host.map(test.map.name).factory.parameters, rest.substr(11), test.map.params, "map '" + test.map.name + "'");
   if (rest == "targets.count") return Declared{{"count", 0, 0, 1e7, "", "", 1}, static_cast<double>(test.targets)};
@@ -128,8 +121,8 @@ std::variant<Declared, std::string> declared(const TestSpec& test, const std::st
     return in_schema(host.target_kind(test.target.name).factory.parameters, rest.substr(15), test.target.params,
                      "target kind '" + test.target.name + "'");
   return "not a number of the test that can be tuned (allowed: behavior.params.<p>, drones, drone.<property>, "
-         "groups.<name>.<any of those>, comm.<field>, wind.<property>, wind.field.params.<p>, failures.drone_mtbf, "
-         "failures.camera_mtbf, map.params.<p>, targets.count, targets.params.<p>)";
+         "groups.<name>.<any of those>, comm.<field>, wind.<property>, wind.field.params.<p>, failures.<field>, "
+         "map.params.<p>, targets.count, targets.params.<p>)";
 }
 
 /// The rule for a scale nobody chose: a range of positive numbers spanning a factor of 100 or more is
@@ -212,14 +205,11 @@ std::vector<TunableNumber> tunable_numbers(const TestSpec& test, const PluginHos
     keys.push_back(prefix + "drones");
     for (const DroneProperty& p : drone_schema()) keys.push_back(prefix + "drone." + p.spec.name);
   }
-  if (test.comm.on)
-    for (const CommField& f : comm_schema()) keys.push_back("comm." + f.spec.name);
-  if (test.has_wind()) {
-    for (const WindProperty& p : wind_schema()) keys.push_back("wind." + p.spec.name);
-    if (!test.wind_field.name.empty())
-      for (const Parameter& p : host.wind(test.wind_field.name).factory.parameters) keys.push_back("wind.field.params." + p.name);
-  }
-  for (const auto& f : failure_schema()) keys.push_back("failures." + f.spec.name);
+  for (const TestModel& m : test_models())  // a model in use, or one a change can start (failures, wind)
+    if (m.in_use(test) || m.changes_while_off)
+      for (const ModelField& f : m.fields) keys.push_back(m.key + "." + f.spec.name);
+  if (!test.wind_field.name.empty())
+    for (const Parameter& p : host.wind(test.wind_field.name).factory.parameters) keys.push_back("wind.field.params." + p.name);
   for (const Parameter& p : host.map(test.map.name).factory.parameters) keys.push_back("map.params." + p.name);
   keys.push_back("targets.count");
   for (const Parameter& p : host.target_kind(test.target.name).factory.parameters) keys.push_back("targets.params." + p.name);

@@ -3,6 +3,7 @@
 // plugins, parameters validated). Read from and written to JSON; see docs/test-format.md.
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -51,6 +52,8 @@ struct TestSpec {
   /// Whether the test has wind (config.json then writes "wind"); off, the run is exactly as without it.
   bool has_wind() const { return wind != Wind{} || !wind_field.name.empty(); }
   CommSetup comm;                   ///< "comm": messages between drones; off without it
+  /// The numbers of models declared outside the core (add_test_model, test_models.hpp), by "<key>.<field>".
+  std::map<std::string, double> extra_numbers;
   PluginChoice map;
   std::string map_file;             ///< for file-based maps; absolute or relative to the working folder
   PluginChoice target;
