@@ -11,10 +11,10 @@
 #include <map>
 #include <sstream>
 
-#include "salsa/core/experiments/queue_summary.hpp"
+#include "salsa/core/results/queue_summary.hpp"
 #include "commands.hpp"
 #include "options.hpp"
-#include "salsa/core/experiments/comparison.hpp"
+#include "salsa/core/results/comparison.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/plots/chart.hpp"
 #include "salsa/plots/results.hpp"

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "salsa/core/plugins/plugin_host.hpp"
-#include "salsa/core/files/output_folder.hpp"
+#include "salsa/core/run/output_folder.hpp"
 #include "salsa/core/run/runner.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 

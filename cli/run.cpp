@@ -12,10 +12,10 @@
 #include <optional>
 #include <unordered_map>
 
-#include "salsa/core/files/output_folder.hpp"
+#include "salsa/core/run/output_folder.hpp"
 #include "salsa/core/plugins/plugin_host.hpp"
 #include "salsa/core/experiments/queue.hpp"
-#include "salsa/core/experiments/queue_summary.hpp"
+#include "salsa/core/results/queue_summary.hpp"
 #include "salsa/core/run/runner.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 #include "commands.hpp"

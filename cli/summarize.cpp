@@ -1,8 +1,8 @@
 // salsa summarize OUT: a queue folder's summary.csv, comparison.csv and plots, from its test folders alone.
 #include <iostream>
 
-#include "salsa/core/experiments/comparison.hpp"
-#include "salsa/core/experiments/queue_summary.hpp"
+#include "salsa/core/results/comparison.hpp"
+#include "salsa/core/results/queue_summary.hpp"
 #include "salsa/plots/results.hpp"
 #include "commands.hpp"
 #include "options.hpp"

@@ -11,8 +11,8 @@
 #include <optional>
 #include <sstream>
 
-#include "salsa/core/experiments/queue_summary.hpp"
-#include "salsa/core/files/output_folder.hpp"
+#include "salsa/core/results/queue_summary.hpp"
+#include "salsa/core/run/output_folder.hpp"
 #include "salsa/core/run/signals.hpp"
 #include "salsa/plots/results.hpp"
 #include "commands.hpp"

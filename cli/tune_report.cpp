@@ -6,11 +6,11 @@
 #include <limits>
 #include <sstream>
 
-#include "salsa/core/experiments/comparison.hpp"
-#include "salsa/core/experiments/queue_summary.hpp"
+#include "salsa/core/results/comparison.hpp"
+#include "salsa/core/results/queue_summary.hpp"
 #include "salsa/core/files/csv_reader.hpp"
 #include "salsa/core/files/csv_writer.hpp"
-#include "salsa/core/files/output_folder.hpp"
+#include "salsa/core/run/output_folder.hpp"
 #include "commands.hpp"
 #include "tuner.hpp"
 

@@ -7,7 +7,7 @@
 #include <set>
 
 #include "common.hpp"
-#include "salsa/core/experiments/comparison.hpp"
+#include "salsa/core/results/comparison.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/plots/results.hpp"
 

@@ -10,10 +10,10 @@
 #include <set>
 
 #include "salsa/core/files/names.hpp"
-#include "salsa/core/experiments/comparison.hpp"
+#include "salsa/core/results/comparison.hpp"
 #include "salsa/core/experiments/queue.hpp"
-#include "salsa/core/experiments/queue_summary.hpp"
-#include "salsa/core/files/output_folder.hpp"
+#include "salsa/core/results/queue_summary.hpp"
+#include "salsa/core/run/output_folder.hpp"
 #include "salsa/core/run/runner.hpp"
 
 using namespace salsa;

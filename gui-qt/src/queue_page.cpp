@@ -29,7 +29,7 @@
 #include <QVBoxLayout>
 
 #include "salsa/core/experiments/queue.hpp"
-#include "salsa/core/experiments/queue_summary.hpp"
+#include "salsa/core/results/queue_summary.hpp"
 #include "salsa_process.hpp"
 #include "save_checked.hpp"
 

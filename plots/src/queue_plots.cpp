@@ -8,7 +8,7 @@
 #include <optional>
 #include <set>
 
-#include "salsa/core/experiments/comparison.hpp"
+#include "salsa/core/results/comparison.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/core/files/csv_reader.hpp"
 #include "comparison_plots.hpp"

@@ -3,7 +3,7 @@
 #include <charconv>
 #include <cmath>
 
-#include "salsa/core/experiments/test_spec.hpp"
+#include "salsa/core/files/input_error.hpp"
 #include "strict_json.hpp"
 
 namespace salsa {

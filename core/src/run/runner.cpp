@@ -22,7 +22,7 @@
 #include "salsa/core/run/metrics.hpp"
 #include "salsa/core/run/session.hpp"
 #include "salsa/core/files/names.hpp"
-#include "salsa/core/files/output_folder.hpp"
+#include "salsa/core/run/output_folder.hpp"
 #include "run/running_notes.hpp"
 
 namespace salsa {

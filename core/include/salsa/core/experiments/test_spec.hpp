@@ -12,16 +12,12 @@
 #include <vector>
 
 #include "salsa/core/experiments/changes.hpp"
+#include "salsa/core/files/input_error.hpp"
 #include "salsa/core/model/drone_config.hpp"
 #include "salsa/core/plugins/plugin_host.hpp"
 #include "salsa/core/model/simulation.hpp"
 
 namespace salsa {
-
-/// Bad input: the message is one line naming the file, the field, the value and what is allowed.
-struct InputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 struct PluginChoice {
   std::string name;

@@ -1,5 +1,5 @@
-#include "salsa/core/experiments/comparison.hpp"
-#include "salsa/core/experiments/queue_summary.hpp"
+#include "salsa/core/results/comparison.hpp"
+#include "salsa/core/results/queue_summary.hpp"
 
 #include <boost/math/distributions/students_t.hpp>
 #include <nlohmann/json.hpp>

@@ -1,4 +1,4 @@
-#include "salsa/core/files/output_folder.hpp"
+#include "salsa/core/run/output_folder.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>

@@ -1,5 +1,5 @@
 // OUT/queue.json: the record of the queue that writes OUT, OUT claimed for it, and whether a folder holds salsa results.
-#include "salsa/core/experiments/queue_summary.hpp"
+#include "salsa/core/results/queue_summary.hpp"
 
 #include <unistd.h>
 
@@ -13,9 +13,9 @@
 #include <unordered_map>
 
 #include "salsa/core/files/csv_writer.hpp"
-#include "salsa/core/files/output_folder.hpp"
+#include "salsa/core/run/output_folder.hpp"
 #include "experiments/fnv1a.hpp"
-#include "experiments/queue_folder.hpp"
+#include "results/queue_folder.hpp"
 
 namespace salsa {
 

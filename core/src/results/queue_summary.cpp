@@ -1,5 +1,5 @@
 // OUT/summary.csv (one row per test: its config.json's inputs, its outcome) and timing.csv, from the test folders alone.
-#include "salsa/core/experiments/queue_summary.hpp"
+#include "salsa/core/results/queue_summary.hpp"
 
 #include <unistd.h>
 
@@ -16,10 +16,10 @@
 #include "salsa/core/experiments/queue.hpp"
 #include "salsa/core/files/csv_writer.hpp"
 #include "salsa/core/files/names.hpp"
-#include "salsa/core/files/output_folder.hpp"
+#include "salsa/core/run/output_folder.hpp"
 #include "salsa/core/run/runner.hpp"
 #include "experiments/fnv1a.hpp"
-#include "experiments/queue_folder.hpp"
+#include "results/queue_folder.hpp"
 
 namespace salsa {
 
