@@ -19,6 +19,7 @@
 #include <QUndoStack>
 
 #include "main_window.hpp"
+#include "number_field.hpp"
 #include "map_editor.hpp"
 #include "queue_page.hpp"
 #include "salsa/core/experiments/queue.hpp"
@@ -188,6 +189,15 @@ class GuiQueue : public QObject {
     QVERIFY2(p->wait(300000), qPrintable(p->log_text()));
     for (int i = 0; i < 3; ++i) QCOMPARE(p->model()->status(i), QueueModel::Status::done);
     QVERIFY(p->last_message().contains("queue finished"));
+    // The result column: each finished test's found targets, as its outcome.csv has them.
+    QCOMPARE(p->model()->headerData(QueueModel::col_result, Qt::Horizontal).toString(), QString("result"));
+    for (int i = 0; i < 3; ++i) {
+      const QString result = p->model()->data(p->model()->index(i, QueueModel::col_result)).toString();
+      const QStringList outcome = QString::fromUtf8(read_file(gui_out + "/" + QString::fromStdString(p->model()->test(i).name) + "/outcome.csv")).trimmed().split(QChar(10));
+      const QStringList names = outcome[0].split(','), values = outcome[1].split(',');
+      const QString found = values[static_cast<int>(names.indexOf("targets_found"))], total = values[static_cast<int>(names.indexOf("targets"))];
+      QVERIFY2(result.startsWith(QString("found %1 / %2 (").arg(found, total)), qPrintable(result));
+    }
     // The same saved file, run by the CLI.
     const QString cli_out = dir_.filePath("cli-run");
     const CliResult r = run_salsa({"run", gui_out + ".queue.json", "--out", cli_out, "--no-plots", "-q"});

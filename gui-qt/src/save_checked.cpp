@@ -31,7 +31,14 @@ class CheckedSaveDialog : public QFileDialog {
       : QFileDialog(parent, title, suggested, filter), check_(std::move(check)) {
     setAcceptMode(QFileDialog::AcceptSave);
     setOption(QFileDialog::DontUseNativeDialog);  // native dialogs cannot be kept open on a bad name
-    if (folder) setOption(QFileDialog::ShowDirsOnly);
+    if (folder) {
+      // A folder, new (typed) or existing (clicked: a stopped run's, to resume it). Directory mode puts a
+      // clicked folder's name in the line; accept() takes it instead of opening it.
+      setOption(QFileDialog::ShowDirsOnly);
+      setFileMode(QFileDialog::Directory);
+      setLabelText(QFileDialog::Accept, "Choose");
+      folder_ = true;
+    }
     connect(this, &QFileDialog::directoryEntered, this, [this](const QString& dir) { show_folder(dir); });
     show_folder(directory().absolutePath());
   }
@@ -41,11 +48,13 @@ class CheckedSaveDialog : public QFileDialog {
     if (file.isEmpty()) return QFileDialog::accept();
     const QString parent = QFileInfo(file).absolutePath();
     QString why = folder_problem(parent);  // a file, or an output folder to be made: its parent is written
+    if (why.isEmpty() && folder_) why = folder_problem(file);  // an existing output folder is written into
     if (why.isEmpty() && check_) why = QString::fromStdString(check_(file));
     if (!why.isEmpty()) {
       QMessageBox::warning(this, windowTitle(), file + ": " + why);  // the dialog stays open, the name as typed
       return;
     }
+    if (folder_) return QDialog::accept();  // QFileDialog's would open an existing folder, or refuse a new one
     QFileDialog::accept();
   }
 
@@ -57,6 +66,7 @@ class CheckedSaveDialog : public QFileDialog {
     setLabelText(QFileDialog::FileName, why.isEmpty() ? "File name:" : "Not here (" + QFileInfo(dir).fileName() + " is read-only):");
   }
   std::function<std::string(const QString&)> check_;
+  bool folder_ = false;
 };
 
 }  // namespace
