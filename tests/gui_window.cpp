@@ -11,7 +11,9 @@
 #include <QSlider>
 #include <QSpinBox>
 #include <QTemporaryDir>
+#include <cmath>
 #include <QLabel>
+#include <QGroupBox>
 #include <QMessageBox>
 #include <QPushButton>
 #include <QScrollArea>
@@ -319,6 +321,42 @@ class GuiWindow : public QObject {
     QCOMPARE(names.count("small"), 1);
     QCOMPARE(names.count("mine"), 1);
     QCOMPARE(box->currentText(), QString("mine"));
+  }
+
+  // The wind's velocity (-1000 to 1000 m/s) by slider: fine near 0 (a normal wind can be set), monotonic,
+  // the ends exact, 0 and 3 m/s on positions of their own.
+  void wind_sliders_are_fine_near_zero() {
+    ParamPanel* wind = window_->sandbox()->wind_panel();
+    QSlider* slider = wind->slider("velocity.x");
+    QVERIFY(slider);
+    QCOMPARE(wind->slider_value("velocity.x", slider->minimum()), -1000.0);
+    QCOMPARE(wind->slider_value("velocity.x", slider->maximum()), 1000.0);
+    double last = -1e9, largest_near = 0;
+    bool zero = false, three = false;
+    for (int s = slider->minimum(); s <= slider->maximum(); ++s) {
+      const double v = wind->slider_value("velocity.x", s);
+      QVERIFY2(v >= last, qPrintable(QString("position %1: %2 after %3").arg(s).arg(v).arg(last)));
+      if (std::fabs(v) <= 10 && std::fabs(last) <= 10) largest_near = std::max(largest_near, v - last);
+      zero = zero || v == 0;
+      three = three || v == 3;
+      last = v;
+    }
+    QVERIFY2(largest_near <= 0.2 + 1e-9, qPrintable(QString("a step of %1 m/s within 10 m/s of calm").arg(largest_near)));
+    QVERIFY(zero && three);
+    wind->set_value("velocity.x", 3);
+    QCOMPARE(wind->slider_value("velocity.x", slider->value()), 3.0);
+    // Arrow keys from 3 m/s (the breeze a ticked Wind box starts): each press moves on, never stuck on a
+    // position that rounds back to 3.
+    window_->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+    window_->sandbox()->wind_box()->setChecked(true);
+    settle();
+    QApplication::processEvents();
+    slider = wind->slider("velocity.x");
+    QCOMPARE(wind->value("velocity.x"), 3.0);
+    slider->setFocus(Qt::MouseFocusReason);
+    for (int i = 0; i < 3; ++i) QTest::keyClick(slider, Qt::Key_Right);
+    QVERIFY2(wind->value("velocity.x") > 3 && wind->value("velocity.x") <= 3.3, qPrintable(QString::number(wind->value("velocity.x"))));
   }
 
   // The window's "Save as test" writes a file that salsa run accepts and replays to the same state.

@@ -174,8 +174,15 @@ void ParamPanel::build_rows() {
     connect(row.slider, &QSlider::valueChanged, this, [this, i](int s) {
       if (updating_) return;
       const double v = from_slider(schema_[i], s);
+      const bool same = v == rows_[i].spin->value();
       show_value(i, v);
-      Q_EMIT changed(schema_[i].name, v);
+      // The slider stays where it was moved: snapped back to the value's own position, a position that
+      // rounds onto the same step would hold it there and the next arrow key would do nothing again.
+      const bool was = updating_;
+      updating_ = true;
+      rows_[i].slider->setValue(s);
+      updating_ = was;
+      if (!same) Q_EMIT changed(schema_[i].name, v);
     });
     const QString tip = QString::fromStdString(p.description + " (allowed: " + p.range() + ")") +
                         (logarithmic(p) ? "; the slider is logarithmic, arrow keys move it finely" : "");
