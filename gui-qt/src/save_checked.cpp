@@ -7,6 +7,7 @@
 #include <QDir>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QLineEdit>
 #include <QMessageBox>
 
 namespace fs = std::filesystem;
@@ -44,6 +45,12 @@ class CheckedSaveDialog : public QFileDialog {
   }
 
   void accept() override {
+    // A folder path typed with a trailing slash goes there, as in any file dialog; only a name chooses.
+    if (auto* line = findChild<QLineEdit*>("fileNameEdit"); folder_ && line && line->text().endsWith('/') && QFileInfo(line->text()).isDir()) {
+      setDirectory(line->text());
+      line->clear();
+      return;
+    }
     const QString file = selectedFiles().value(0);
     if (file.isEmpty()) return QFileDialog::accept();
     const QString parent = QFileInfo(file).absolutePath();
