@@ -359,6 +359,26 @@ class GuiWindow : public QObject {
     QVERIFY2(wind->value("velocity.x") > 3 && wind->value("velocity.x") <= 3.3, qPrintable(QString::number(wind->value("velocity.x"))));
   }
 
+  // With a radio on, the Communication box says how many messages are in flight, or why there are none
+  // (links are messages, and only a behavior that broadcasts sends).
+  void the_comm_box_says_why_no_links_are_drawn() {
+    QTemporaryDir dir;
+    QVERIFY(write_file(dir.path() + "/radio.json", R"({"name": "radio", "behavior": "flocking", "drones": 6, "seed": 2,
+      "map": {"name": "forest", "params": {"size": 300}}, "time": 5, "comm": {"range": 80}})"));
+    SandboxPage& sandbox = *window_->sandbox();
+    QVERIFY(sandbox.open_test(dir.path() + "/radio.json").empty());
+    for (int i = 0; i < 5; ++i) sandbox.step();
+    settle();
+    QTRY_VERIFY_WITH_TIMEOUT(sandbox.comm_note()->text().startsWith("No messages in flight"), 5000);
+    QVERIFY(sandbox.comm_note()->text().contains("only a behavior that broadcasts sends any (flocking"));
+    QVERIFY(write_file(dir.path() + "/radio.json", R"({"name": "radio", "behavior": {"name": "pheromone_avoidance", "params": {"sharing": 1}},
+      "drones": 6, "seed": 2, "map": {"name": "forest", "params": {"size": 300}}, "time": 5, "comm": {"range": 80}})"));
+    QVERIFY(sandbox.open_test(dir.path() + "/radio.json").empty());
+    for (int i = 0; i < 5; ++i) sandbox.step();
+    settle();
+    QTRY_VERIFY_WITH_TIMEOUT(sandbox.comm_note()->text().contains("messages delivered for the next step"), 5000);
+  }
+
   // The window's "Save as test" writes a file that salsa run accepts and replays to the same state.
   void save_as_test_then_salsa_run() {
     for (int i = 0; i < 30; ++i) window_->sandbox()->step();
