@@ -246,7 +246,7 @@ void TunePage::build() {
   load_best_button_->setEnabled(false);
   load_best_button_->setToolTip("the winner (best.json) on the first tuning world, into the sandbox");
   connect(load_best_button_, &QPushButton::clicked, this, [this] { load_best(); });
-  for (QWidget* w : std::initializer_list<QWidget*>{save_button, run_button_, stop_button_, jobs_, open_button, load_best_button_})
+  for (QWidget* w : std::initializer_list<QWidget*>{save_button, run_button_, stop_button_, new QLabel("jobs"), jobs_, open_button, load_best_button_})
     run_row->addWidget(w);
   side->addLayout(run_row);
   progress_ = new QProgressBar;
