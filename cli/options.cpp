@@ -104,7 +104,7 @@ double seconds_option(const po::variables_map& vm, const char* name, const TestS
 /// --seed and --yes as QueueOptions.
 QueueOptions queue_settings(const po::variables_map& vm) {
   QueueOptions o;
-  if (vm.count("seed")) o.seed = whole_option(vm, "seed", static_cast<std::uint64_t>(max_seed));
+  if (vm.count("seed")) o.seed = whole_option(vm, "seed", max_seed);
   o.yes = vm.count("yes");
   return o;
 }

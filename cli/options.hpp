@@ -44,7 +44,6 @@ void load_plugins(PluginHost& host, const po::variables_map& vm, bool report_fai
 /// Says so on stderr when a test will likely take hours (estimated neighbours per drone and steps).
 void warn_workload(const TestSpec& test, const SimulationSetup& setup, bool quiet);
 
-inline constexpr double max_seed = 9007199254740992.0;  // 2^53: what JSON numbers hold exactly
 
 /// A decimal number given on the command line, or nullopt when the text is not one ("1e400": HUGE_VAL).
 std::optional<double> decimal(const std::string& text);

@@ -14,6 +14,7 @@
 #include <algorithm>
 
 #include "main_window.hpp"
+#include "number_field.hpp"
 #include "param_panel.hpp"
 #include "sandbox_page.hpp"
 #include "view.hpp"

@@ -17,6 +17,7 @@
 #include <algorithm>
 
 #include "main_window.hpp"
+#include "number_field.hpp"
 #include "param_panel.hpp"
 #include "sandbox_page.hpp"
 #include "view.hpp"
@@ -122,17 +123,17 @@ class GuiGroups : public QObject {
     QVERIFY(sandbox().group_box()->isVisibleTo(window_.get()));
     QCOMPARE(sandbox().group_box()->count(), 2);
     QCOMPARE(sandbox().behavior_box()->currentText(), QString("pheromone_avoidance"));
-    QCOMPARE(sandbox().drones_box()->value(), 6);
+    QCOMPARE(sandbox().drones_box()->value(), 6.0);
     QCOMPARE(sandbox().drone_panel()->value("radius"), 2.5);  // "large"
     steps(10);
     sandbox().group_box()->setCurrentText("inspectors");
     settle();
     QCOMPARE(sandbox().behavior_box()->currentText(), QString("random_walk"));
-    QCOMPARE(sandbox().drones_box()->value(), 12);
+    QCOMPARE(sandbox().drones_box()->value(), 12.0);
     QCOMPARE(sandbox().drone_panel()->value("radius"), 1.0);  // "small"
     sandbox().drones_box()->setValue(20);  // as a person typing it
-    qobject_cast<QDoubleSpinBox*>(sandbox().behavior_panel()->spin_box("max_duration"))->setValue(20);
-    qobject_cast<QDoubleSpinBox*>(sandbox().drone_panel()->spin_box("max_speed"))->setValue(7);
+    sandbox().behavior_panel()->spin_box("max_duration")->setValue(20);
+    sandbox().drone_panel()->spin_box("max_speed")->setValue(7);
     settle();
     const TestSpec now = *sandbox().engine().current_test();
     QCOMPARE(now.groups[1].drones, std::size_t(20));
@@ -151,7 +152,7 @@ class GuiGroups : public QObject {
     // Back to A: its values, and a start-state edit (the seed) keeps B's live values.
     sandbox().group_box()->setCurrentText("surveyors");
     settle();
-    QCOMPARE(sandbox().drones_box()->value(), 6);
+    QCOMPARE(sandbox().drones_box()->value(), 6.0);
     sandbox().seed_box()->setText("9");
     Q_EMIT sandbox().seed_box()->editingFinished();  // as Enter does
     settle();
@@ -243,8 +244,8 @@ class GuiGroups : public QObject {
     for (const char* name : {"battery_capacity", "blade_power", "induced_power", "tip_speed", "induced_velocity", "parasite_drag",
                              "charge_power", "charge_radius"})
       QVERIFY2(battery->spin_box(name), name);
-    auto* capacity = qobject_cast<QDoubleSpinBox*>(battery->spin_box("battery_capacity"));
-    QCOMPARE(capacity->suffix(), QString(" Wh"));
+    auto* capacity = battery->spin_box("battery_capacity");
+    QCOMPARE(capacity->spec().unit, std::string("Wh"));
     QCOMPARE(capacity->text(), QString("none"));  // 0: no battery model
     QTest::mouseClick(sandbox().battery_toggle(), Qt::LeftButton);
     QVERIFY(battery->isVisibleTo(window_.get()));
@@ -277,7 +278,7 @@ class GuiGroups : public QObject {
     QVERIFY(sandbox().open_test_spec(parse_test(noisy, "noisy", *host_)).empty());
     QVERIFY(noise->isVisibleTo(window_.get()));
     QCOMPARE(noise->value("position_noise"), 2.0);
-    qobject_cast<QDoubleSpinBox*>(noise->spin_box("miss_probability"))->setValue(0.2);
+    noise->spin_box("miss_probability")->setValue(0.2);
     settle();
     QVERIFY(has_change(live_changes(), "drone.miss_probability", 0.2));
     QCOMPARE(sandbox().engine().current_test()->groups[0].drone.miss_probability, 0.2);

@@ -3,6 +3,16 @@
 // queue run from the GUI writes what `salsa run` of the saved file writes; modes keep their state.
 #include "common.hpp"
 
+#include <QAbstractItemView>
+
+#include <QFileInfo>
+
+#include <QDir>
+
+#include <QTimer>
+
+#include <QFileDialog>
+
 #include <QAbstractItemModelTester>
 #include <QLabel>
 #include <QLineEdit>
@@ -19,6 +29,8 @@
 #include <QUndoStack>
 
 #include "main_window.hpp"
+#include "save_checked.hpp"
+#include "number_field.hpp"
 #include "map_editor.hpp"
 #include "queue_page.hpp"
 #include "salsa/core/experiments/queue.hpp"
@@ -188,6 +200,15 @@ class GuiQueue : public QObject {
     QVERIFY2(p->wait(300000), qPrintable(p->log_text()));
     for (int i = 0; i < 3; ++i) QCOMPARE(p->model()->status(i), QueueModel::Status::done);
     QVERIFY(p->last_message().contains("queue finished"));
+    // The result column: each finished test's found targets, as its outcome.csv has them.
+    QCOMPARE(p->model()->headerData(QueueModel::col_result, Qt::Horizontal).toString(), QString("result"));
+    for (int i = 0; i < 3; ++i) {
+      const QString result = p->model()->data(p->model()->index(i, QueueModel::col_result)).toString();
+      const QStringList outcome = QString::fromUtf8(read_file(gui_out + "/" + QString::fromStdString(p->model()->test(i).name) + "/outcome.csv")).trimmed().split(QChar(10));
+      const QStringList names = outcome[0].split(','), values = outcome[1].split(',');
+      const QString found = values[static_cast<int>(names.indexOf("targets_found"))], total = values[static_cast<int>(names.indexOf("targets"))];
+      QVERIFY2(result.startsWith(QString("found %1 / %2 (").arg(found, total)), qPrintable(result));
+    }
     // The same saved file, run by the CLI.
     const QString cli_out = dir_.filePath("cli-run");
     const CliResult r = run_salsa({"run", gui_out + ".queue.json", "--out", cli_out, "--no-plots", "-q"});
@@ -202,6 +223,52 @@ class GuiQueue : public QObject {
     QVERIFY(p->log_text().contains("--resume"));
     for (int i = 0; i < 3; ++i) QCOMPARE(p->model()->status(i), QueueModel::Status::done);
     QCOMPARE(results_snapshot(gui_out), a);
+  }
+
+  // Run…'s folder dialog takes an existing folder, clicked (a stopped run's, to resume it), a new one
+  // typed, and goes into a folder typed with a trailing slash.
+  void the_run_dialog_takes_an_existing_folder() {
+    QVERIFY(QDir().mkpath(dir_.filePath("runs/stopped")));
+    auto answer = [&](const std::function<void(QFileDialog*)>& act) {
+      QTimer::singleShot(300, [act] {
+        for (QWidget* w : QApplication::topLevelWidgets())
+          if (auto* d = qobject_cast<QFileDialog*>(w); d && d->isVisible()) act(d);
+      });
+      QTimer::singleShot(3000, [] {  // still open: the pick did not take
+        for (QWidget* w : QApplication::topLevelWidgets())
+          if (auto* d = qobject_cast<QFileDialog*>(w); d && d->isVisible()) d->reject();
+      });
+      return ask_save_file(nullptr, "Output folder", dir_.filePath("runs/new"), {}, {}, true);
+    };
+    const QString existing = answer([&](QFileDialog* d) {
+      d->setDirectory(dir_.filePath("runs"));
+      auto* list = d->findChild<QAbstractItemView*>("listView");
+      if (!list->isVisible()) list = d->findChild<QAbstractItemView*>("treeView");  // the detail view
+      QTRY_VERIFY(list->model()->rowCount(list->rootIndex()) > 0);
+      const QModelIndex item = list->model()->index(0, 0, list->rootIndex());
+      QCOMPARE(item.data().toString(), QString("stopped"));
+      QTest::mouseClick(list->viewport(), Qt::LeftButton, {}, list->visualRect(item).center());  // a click on it
+      QCOMPARE(d->findChild<QLineEdit*>("fileNameEdit")->text(), QString("stopped"));
+      static_cast<QDialog*>(d)->accept();
+    });
+    QCOMPARE(QFileInfo(existing).canonicalFilePath(), QFileInfo(dir_.filePath("runs/stopped")).canonicalFilePath());
+    const QString typed = answer([&](QFileDialog* d) {
+      d->setDirectory(dir_.filePath("runs"));
+      d->findChild<QLineEdit*>("fileNameEdit")->setText("fresh");
+      static_cast<QDialog*>(d)->accept();
+    });
+    QCOMPARE(QFileInfo(typed).fileName(), QString("fresh"));
+    QVERIFY(!QFileInfo::exists(typed));  // made by the run, not the dialog
+    QString went;
+    const QString navigated = answer([&](QFileDialog* d) {
+      d->findChild<QLineEdit*>("fileNameEdit")->setText(dir_.filePath("runs") + "/");
+      static_cast<QDialog*>(d)->accept();  // goes there, stays open
+      went = d->directory().absolutePath();
+      d->findChild<QLineEdit*>("fileNameEdit")->setText("stopped");
+      static_cast<QDialog*>(d)->accept();
+    });
+    QCOMPARE(went, QDir(dir_.filePath("runs")).absolutePath());
+    QCOMPARE(QFileInfo(navigated).fileName(), QString("stopped"));
   }
 
   // The progress counts this queue's tests before any run; a run's plots open from OUT/<test>/plots;

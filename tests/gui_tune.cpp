@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "main_window.hpp"
+#include "number_field.hpp"
 #include "tune_page.hpp"
 
 using namespace salsa;

@@ -9,6 +9,7 @@
 
 #include <QAbstractSpinBox>
 #include <QComboBox>
+#include <QGroupBox>
 #include <QDoubleSpinBox>
 #include <QLabel>
 #include <QLineEdit>
@@ -20,6 +21,7 @@
 #include <QScrollArea>
 #include <QScrollBar>
 #include <QSettings>
+#include <QSignalSpy>
 #include <QSlider>
 #include <QSpinBox>
 #include <QStatusBar>
@@ -31,6 +33,7 @@
 
 #include "main_window.hpp"
 #include "map_editor.hpp"
+#include "number_field.hpp"
 #include "param_panel.hpp"
 #include "queue_page.hpp"
 #include "sandbox_page.hpp"
@@ -58,11 +61,11 @@ std::vector<QWidget*> inputs_of(QWidget* root) {
 
 /// A value next to the current one, in range, as text typed into `w`.
 QString next_value(QWidget* w) {
-  if (auto* s = qobject_cast<QSpinBox*>(w)) return QString::number(s->value() < s->maximum() ? s->value() + 1 : s->value() - 1);
-  if (auto* d = qobject_cast<QDoubleSpinBox*>(w)) {
-    const double step = std::max(d->singleStep(), std::pow(10.0, -d->decimals()));
-    const double v = d->value() + step <= d->maximum() ? d->value() + step : d->value() - step;
-    return QString::number(v, 'f', d->decimals());
+  if (auto* n = qobject_cast<NumberField*>(w)) {
+    const Parameter& p = n->spec();
+    const double step = p.is_integer() ? 1 : p.step > 0 ? p.step : 0.5;
+    const double v = n->value() + step <= p.max ? n->value() + step : n->value() - step;
+    return QString::fromStdString(Parameter::format(v));
   }
   auto* line = qobject_cast<QLineEdit*>(w);
   bool number = false;
@@ -114,8 +117,7 @@ void type_commit_only(QWidget* w, Commit how, QWidget* elsewhere) {
 
 /// What `w` shows now, as the text a person would read back (spin boxes without prefix and suffix).
 QString shown(QWidget* w) {
-  if (auto* s = qobject_cast<QSpinBox*>(w)) return QString::number(s->value());
-  if (auto* d = qobject_cast<QDoubleSpinBox*>(w)) return QString::number(d->value(), 'f', d->decimals());
+  if (auto* n = qobject_cast<NumberField*>(w)) return QString::fromStdString(Parameter::format(n->value()));
   return qobject_cast<QLineEdit*>(w)->text();
 }
 
@@ -209,8 +211,8 @@ class GuiTyping : public QObject {
     const auto t = sandbox().engine().current_test();
     QCOMPARE(sandbox().map_panel()->value("size"), t->map.params.get("size"));
     QCOMPARE(QString::number(t->seed), sandbox().seed_box()->text());
-    QCOMPARE(sandbox().targets_box()->value(), static_cast<int>(t->targets));
-    QCOMPARE(sandbox().drones_box()->value(), static_cast<int>(t->groups[0].drones));
+    QCOMPARE(sandbox().targets_box()->value(), static_cast<double>(t->targets));
+    QCOMPARE(sandbox().drones_box()->value(), static_cast<double>(t->groups[0].drones));
   }
 
   void refused_values_say_why() {
@@ -229,6 +231,96 @@ class GuiTyping : public QObject {
                qPrintable(sandbox().last_message()));
       QCOMPARE(sandbox().seed_box()->text(), QString("3"));
     }
+  }
+
+  // Every number field takes what a test file takes, typed with keys: scientific notation and the full
+  // range applied exactly; too large, letters, a comma or a fraction refused in one line naming the
+  // field and its range, the field back at what runs. Never a silent change.
+  void typed_numbers_are_taken_as_a_test_file_takes_them() {
+    struct Case {
+      NumberField* field;
+      const char* typed;
+      double applied;        // NAN: refused, the value before kept
+      const char* refusal;   // "" when applied, else the start of the status line
+    };
+    sandbox().comm_box()->setChecked(true);
+    settle();
+    NumberField* size = sandbox().map_panel()->spin_box("size");
+    NumberField* drones = sandbox().drones_box();
+    NumberField* targets = sandbox().targets_box();
+    NumberField* loss = sandbox().comm_panel()->spin_box("loss");
+    const Case cases[] = {
+        {size, "1e308", NAN, "size: \"1e308\" is out of range (allowed: ["},
+        {size, "4E2", 400, ""},
+        {loss, "1e-3", 0.001, ""},
+        {drones, "1000001", NAN, "drones: \"1000001\" is out of range (allowed: whole number in [1, 1000000])"},
+        {drones, "1,5", NAN, "drones: \"1,5\" is not a number (allowed: whole number in [1, 1000000])"},
+        {drones, "2.5", NAN, "drones: \"2.5\" is not a whole number (allowed: whole number in [1, 1000000])"},
+        {drones, "abc", NAN, "drones: \"abc\" is not a number"},
+        {drones, "1.2e1", 12, ""},
+        {targets, "99999999", NAN, "targets: \"99999999\" is out of range (allowed: whole number in [0, 10000000])"},
+        {targets, "1.5e3", 1500, ""},
+    };
+    for (Commit how : {Commit::enter, Commit::tab, Commit::focus_loss})
+      for (const Case& c : cases) {
+        // A field rebuilt by a reload is found again by name.
+        NumberField* field = c.field == size ? sandbox().map_panel()->spin_box("size")
+                             : c.field == loss ? sandbox().comm_panel()->spin_box("loss") : c.field;
+        const double before = field->value();
+        QSignalSpy refused(field, &NumberField::refused);
+        type_and_commit(field, c.typed, how, sandbox().view());
+        settle();
+        if (c.field == size) field = sandbox().map_panel()->spin_box("size");
+        if (c.field == loss) field = sandbox().comm_panel()->spin_box("loss");
+        const QString what = QString("%1 typed into %2, %3").arg(c.typed, field->objectName(), name_of(how));
+        const double expected = std::isnan(c.applied) ? before : c.applied;
+        QVERIFY2(field->value() == expected, qPrintable(what + QString(": holds %1").arg(field->value(), 0, 'g', 17)));
+        if (*c.refusal) {
+          QVERIFY2(refused.count() == 1, qPrintable(what + QString(": %1 refusals").arg(refused.count())));
+          QVERIFY2(window_->status_text().startsWith(c.refusal), qPrintable(what + ": says " + window_->status_text()));
+          QVERIFY2(!window_->status_text().contains('\n'), qPrintable(what + ": more than one line"));
+        } else {
+          QVERIFY2(refused.isEmpty(), qPrintable(what + ": refused: " + window_->status_text()));
+          QCOMPARE(field->text(), QString::fromStdString(Parameter::format(c.applied) + (field->spec().unit.empty() ? "" : " " + field->spec().unit)));
+        }
+      }
+    // What was applied is what runs.
+    QCOMPARE(sandbox().engine().current_test()->targets, std::size_t(1500));
+    QCOMPARE(sandbox().engine().current_test()->groups[0].drones, std::size_t(12));
+    QCOMPARE(sandbox().engine().current_test()->map.params.get("size"), 400.0);
+    QCOMPARE(sandbox().engine().current_test()->comm.loss, 0.001);
+  }
+
+  // The queue's number cells read what is typed as a test file's number: 1e9 s is not 19 s, and a
+  // seed past 2^53 is refused, not rounded into range.
+  void queue_cells_take_a_test_files_numbers() {
+    window_->set_mode(MainWindow::Mode::queue);
+    QueuePage* page = window_->queue_page();
+    QVERIFY(page->add_from_sandbox().empty());
+    QTableView* table = page->table();
+    auto type_cell = [&](int col, const QString& text) {
+      const QModelIndex at = page->model()->index(0, col);
+      table->setFocus();
+      table->setCurrentIndex(at);
+      QTest::keyClick(table, Qt::Key_F2);
+      QApplication::processEvents();
+      QWidget* editor = QApplication::focusWidget();
+      QVERIFY(qobject_cast<QLineEdit*>(editor));
+      qobject_cast<QLineEdit*>(editor)->selectAll();
+      QTest::keyClicks(editor, text);
+      type_commit_only(editor, Commit::enter, page->findChild<QPlainTextEdit*>());
+    };
+    type_cell(QueueModel::col_time, "1.5e3");
+    QCOMPARE(page->model()->test(0).time, 1500.0);
+    type_cell(QueueModel::col_time, "1e9");
+    QVERIFY2(page->model()->test(0).time == 1e9 || page->last_message().contains("time"), qPrintable(page->last_message()));
+    QVERIFY(page->model()->test(0).time == 1e9 || page->model()->test(0).time == 1500.0);
+    const auto seed = page->model()->test(0).seed;
+    type_cell(QueueModel::col_seed, "9007199254740993");
+    QCOMPARE(page->model()->test(0).seed, seed);
+    QVERIFY2(page->last_message().contains("seed: 9007199254740993 is out of range (allowed: whole number in [0, 9007199254740992])"),
+             qPrintable(page->last_message()));
+    close_message_boxes();
   }
 
   void every_queue_input() {
@@ -277,8 +369,10 @@ class GuiTyping : public QObject {
     // The sweep dialog's lines and boxes: each typed value recounts the sweep, never crashes.
     SweepDialog sweep(host_, parse_test(small_test, "typed", *host_));
     sweep.show();
-    QVERIFY(QTest::qWaitForWindowExposed(&sweep));
+    sweep.activateWindow();  // focus moves within the window a person types into
+    QVERIFY(QTest::qWaitForWindowActive(&sweep));
     auto* other = new QPushButton("elsewhere", &sweep);
+    other->show();  // a child added to a shown dialog is hidden until shown: focus could not go there
     type_into_every_input(&sweep, other, [] {}, [&sweep] { return sweep.count_label()->text(); });
     // The queue seed takes the whole range, exactly; anything else is refused in the count line.
     sweep.seed()->setText("4746454603967234");
@@ -414,11 +508,11 @@ class GuiTyping : public QObject {
     QVERIFY(sandbox().open_test_spec(t).empty());
     sandbox().start();
     QTRY_VERIFY_WITH_TIMEOUT(sandbox().last_message().startsWith("paused at t = "), 20000);
-    QVERIFY2(sandbox().last_message().contains("the test's time is 0.5 s"), qPrintable(sandbox().last_message()));
+    QVERIFY2(sandbox().last_message().startsWith("paused at t = 0.5 s, the test's time"), qPrintable(sandbox().last_message()));
     sandbox().engine().sync();
     QTRY_VERIFY_WITH_TIMEOUT(sandbox().engine().snapshot()->state == RunState::paused, 5000);
     const double stopped = sandbox().engine().snapshot()->time;
-    QVERIFY(stopped >= 0.5 && stopped < 1.5);
+    QCOMPARE(sandbox().engine().snapshot()->step, std::uint64_t(30));  // the step that reached 0.5 s, not one more
     // Start again: it runs on past the time, and the status bar says so.
     sandbox().start();
     QTRY_VERIFY_WITH_TIMEOUT(sandbox().engine().snapshot()->time > stopped + 0.2, 20000);

@@ -11,9 +11,18 @@
 #include <QSlider>
 #include <QSpinBox>
 #include <QTemporaryDir>
+#include <cmath>
+#include <QLabel>
+#include <QGroupBox>
+#include <QMessageBox>
+#include <QPushButton>
+#include <QScrollArea>
+#include <QScrollBar>
+#include <QTimer>
 
 #include "live_charts.hpp"
 #include "main_window.hpp"
+#include "number_field.hpp"
 #include "param_panel.hpp"
 
 using namespace salsa;
@@ -47,29 +56,25 @@ class GuiWindow : public QObject {
     QCOMPARE(panel->schema().size(), schema.size());
     for (const Parameter& p : schema) {
       QSlider* slider = panel->slider(p.name);
-      QAbstractSpinBox* spin = panel->spin_box(p.name);
+      NumberField* spin = panel->spin_box(p.name);
       QVERIFY2(slider && spin, p.name.c_str());
       QVERIFY(spin->toolTip().contains(QString::fromStdString(p.description)));
       QVERIFY(spin->toolTip().contains(QString::fromStdString(p.range())));
-      if (p.is_integer()) QVERIFY(qobject_cast<QSpinBox*>(spin));
-      else {
-        auto* d = qobject_cast<QDoubleSpinBox*>(spin);
-        QVERIFY(d);
-        QCOMPARE(d->minimum(), p.min);
-        QCOMPARE(d->maximum(), p.max);
-      }
+      QCOMPARE(spin->spec().min, p.min);
+      QCOMPARE(spin->spec().max, p.max);
+      QCOMPARE(spin->spec().is_integer(), p.is_integer());
     }
     // The test file's value is shown (flocking-forest sets separation_distance 60).
     QCOMPARE(panel->value("separation_distance"), 60.0);
     // A whole-number parameter gets an integer box (pheromone avoidance's "directions").
     window_->sandbox()->behavior_box()->setCurrentText("pheromone_avoidance");
-    QVERIFY(qobject_cast<QSpinBox*>(window_->sandbox()->behavior_panel()->spin_box("directions")));
+    QVERIFY(window_->sandbox()->behavior_panel()->spin_box("directions")->spec().is_integer());
   }
 
   void moving_a_slider_changes_the_live_parameter_and_is_recorded() {
     for (int i = 0; i < 20; ++i) window_->sandbox()->step();
     settle();
-    auto* spin = qobject_cast<QDoubleSpinBox*>(window_->sandbox()->behavior_panel()->spin_box("cohesion_weight"));
+    auto* spin = window_->sandbox()->behavior_panel()->spin_box("cohesion_weight");
     QVERIFY(spin);
     spin->setValue(2.5);  // as a user typing it
     settle();
@@ -94,11 +99,11 @@ class GuiWindow : public QObject {
     SandboxPage& sandbox = *window_->sandbox();
     QVERIFY(sandbox.open_test(dir.path() + "/timed.json").empty());
     QVERIFY2(sandbox.last_message().contains("2 timed changes apply as it runs"), qPrintable(sandbox.last_message()));
-    QCOMPARE(sandbox.drones_box()->value(), 8);
+    QCOMPARE(sandbox.drones_box()->value(), 8.0);
     for (int i = 0; i < 31; ++i) QCOMPARE(sandbox.engine().step_once().get(), std::string());  // past t = 0.5 s
     sandbox.poll();
     QCOMPARE(sandbox.engine().snapshot()->positions.size(), std::size_t(14));
-    QCOMPARE(sandbox.drones_box()->value(), 14);
+    QCOMPARE(sandbox.drones_box()->value(), 14.0);
     QCOMPARE(sandbox.drone_panel()->value("max_speed"), 6.0);
     // Save as test keeps them: the saved file holds both changes.
     std::string why;
@@ -116,7 +121,7 @@ class GuiWindow : public QObject {
 
   void a_refused_change_puts_the_control_back() {
     // 60 m/s is more than radius / dt for the small drone: the core refuses it; the box shows 10 again.
-    auto* speed = qobject_cast<QDoubleSpinBox*>(window_->sandbox()->drone_panel()->spin_box("max_speed"));
+    auto* speed = window_->sandbox()->drone_panel()->spin_box("max_speed");
     speed->setValue(100);
     settle();
     QVERIFY2(window_->sandbox()->last_message().startsWith("drone.max_speed: 100 m/s"), qPrintable(window_->sandbox()->last_message()));
@@ -162,13 +167,216 @@ class GuiWindow : public QObject {
 
   void space_starts_and_pauses() {
     window_->activateWindow();
-    QTest::keyClick(window_.get(), Qt::Key_Space);
+    QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+    window_->sandbox()->view()->setFocus(Qt::MouseFocusReason);  // the view clicked: its single keys work
+    QTest::keyClick(window_->sandbox()->view(), Qt::Key_Space);
     QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->engine().snapshot()->state == RunState::running, 5000);
     QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->engine().snapshot()->time > 0.2, 20000);
-    QTest::keyClick(window_.get(), Qt::Key_Space);
+    QTest::keyClick(window_->sandbox()->view(), Qt::Key_Space);
     QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->engine().snapshot()->state == RunState::paused, 5000);
     // The live plots got rows and drew them.
     QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->charts()->series(0)->count() >= 1, 5000);
+  }
+
+  // Single keys act on the view only: a focused slider takes Right, a field takes R and -, a list its
+  // keys; R on the view asks before it drops a run that has begun.
+  void keys_reach_the_control_with_the_focus() {
+    window_->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+    SandboxPage& sandbox = *window_->sandbox();
+    for (int i = 0; i < 10; ++i) sandbox.step();
+    settle();
+    QSlider* slider = sandbox.behavior_panel()->slider("cohesion_weight");
+    const int at = slider->value();
+    slider->setFocus(Qt::MouseFocusReason);
+    QTest::keyClick(slider, Qt::Key_Right);
+    settle();
+    QVERIFY2(slider->value() > at && slider->value() <= at + 2, qPrintable(QString("%1 -> %2").arg(at).arg(slider->value())));
+    QCOMPARE(sandbox.engine().snapshot()->step, std::uint64_t(10));  // not stepped
+    const double zoom = sandbox.view()->world_to_px().m11();
+    NumberField* field = sandbox.drones_box();
+    field->setFocus(Qt::MouseFocusReason);
+    QTest::keyClicks(field, "r-");
+    settle();
+    QCOMPARE(sandbox.engine().snapshot()->step, std::uint64_t(10));  // not reset
+    QCOMPARE(sandbox.view()->world_to_px().m11(), zoom);             // not zoomed
+    // A disabled field takes no focus: the keys go to whatever has it (the behavior box here), not to R.
+    sandbox.behavior_box()->setFocus(Qt::MouseFocusReason);
+    QTest::mouseClick(window_->findChild<QWidget*>("pacing_amount"), Qt::LeftButton);
+    QTest::keyClick(QApplication::focusWidget(), Qt::Key_R);
+    settle();
+    QCOMPARE(sandbox.engine().snapshot()->step, std::uint64_t(10));
+    // R on the view: asked first; Cancel keeps the run.
+    sandbox.view()->setFocus(Qt::MouseFocusReason);
+    int asked = 0;
+    QTimer::singleShot(200, [&asked] {
+      for (QWidget* w : QApplication::topLevelWidgets())
+        if (auto* box = qobject_cast<QMessageBox*>(w); box && box->isVisible()) ++asked, box->button(QMessageBox::Cancel)->click();
+    });
+    QTest::keyClick(sandbox.view(), Qt::Key_R);
+    settle();
+    QCOMPARE(asked, 1);
+    QCOMPARE(sandbox.engine().snapshot()->step, std::uint64_t(10));
+    window_->activateWindow();  // back from the dialog, as a person's click on the view
+    QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+    sandbox.view()->setFocus(Qt::MouseFocusReason);
+    QTimer::singleShot(200, [&asked] {
+      for (QWidget* w : QApplication::topLevelWidgets())
+        if (auto* box = qobject_cast<QMessageBox*>(w); box && box->isVisible()) ++asked, box->button(QMessageBox::Reset)->click();
+    });
+    QTest::keyClick(sandbox.view(), Qt::Key_R);
+    settle();
+    QCOMPARE(asked, 2);
+    QCOMPARE(sandbox.engine().snapshot()->step, std::uint64_t(0));
+  }
+
+  // The window fits a 1366 x 768 laptop screen in every mode, and tabbing through the sandbox's panel
+  // never scrolls it sideways.
+  void the_window_fits_a_laptop_screen() {
+    for (auto m : {MainWindow::Mode::sandbox, MainWindow::Mode::queue, MainWindow::Mode::map_creator, MainWindow::Mode::tune}) {
+      window_->set_mode(m);
+      QApplication::processEvents();
+      const QSize min = window_->minimumSizeHint().expandedTo(window_->minimumSize());
+      QVERIFY2(min.width() <= 1366 && min.height() <= 720,
+               qPrintable(QString("mode %1: the window needs %2 x %3 px").arg(int(m)).arg(min.width()).arg(min.height())));
+    }
+    window_->set_mode(MainWindow::Mode::sandbox);
+    window_->resize(1366, 720);
+    QApplication::processEvents();
+    auto* scroll = qobject_cast<QScrollArea*>(window_->sandbox()->controls());
+    QVERIFY(scroll);
+    window_->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+    window_->sandbox()->behavior_box()->setFocus(Qt::TabFocusReason);
+    for (int i = 0; i < 60; ++i) {
+      QTest::keyClick(QApplication::focusWidget(), Qt::Key_Tab);
+      QVERIFY2(scroll->horizontalScrollBar()->value() == 0,
+               qPrintable(QString("Tab %1 (%2) scrolled the panel sideways").arg(i).arg(QApplication::focusWidget()->objectName())));
+    }
+  }
+
+  // Tab from the map box goes on to the map's own parameters (rebuilt rows keep their place).
+  void tab_goes_from_the_map_to_its_parameters() {
+    window_->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+    SandboxPage& sandbox = *window_->sandbox();
+    sandbox.map_box()->setCurrentText("empty");
+    settle();
+    sandbox.map_box()->setCurrentText("forest");
+    settle();
+    QApplication::processEvents();
+    sandbox.map_box()->setFocus(Qt::TabFocusReason);
+    QTest::keyClick(sandbox.map_box(), Qt::Key_Tab);
+    QWidget* next = QApplication::focusWidget();
+    QVERIFY2(next && sandbox.map_panel()->isAncestorOf(next), qPrintable(next ? next->objectName() : QString("nothing")));
+  }
+
+  // The sandbox pauses on the very step that reaches the test's time, whatever the pacing, and Save as
+  // test keeps that time.
+  void the_pause_at_the_tests_end_is_exact() {
+    QTemporaryDir dir;
+    QVERIFY(write_file(dir.path() + "/short.json", R"({"name": "short", "behavior": "flocking", "drones": 4, "seed": 2,
+      "map": {"name": "forest", "params": {"size": 300}}, "time": 2})"));
+    SandboxPage& sandbox = *window_->sandbox();
+    QVERIFY(sandbox.open_test(dir.path() + "/short.json").empty());
+    window_->findChild<QComboBox*>("pacing")->setCurrentText("as fast as possible");
+    sandbox.start();
+    QTRY_VERIFY_WITH_TIMEOUT(sandbox.engine().snapshot()->state == RunState::paused && sandbox.engine().snapshot()->time > 0, 20000);
+    settle();
+    QCOMPARE(sandbox.engine().snapshot()->step, std::uint64_t(120));
+    QTRY_VERIFY_WITH_TIMEOUT(sandbox.time_label()->text() == "t = 2.0 s", 5000);
+    QVERIFY2(sandbox.last_message().startsWith("paused at t = 2.0 s, the test's time"), qPrintable(sandbox.last_message()));
+    std::string why;
+    const auto saved = sandbox.engine().as_test(&why);
+    QVERIFY2(saved, why.c_str());
+    QCOMPARE(saved->time, 2.0);
+  }
+
+  // A named drone configuration: choosing one makes the box read its name (not the test's
+  // "large-custom"), and no name is saved twice (a built-in's is refused, a saved one's replaced).
+  void drone_configurations_one_name_each() {
+    QTemporaryDir dir;
+    QVERIFY(write_file(dir.path() + "/custom.json", R"({"name": "custom", "behavior": "flocking", "drones": 4, "seed": 2,
+      "drone": {"base": "large", "max_speed": 9}, "map": {"name": "forest", "params": {"size": 300}}, "time": 5})"));
+    SandboxPage& sandbox = *window_->sandbox();
+    QVERIFY(sandbox.open_test(dir.path() + "/custom.json").empty());
+    QComboBox* box = sandbox.drone_config_box();
+    QCOMPARE(box->currentText(), QString("large-custom"));
+    for (const char* name : {"small", "medium"}) {
+      box->setCurrentText(name);
+      Q_EMIT box->activated(box->currentIndex());  // as a person choosing it
+      settle();
+      sandbox.poll();
+      QCOMPARE(box->currentText(), QString(name));
+      const auto& all = builtin_drone_configs();
+      const auto it = std::find_if(all.begin(), all.end(), [&](const DroneConfig& c) { return c.name == name; });
+      QVERIFY(it != all.end());
+      QCOMPARE(sandbox.engine().current_test()->groups[0].drone.max_speed, it->max_speed);
+    }
+    QVERIFY2(sandbox.save_drone_config_as("small").find("'small' is a built-in configuration") != std::string::npos, qPrintable(sandbox.last_message()));
+    QVERIFY(sandbox.save_drone_config_as("mine").empty());
+    QVERIFY(sandbox.save_drone_config_as("mine").empty());
+    QStringList names;
+    for (int i = 0; i < box->count(); ++i) names << box->itemText(i);
+    QCOMPARE(names.count("small"), 1);
+    QCOMPARE(names.count("mine"), 1);
+    QCOMPARE(box->currentText(), QString("mine"));
+  }
+
+  // The wind's velocity (-1000 to 1000 m/s) by slider: fine near 0 (a normal wind can be set), monotonic,
+  // the ends exact, 0 and 3 m/s on positions of their own.
+  void wind_sliders_are_fine_near_zero() {
+    ParamPanel* wind = window_->sandbox()->wind_panel();
+    QSlider* slider = wind->slider("velocity.x");
+    QVERIFY(slider);
+    QCOMPARE(wind->slider_value("velocity.x", slider->minimum()), -1000.0);
+    QCOMPARE(wind->slider_value("velocity.x", slider->maximum()), 1000.0);
+    double last = -1e9, largest_near = 0;
+    bool zero = false, three = false;
+    for (int s = slider->minimum(); s <= slider->maximum(); ++s) {
+      const double v = wind->slider_value("velocity.x", s);
+      QVERIFY2(v >= last, qPrintable(QString("position %1: %2 after %3").arg(s).arg(v).arg(last)));
+      if (std::fabs(v) <= 10 && std::fabs(last) <= 10) largest_near = std::max(largest_near, v - last);
+      zero = zero || v == 0;
+      three = three || v == 3;
+      last = v;
+    }
+    QVERIFY2(largest_near <= 0.2 + 1e-9, qPrintable(QString("a step of %1 m/s within 10 m/s of calm").arg(largest_near)));
+    QVERIFY(zero && three);
+    wind->set_value("velocity.x", 3);
+    QCOMPARE(wind->slider_value("velocity.x", slider->value()), 3.0);
+    // Arrow keys from 3 m/s (the breeze a ticked Wind box starts): each press moves on, never stuck on a
+    // position that rounds back to 3.
+    window_->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+    window_->sandbox()->wind_box()->setChecked(true);
+    settle();
+    QApplication::processEvents();
+    slider = wind->slider("velocity.x");
+    QCOMPARE(wind->value("velocity.x"), 3.0);
+    slider->setFocus(Qt::MouseFocusReason);
+    for (int i = 0; i < 3; ++i) QTest::keyClick(slider, Qt::Key_Right);
+    QVERIFY2(wind->value("velocity.x") > 3 && wind->value("velocity.x") <= 3.3, qPrintable(QString::number(wind->value("velocity.x"))));
+  }
+
+  // With a radio on, the Communication box says how many messages are in flight, or why there are none
+  // (links are messages, and only a behavior that broadcasts sends).
+  void the_comm_box_says_why_no_links_are_drawn() {
+    QTemporaryDir dir;
+    QVERIFY(write_file(dir.path() + "/radio.json", R"({"name": "radio", "behavior": "flocking", "drones": 6, "seed": 2,
+      "map": {"name": "forest", "params": {"size": 300}}, "time": 5, "comm": {"range": 80}})"));
+    SandboxPage& sandbox = *window_->sandbox();
+    QVERIFY(sandbox.open_test(dir.path() + "/radio.json").empty());
+    for (int i = 0; i < 5; ++i) sandbox.step();
+    settle();
+    QTRY_VERIFY_WITH_TIMEOUT(sandbox.comm_note()->text().startsWith("No messages in flight"), 5000);
+    QVERIFY(sandbox.comm_note()->text().contains("only a behavior that broadcasts sends any (flocking"));
+    QVERIFY(write_file(dir.path() + "/radio.json", R"({"name": "radio", "behavior": {"name": "pheromone_avoidance", "params": {"sharing": 1}},
+      "drones": 6, "seed": 2, "map": {"name": "forest", "params": {"size": 300}}, "time": 5, "comm": {"range": 80}})"));
+    QVERIFY(sandbox.open_test(dir.path() + "/radio.json").empty());
+    for (int i = 0; i < 5; ++i) sandbox.step();
+    settle();
+    QTRY_VERIFY_WITH_TIMEOUT(sandbox.comm_note()->text().contains("messages delivered for the next step"), 5000);
   }
 
   // The window's "Save as test" writes a file that salsa run accepts and replays to the same state.

@@ -89,6 +89,10 @@ void Engine::Worker::step() {
     state = RunState::failed;
     return;
   }
+  if (pause_at_end && session->finished()) {
+    pause_at_end = false;
+    if (state == RunState::running) state = RunState::paused;
+  }
   after_step();
 }
 
@@ -163,6 +167,7 @@ std::string Engine::Worker::load(TestSpec test) {
     if (columns[i] == "coverage") coverage_column = i;  // area_coverage's
   start = std::move(test);
   state = RunState::paused;
+  pause_at_end = true;
   error.clear();
   inexact_used = false;
   reloaded_at.reset();

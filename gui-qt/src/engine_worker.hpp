@@ -44,6 +44,9 @@ struct Engine::Worker {
   std::optional<std::size_t> coverage_column;  // the area_coverage metric's column, when the test has it
   std::shared_ptr<const Scene> scene;
   RunState state = RunState::paused;
+  /// Until the test's time is reached once after a load or reset: the step that reaches it pauses
+  /// (exactly there, whatever the pacing); a Start after it runs on.
+  bool pause_at_end = true;
   std::string error;
   Pacing pacing;
   bool inexact_used = false;

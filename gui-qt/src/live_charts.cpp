@@ -57,7 +57,7 @@ LiveCharts::LiveCharts(QWidget* parent) : QWidget(parent) {
     c.series->attachAxis(c.y);
     c.view = new QChartView(chart);
     c.view->setRenderHint(QPainter::Antialiasing);
-    c.view->setMinimumHeight(140);
+    c.view->setMinimumHeight(100);  // four fit beside the view on a 768 px screen
     layout->addWidget(c.view);
   }
 }

@@ -195,7 +195,11 @@ int main(int argc, char** argv) {
 
   salsa::gui::MainWindow window(shared_host, plugin_dirs);
   window.queue_page()->set_allow_large(yes);
-  window.resize(1600, 1000);
+  // 1600 x 1000, or the screen's free area when smaller (a 1366 x 768 laptop); the offscreen platform
+  // (scripted screenshots) keeps the full size.
+  QSize size(1600, 1000);
+  if (QGuiApplication::platformName() != "offscreen" && window.screen()) size = size.boundedTo(window.screen()->availableGeometry().size());
+  window.resize(size);
   window.show();
   if (!test.empty() && !window.sandbox()->open_test(QString::fromStdString(test)).empty()) {
     if (!screenshot.empty()) return 1;  // scripted: the message was shown; nothing to capture

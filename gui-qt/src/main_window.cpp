@@ -20,6 +20,7 @@
 
 #include "live_charts.hpp"
 #include "map_editor.hpp"
+#include "number_field.hpp"
 #include "plugins.hpp"
 #include "queue_page.hpp"
 #include "tune_page.hpp"
@@ -57,7 +58,8 @@ class ElidedLabel : public QLabel {
 namespace {
 
 const char* const shortcuts[][2] = {
-    {"Space", "start / pause"},       {"Right, S", "one step"},         {"R", "reset to the start state"},
+    {"Space", "start / pause (the view focused: click it)"}, {"Right, S", "one step (the view focused)"},
+    {"R", "reset to the start state, asked first once the run has begun (the view focused)"},
     {"+ / −, wheel", "zoom"},         {"0, F", "fit the map"},          {"drag", "pan"},
     {"click a drone", "inspect it"},  {"Ctrl+O", "open a test"},        {"Ctrl+M", "open a map"},
     {"Ctrl+S", "save as test"},       {"Ctrl+P", "screenshot"},         {"Ctrl+R", "start / stop recording"},
@@ -79,6 +81,8 @@ MainWindow::MainWindow(std::shared_ptr<const PluginHost> host, std::vector<std::
   connect(plugins_, &PluginManager::reload_failed, this, [this](const QString& why) { show_status(why, false); });
   sandbox_ = new SandboxPage(host_);
   connect(sandbox_, &SandboxPage::message, this, &MainWindow::show_status);
+  connect(static_cast<NumberRefusals*>(NumberField::refusals()), &NumberRefusals::refused, this,
+          [this](const QString& why) { show_status(why, true); });
   queue_ = new QueuePage(host_, plugin_dirs);
   auto sandbox_test = [this](std::string* why) -> std::optional<TestSpec> {
     auto t = sandbox_->engine().current_test();
@@ -105,6 +109,7 @@ MainWindow::MainWindow(std::shared_ptr<const PluginHost> host, std::vector<std::
   pages_->addWidget(queue_);
   pages_->addWidget(map_editor_);
   pages_->addWidget(tune_);
+  for (int i = 1; i < pages_->count(); ++i) pages_->widget(i)->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Ignored);
   setCentralWidget(pages_);
   build_docks();
   build_menus();
@@ -157,6 +162,10 @@ void MainWindow::set_mode(Mode m) {
     for (auto& [dock, shown] : docks_) shown = dock->isVisible(), dock->hide();
   mode_ = m;
   pages_->setCurrentIndex(static_cast<int>(m));
+  // Only the page shown sets the window's minimum size (the tune page's is not the sandbox's).
+  for (int i = 0; i < pages_->count(); ++i)
+    pages_->widget(i)->setSizePolicy(i == static_cast<int>(m) ? QSizePolicy(QSizePolicy::Preferred, QSizePolicy::Preferred)
+                                                              : QSizePolicy(QSizePolicy::Ignored, QSizePolicy::Ignored));
   if (m == Mode::sandbox)
     for (auto& [dock, shown] : docks_) dock->setVisible(shown);
   for (QAction* a : sandbox_actions_) a->setEnabled(m == Mode::sandbox);
@@ -197,17 +206,24 @@ void MainWindow::build_menus() {
   file->addSeparator();
   file->addAction("&Quit", QKeySequence::Quit, this, &QWidget::close);
 
+  // Single keys (Space, Right, S, R, F, +, -) act on the view: only while it has the focus (click it),
+  // so a key typed into a field, slider or list, or onto a disabled one, never runs, steps or resets.
+  auto view_key = [this](QAction* a) {
+    a->setShortcutContext(Qt::WidgetShortcut);
+    sandbox_->view()->addAction(a);
+    sandbox_actions_.push_back(a);
+    return a;
+  };
   QMenu* run = menuBar()->addMenu("&Run");
-  sandbox_actions_.push_back(run->addAction("Start / pause", QKeySequence(Qt::Key_Space), sandbox_, &SandboxPage::toggle_run));
-  QAction* step_action = run->addAction("Step", sandbox_, &SandboxPage::step);
+  view_key(run->addAction("Start / pause", QKeySequence(Qt::Key_Space), sandbox_, &SandboxPage::toggle_run));
+  QAction* step_action = view_key(run->addAction("Step", sandbox_, &SandboxPage::step));
   step_action->setShortcuts({QKeySequence(Qt::Key_Right), QKeySequence(Qt::Key_S)});
-  sandbox_actions_.push_back(step_action);
-  sandbox_actions_.push_back(run->addAction("Reset", QKeySequence(Qt::Key_R), sandbox_, &SandboxPage::reset));
+  view_key(run->addAction("Reset…", QKeySequence(Qt::Key_R), this, &MainWindow::ask_reset));
 
   QMenu* view = menuBar()->addMenu("&View");
-  sandbox_actions_.push_back(view->addAction("Fit map", QKeySequence(Qt::Key_F), sandbox_->view(), &SwarmView::fit));
-  sandbox_actions_.push_back(view->addAction("Zoom in", QKeySequence(Qt::Key_Plus), this, [this] { sandbox_->view()->zoom(1.25); }));
-  sandbox_actions_.push_back(view->addAction("Zoom out", QKeySequence(Qt::Key_Minus), this, [this] { sandbox_->view()->zoom(0.8); }));
+  view_key(view->addAction("Fit map", QKeySequence(Qt::Key_F), sandbox_->view(), &SwarmView::fit));
+  view_key(view->addAction("Zoom in", QKeySequence(Qt::Key_Plus), this, [this] { sandbox_->view()->zoom(1.25); }));
+  view_key(view->addAction("Zoom out", QKeySequence(Qt::Key_Minus), this, [this] { sandbox_->view()->zoom(0.8); }));
   view->addSeparator();
   struct Toggle {
     const char* text;
@@ -262,6 +278,18 @@ void MainWindow::build_menus() {
                                "plugins; this is its sandbox. Headless: <tt>salsa run</tt> or <tt>salsa-gui --headless</tt>.")
                            .arg(salsa_version()));
   });
+}
+
+void MainWindow::ask_reset() {
+  // A run that has gone some way is not thrown away by one key: asked first.
+  const auto snap = sandbox_->engine().snapshot();
+  if (snap && snap->time > 0) {
+    const auto answer = QMessageBox::question(
+        this, "Reset", QString("Reset to the start state? The run so far (t = %1 s) and its live changes are dropped.").arg(snap->time, 0, 'f', 1),
+        QMessageBox::Reset | QMessageBox::Cancel, QMessageBox::Cancel);
+    if (answer != QMessageBox::Reset) return;
+  }
+  sandbox_->reset();
 }
 
 void MainWindow::set_view_options(const ViewOptions& options) {

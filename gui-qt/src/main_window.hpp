@@ -45,6 +45,8 @@ class MainWindow : public QMainWindow {
   void show_plugins();
   /// What the view shows (the View menu's toggles follow).
   void set_view_options(const ViewOptions& options);
+  /// Run > Reset (R on the view): asks first once the run has begun.
+  void ask_reset();
 
   SandboxPage* sandbox() const { return sandbox_; }
   QueuePage* queue_page() const { return queue_; }

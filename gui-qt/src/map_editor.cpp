@@ -5,7 +5,7 @@
 #include <QActionGroup>
 #include <QCheckBox>
 #include <QDir>
-#include <QDoubleSpinBox>
+#include "number_field.hpp"
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QHBoxLayout>
@@ -106,23 +106,18 @@ MapEditor::MapEditor(const PluginHost& host, QWidget* parent) : QWidget(parent),
   use->setToolTip("saves the map and opens it in the sandbox");
   column->addWidget(use);
   auto* size_row = new QHBoxLayout;
-  auto* width = new QDoubleSpinBox;
-  auto* height = new QDoubleSpinBox;
+  auto* width = new NumberField({"width", 300, 10, 100000, "m", "", 1});
+  auto* height = new NumberField({"height", 300, 10, 100000, "m", "", 1});
   size_row->addWidget(new QLabel("New map"));
   for (auto* box : {width, height}) {
-    box->setRange(10, 100000);
     box->setValue(300);
-    box->setDecimals(0);
-    box->setSuffix(" m");
     size_row->addWidget(box);
   }
   column->addLayout(size_row);
   snap_on_ = new QCheckBox("Snap to grid");
   snap_on_->setChecked(true);
-  snap_step_ = new QDoubleSpinBox;
-  snap_step_->setRange(0.1, 1000);
+  snap_step_ = new NumberField({"snap", 1, 0.1, 1000, "m", "", 0.1});
   snap_step_->setValue(snap_);
-  snap_step_->setSuffix(" m");
   auto* snap_row = new QHBoxLayout;
   snap_row->addWidget(snap_on_);
   snap_row->addWidget(snap_step_);
@@ -162,7 +157,7 @@ MapEditor::MapEditor(const PluginHost& host, QWidget* parent) : QWidget(parent),
   });
   auto snap_changed = [this] { snap_ = snap_on_->isChecked() ? snap_step_->value() : 0; canvas_->update(); };
   connect(snap_on_, &QCheckBox::toggled, this, snap_changed);
-  connect(snap_step_, &QDoubleSpinBox::valueChanged, this, snap_changed);
+  connect(snap_step_, &NumberField::valueChanged, this, snap_changed);
   connect(problem_list_, &QListWidget::currentRowChanged, this, [this](int row) {
     if (row < 0 || row >= static_cast<int>(problems_.size())) return;
     const MapProblem& p = problems_[static_cast<std::size_t>(row)];

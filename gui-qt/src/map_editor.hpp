@@ -16,10 +16,11 @@ class QUndoStack;
 class QListWidget;
 class QLabel;
 class QCheckBox;
-class QDoubleSpinBox;
 class QActionGroup;
 
 namespace salsa::gui {
+
+class NumberField;
 
 class MapCanvas;
 
@@ -96,7 +97,7 @@ class MapEditor : public QWidget {
   QLabel* hint_ = nullptr;    ///< what the current tool does
   QString hints_[6];
   QCheckBox* snap_on_ = nullptr;
-  QDoubleSpinBox* snap_step_ = nullptr;
+  NumberField* snap_step_ = nullptr;
   QActionGroup* tools_ = nullptr;
   QString last_message_;
 };

@@ -2,16 +2,15 @@
 
 #include <QAbstractScrollArea>
 #include <QApplication>
-#include <QDoubleSpinBox>
 #include <QWheelEvent>
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QSlider>
-#include <QSpinBox>
 #include <algorithm>
 #include <cmath>
 
+#include "number_field.hpp"
 #include "salsa/core/model/drone_config.hpp"
 
 namespace salsa::gui {
@@ -25,6 +24,11 @@ constexpr int log_positions = 1000;
 /// The logarithmic mapping works on v + shift, which is > 0 over the range: a range from 0 starts
 /// one step above it, so [0, 1000] m in steps of 0.5 m maps [0.5, 1000.5].
 double shift_of(const Parameter& p) { return p.min > 0 ? 0 : step_of(p) - p.min; }
+/// A range across zero ([-1000, 1000] m/s of wind) is logarithmic on each side of it: u = ±ln(1 + |v| / step),
+/// so a slider's travel is as fine near 0 as the step and coarse only far out.
+bool signed_range(const Parameter& p) { return p.min < 0 && p.max > 0; }
+double signed_u(const Parameter& p, double v) { return std::copysign(std::log1p(std::fabs(v) / step_of(p)), v); }
+double signed_v(const Parameter& p, double u) { return std::copysign(step_of(p) * std::expm1(std::fabs(u)), u); }
 int clamp_int(double v) { return static_cast<int>(std::clamp(v, -2147483647.0, 2147483647.0)); }
 
 /// Hands a wheel event over an unfocused input to the scroll area around it.
@@ -61,6 +65,7 @@ ParamPanel::ParamPanel(QWidget* parent) : QWidget(parent), form_(new QFormLayout
 }
 
 bool ParamPanel::logarithmic(const Parameter& p) {
+  if (signed_range(p)) return std::isfinite(p.max - p.min) && step_of(p) > 0 && std::max(-p.min, p.max) / step_of(p) >= 100;
   const double shift = shift_of(p);
   return std::isfinite(p.max - p.min) && step_of(p) > 0 && (p.max + shift) / (p.min + shift) >= 100;
 }
@@ -74,7 +79,9 @@ int ParamPanel::positions(const Parameter& p) {
 int ParamPanel::to_slider(const Parameter& p, double v) {
   const int n = positions(p);
   double f = (v - p.min) / (p.max - p.min);
-  if (logarithmic(p)) {
+  if (logarithmic(p) && signed_range(p)) {
+    f = (signed_u(p, v) - signed_u(p, p.min)) / (signed_u(p, p.max) - signed_u(p, p.min));
+  } else if (logarithmic(p)) {
     const double shift = shift_of(p);
     f = std::log((std::max(v, p.min) + shift) / (p.min + shift)) / std::log((p.max + shift) / (p.min + shift));
   }
@@ -86,13 +93,17 @@ double ParamPanel::from_slider(const Parameter& p, int s) {
   const int n = positions(p);
   const double f = std::clamp(static_cast<double>(s) / n, 0.0, 1.0);
   double v = p.min + f * (p.max - p.min);
-  if (logarithmic(p)) {
+  if (logarithmic(p) && signed_range(p)) {
+    v = signed_v(p, signed_u(p, p.min) + f * (signed_u(p, p.max) - signed_u(p, p.min)));
+  } else if (logarithmic(p)) {
     const double shift = shift_of(p);
     v = (p.min + shift) * std::pow((p.max + shift) / (p.min + shift), f) - shift;
   }
   // On the declared step's grid (whole numbers stay whole), else at the spin box's decimals (what it
   // shows is what runs); the ends exactly.
-  if (p.step > 0) v = p.min + std::round((v - p.min) / p.step) * p.step;
+  // Across zero, the grid is counted from 0 (divided by a whole 1 / step: 3 m/s, not 3.0000000000000004).
+  if (p.step > 0 && signed_range(p) && 1 / p.step == std::round(1 / p.step)) v = std::round(v / p.step) / std::round(1 / p.step);
+  else if (p.step > 0) v = p.min + std::round((v - p.min) / p.step) * p.step;
   else v = std::round(v * std::pow(10.0, decimals(p))) / std::pow(10.0, decimals(p));
   if (s <= 0) v = p.min;
   if (s >= n) v = p.max;
@@ -151,40 +162,27 @@ void ParamPanel::build_rows() {
     row.slider->setSingleStep(1);
     row.slider->setPageStep(std::max(1, positions(p) / 20));
     row.slider->setObjectName(QString::fromStdString(p.name) + "_slider");
-    const QString suffix = p.unit.empty() ? QString() : " " + QString::fromStdString(p.unit);
-    if (p.is_integer()) {
-      auto* spin = new QSpinBox;
-      spin->setRange(clamp_int(p.min), clamp_int(p.max));
-      spin->setSuffix(suffix);
-      if (logarithmic(p)) spin->setStepType(QAbstractSpinBox::AdaptiveDecimalStepType);
-      connect(spin, &QSpinBox::valueChanged, this, [this, i](int v) {
-        if (updating_) return;
-        show_value(i, v);
-        Q_EMIT changed(schema_[i].name, v);
-      });
-      row.spin = spin;
-    } else {
-      auto* spin = new QDoubleSpinBox;
-      spin->setRange(p.min, p.max);
-      spin->setDecimals(decimals(p));
-      spin->setSingleStep(step_of(p));
-      spin->setSuffix(suffix);
-      if (logarithmic(p)) spin->setStepType(QAbstractSpinBox::AdaptiveDecimalStepType);
-      connect(spin, &QDoubleSpinBox::valueChanged, this, [this, i](double v) {
-        if (updating_) return;
-        show_value(i, v);
-        Q_EMIT changed(schema_[i].name, v);
-      });
-      row.spin = spin;
-    }
-    row.spin->setKeyboardTracking(false);  // one change per edit (Enter, Tab, focus loss), not per keystroke
+    row.spin = new NumberField(p);
+    if (logarithmic(p)) row.spin->set_adaptive(true);
+    connect(row.spin, &NumberField::valueChanged, this, [this, i](double v) {
+      if (updating_) return;
+      show_value(i, v);
+      Q_EMIT changed(schema_[i].name, v);
+    });
     row.spin->setObjectName(QString::fromStdString(p.name));
     row.spin->setMinimumWidth(90);
     connect(row.slider, &QSlider::valueChanged, this, [this, i](int s) {
       if (updating_) return;
       const double v = from_slider(schema_[i], s);
+      const bool same = v == rows_[i].spin->value();
       show_value(i, v);
-      Q_EMIT changed(schema_[i].name, v);
+      // The slider stays where it was moved: snapped back to the value's own position, a position that
+      // rounds onto the same step would hold it there and the next arrow key would do nothing again.
+      const bool was = updating_;
+      updating_ = true;
+      rows_[i].slider->setValue(s);
+      updating_ = was;
+      if (!same) Q_EMIT changed(schema_[i].name, v);
     });
     const QString tip = QString::fromStdString(p.description + " (allowed: " + p.range() + ")") +
                         (logarithmic(p) ? "; the slider is logarithmic, arrow keys move it finely" : "");
@@ -199,6 +197,17 @@ void ParamPanel::build_rows() {
     form_->addRow(label, field);
     rows_.push_back(row);
   }
+  // New rows join the window's tab order at its end: put them back where the panel is, after the input
+  // before it (Tab from the map box goes on to the map's parameters).
+  QWidget* before = previousInFocusChain();
+  while (before && before != this && (before->focusPolicy() == Qt::NoFocus || isAncestorOf(before)))
+    before = before->previousInFocusChain();
+  if (!before || before == this || before == window()) return;
+  for (const Row& row : rows_)
+    for (QWidget* w : {static_cast<QWidget*>(row.slider), static_cast<QWidget*>(row.spin)}) {
+      QWidget::setTabOrder(before, w);
+      before = w;
+    }
 }
 
 void ParamPanel::show_value(std::size_t i, double v) {
@@ -206,8 +215,7 @@ void ParamPanel::show_value(std::size_t i, double v) {
   updating_ = true;
   const Parameter& p = schema_[i];
   rows_[i].slider->setValue(to_slider(p, v));
-  if (auto* s = qobject_cast<QSpinBox*>(rows_[i].spin)) s->setValue(static_cast<int>(std::lround(v)));
-  if (auto* s = qobject_cast<QDoubleSpinBox*>(rows_[i].spin)) s->setValue(v);
+  rows_[i].spin->setValue(v);
   updating_ = was;
 }
 
@@ -218,10 +226,7 @@ void ParamPanel::set_value(const std::string& name, double value) {
 
 double ParamPanel::value(const std::string& name) const {
   for (std::size_t i = 0; i < schema_.size(); ++i)
-    if (schema_[i].name == name) {
-      if (auto* s = qobject_cast<QSpinBox*>(rows_[i].spin)) return s->value();
-      if (auto* s = qobject_cast<QDoubleSpinBox*>(rows_[i].spin)) return s->value();
-    }
+    if (schema_[i].name == name) return rows_[i].spin->value();
   return std::nan("");
 }
 
@@ -231,7 +236,7 @@ QSlider* ParamPanel::slider(const std::string& name) const {
   return nullptr;
 }
 
-QAbstractSpinBox* ParamPanel::spin_box(const std::string& name) const {
+NumberField* ParamPanel::spin_box(const std::string& name) const {
   for (std::size_t i = 0; i < schema_.size(); ++i)
     if (schema_[i].name == name) return rows_[i].spin;
   return nullptr;

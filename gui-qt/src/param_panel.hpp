@@ -1,9 +1,11 @@
 #pragma once
-// Sliders built from a declared parameter schema: per parameter a slider and a spin box (whole-number
-// parameters get an integer spin box), range, step and unit from the declaration, the meaning as tooltip.
-// A range that spans two decades or more gets a logarithmic slider (equal travel, equal ratio), so a
-// drag of a few pixels never jumps from 60 m to 1000 m; every slider has at most 1000 positions, one
-// arrow key each (finer than a pixel). Spin boxes apply a typed value on Enter or focus loss, once.
+// Sliders built from a declared parameter schema: per parameter a slider and a number field
+// (NumberField: any JSON number over the declared range, refused in one line otherwise), range, step and
+// unit from the declaration, the meaning as tooltip. A range that spans two decades or more gets a
+// logarithmic slider (equal travel, equal ratio), so a drag of a few pixels never jumps from 60 m to
+// 1000 m; a range across zero is logarithmic on each side (fine near 0: a breeze of 3 m/s is set in
+// steps of 0.1 m/s). Every slider has at most 1000 positions, one arrow key each (finer than a pixel).
+// Fields apply a typed value on Enter or focus loss, once.
 #include <QWidget>
 #include <vector>
 
@@ -11,10 +13,11 @@
 #include "salsa/parameters.hpp"
 
 class QSlider;
-class QAbstractSpinBox;
 class QFormLayout;
 
 namespace salsa::gui {
+
+class NumberField;
 
 class ParamPanel : public QWidget {
   Q_OBJECT
@@ -31,7 +34,7 @@ class ParamPanel : public QWidget {
   QSlider* slider(const std::string& name) const;
   /// The value a slider position stands for (tests).
   double slider_value(const std::string& name, int position) const;
-  QAbstractSpinBox* spin_box(const std::string& name) const;
+  NumberField* spin_box(const std::string& name) const;
 
  Q_SIGNALS:
   /// The user changed a value (slider released or moved, spin box edited): once per change.
@@ -40,7 +43,7 @@ class ParamPanel : public QWidget {
  private:
   struct Row {
     QSlider* slider = nullptr;
-    QAbstractSpinBox* spin = nullptr;
+    NumberField* spin = nullptr;
   };
   /// The slider's mapping: positions 0..positions(p), linear or logarithmic.
   static int positions(const Parameter& p);

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "salsa/core/experiments/queue.hpp"
+#include "format.hpp"
 #include "save_checked.hpp"
 
 namespace salsa::gui {
@@ -35,7 +36,7 @@ int QueueModel::columnCount(const QModelIndex& parent) const { return parent.isV
 QVariant QueueModel::headerData(int section, Qt::Orientation orientation, int role) const {
   if (role != Qt::DisplayRole) return {};
   if (orientation == Qt::Vertical) return section + 1;
-  static const char* const names[] = {"name", "behavior", "parameters", "drones", "map", "targets", "time (s)", "seed", "status"};
+  static const char* const names[] = {"name", "behavior", "parameters", "drones", "map", "targets", "time (s)", "seed", "status", "result"};
   return section >= 0 && section < column_count ? QVariant(names[section]) : QVariant();
 }
 
@@ -73,6 +74,15 @@ QVariant QueueModel::data(const QModelIndex& index, int role) const {
     }
   }
   if (role != Qt::DisplayRole && role != Qt::EditRole) return {};
+  // A number is edited as text (a line, not a spin box that would clamp or drop keys): setData reads it
+  // as a test file's number and the core's checks accept or refuse it in one line.
+  if (role == Qt::EditRole) switch (index.column()) {
+      case col_drones: return q(format::number(static_cast<double>(t.drone_total())));
+      case col_targets: return q(format::number(static_cast<double>(t.targets)));
+      case col_time: return q(format::number(t.time));
+      case col_seed: return QString::number(static_cast<qulonglong>(t.seed));
+      default: break;
+    }
   switch (index.column()) {
     case col_name: return q(t.name);
     case col_behavior: return q(t.groups[0].behavior.name);
@@ -94,7 +104,6 @@ QVariant QueueModel::data(const QModelIndex& index, int role) const {
       }
     }
     case col_targets:
-      if (role == Qt::EditRole) return static_cast<qulonglong>(t.targets);
       return t.targets ? q(std::to_string(t.targets) + " " + t.target.name) : QString("0");
     case col_time: return t.time;
     case col_seed: return static_cast<qulonglong>(t.seed);
@@ -105,6 +114,8 @@ QVariant QueueModel::data(const QModelIndex& index, int role) const {
         case Status::done: return "done";
         case Status::failed: return q("failed: " + r.message);
       }
+      break;
+    case col_result: return q(r.result);
   }
   return {};
 }
@@ -246,13 +257,14 @@ std::string QueueModel::save(const fs::path& file) const {
   });
 }
 
-void QueueModel::set_status(int row, Status s, const std::string& message) {
+void QueueModel::set_status(int row, Status s, const std::string& message, const std::string& result) {
   if (row < 0 || row >= rowCount()) return;
   auto& r = rows_[static_cast<std::size_t>(row)];
-  if (r.status == s && r.message == message) return;
+  if (r.status == s && r.message == message && r.result == result) return;
   r.status = s;
   r.message = message;
-  Q_EMIT dataChanged(index(row, col_status), index(row, col_status));
+  r.result = result;
+  Q_EMIT dataChanged(index(row, col_status), index(row, col_result));
 }
 
 void QueueModel::clear_statuses() {

@@ -18,7 +18,7 @@ namespace salsa::gui {
 class QueueModel : public QAbstractTableModel {
   Q_OBJECT
  public:
-  enum Column { col_name, col_behavior, col_parameters, col_drones, col_map, col_targets, col_time, col_seed, col_status, column_count };
+  enum Column { col_name, col_behavior, col_parameters, col_drones, col_map, col_targets, col_time, col_seed, col_status, col_result, column_count };
   enum class Status { pending, running, done, failed };
 
   explicit QueueModel(std::shared_ptr<const PluginHost> host, QObject* parent = nullptr);
@@ -57,7 +57,8 @@ class QueueModel : public QAbstractTableModel {
   const TestSpec& test(int row) const { return rows_.at(static_cast<std::size_t>(row)).test; }
   std::string test_json(int row) const;  ///< pretty, as the row would be saved
   Status status(int row) const { return rows_.at(static_cast<std::size_t>(row)).status; }
-  void set_status(int row, Status status, const std::string& message = {});
+  /// `result`: a finished test's outcome in words (the result column), e.g. "found 27 / 30 (90.0 %)".
+  void set_status(int row, Status status, const std::string& message = {}, const std::string& result = {});
   void clear_statuses();
   const std::string& last_error() const { return last_error_; }
 
@@ -70,6 +71,7 @@ class QueueModel : public QAbstractTableModel {
     TestSpec test;
     Status status = Status::pending;
     std::string message;  ///< why it failed
+    std::string result;   ///< a finished test's outcome
   };
   std::string unique_name(const std::string& name, int except_row = -1) const;
   std::shared_ptr<const PluginHost> host_;

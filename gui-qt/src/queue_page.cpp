@@ -9,6 +9,7 @@
 #include <QDialog>
 #include <QDialogButtonBox>
 #include <QDir>
+#include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QHBoxLayout>
@@ -20,7 +21,7 @@
 #include <QProgressBar>
 #include <QPushButton>
 #include <QScrollArea>
-#include <QSpinBox>
+#include "number_field.hpp"
 #include <QSplitter>
 #include <QTableView>
 #include <QThread>
@@ -165,10 +166,9 @@ QueuePage::QueuePage(std::shared_ptr<const PluginHost> host, std::vector<fs::pat
   run_button_->setToolTip("save the queue beside an output folder and run it there with salsa run, in the background");
   stop_button_ = new QPushButton("Stop");
   stop_button_->setEnabled(false);
-  jobs_ = new QSpinBox;
-  jobs_->setRange(1, 256);
+  jobs_ = new NumberField({"jobs", 1, 1, 256, "", "", 1});
   jobs_->setValue(std::max(1, QThread::idealThreadCount()));
-  jobs_->setPrefix("jobs ");
+  jobs_->setToolTip("tests run at once (allowed: whole number in [1, 256])");
   plots_ = new QCheckBox("plots");
   plots_->setChecked(true);
   auto* plots_button = new QPushButton("Plots");
@@ -176,6 +176,7 @@ QueuePage::QueuePage(std::shared_ptr<const PluginHost> host, std::vector<fs::pat
   auto* sandbox_button = new QPushButton("Load into sandbox");
   run_row->addWidget(run_button_);
   run_row->addWidget(stop_button_);
+  run_row->addWidget(new QLabel("jobs"));
   run_row->addWidget(jobs_);
   run_row->addWidget(plots_);
   progress_ = new QProgressBar;
@@ -332,7 +333,7 @@ std::string QueuePage::run(const QString& out, const QStringList& extra_args) {
   for (int i = 0; i < model_->rowCount(); ++i) run_names_.insert(model_->test(i).name);
   model_->clear_statuses();
   update_progress(0);
-  QStringList args{"run", file, "--out", dir, "--jobs", QString::number(jobs_->value())};
+  QStringList args{"run", file, "--out", dir, "--jobs", QString::number(jobs_->whole())};
   if (!plots_->isChecked()) args << "--no-plots";
   if (resume) args << "--resume";  // its finished tests are kept only where they are the tests asked for now
   if (model_->options().yes && static_cast<std::size_t>(model_->rowCount()) > model_->options().max_tests) args << "--yes";
@@ -355,6 +356,22 @@ bool QueuePage::wait(int ms) { return process_->wait(ms); }
 
 QString QueuePage::log_text() const { return log_->toPlainText(); }
 
+std::string QueuePage::outcome_words(const QString& folder) {
+  // outcome.csv: a header and one row (docs/output-format.md); its found targets, and coverage if measured.
+  QFile file(folder + "/outcome.csv");
+  if (!file.open(QIODevice::ReadOnly)) return {};
+  const QStringList lines = QString::fromUtf8(file.readAll()).split('\n', Qt::SkipEmptyParts);
+  if (lines.size() < 2) return {};
+  const QStringList names = lines[0].trimmed().split(','), values = lines[1].trimmed().split(',');
+  auto value = [&](const char* name) { return values.value(static_cast<int>(names.indexOf(name))); };
+  QStringList words;
+  if (const QString total = value("targets"); !total.isEmpty() && total != "0")
+    words << QString("found %1 / %2 (%3 %)").arg(value("targets_found"), total).arg(100 * value("fraction_found").toDouble(), 0, 'f', 1);
+  if (const QString coverage = value("coverage"); !coverage.isEmpty())
+    words << QString("coverage %1 %").arg(100 * coverage.toDouble(), 0, 'f', 1);
+  return words.join(", ").toStdString();
+}
+
 void QueuePage::update_statuses() {
   if (out_.isEmpty()) return;
   int finished = 0;
@@ -363,7 +380,7 @@ void QueuePage::update_statuses() {
     if (!run_names_.contains(name)) continue;  // added since
     const QString done = out_ + "/" + q(name), partial = out_ + "/." + q(name) + ".partial";
     if (QFileInfo::exists(done + "/config.json")) {
-      model_->set_status(row, QueueModel::Status::done);
+      model_->set_status(row, QueueModel::Status::done, {}, outcome_words(done));
       ++finished;
     } else if (QFile error(partial + "/error.txt"); error.open(QIODevice::ReadOnly)) {
       model_->set_status(row, QueueModel::Status::failed, QString::fromUtf8(error.readAll()).trimmed().toStdString());

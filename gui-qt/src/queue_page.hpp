@@ -20,11 +20,12 @@ class QProgressBar;
 class QLabel;
 class QPlainTextEdit;
 class QPushButton;
-class QSpinBox;
 class QCheckBox;
 class QDialog;
 
 namespace salsa::gui {
+
+class NumberField;
 
 class SalsaProcess;
 
@@ -70,6 +71,8 @@ class QueuePage : public QWidget {
 
  private:
   void update_statuses();
+  /// A finished test's outcome in a few words, from its folder's outcome.csv ("" when unreadable).
+  static std::string outcome_words(const QString& folder);
   void update_progress(int finished);
   void show_message(const QString& text, bool error = true);
   int selected_row() const;
@@ -80,7 +83,7 @@ class QueuePage : public QWidget {
   QProgressBar* progress_ = nullptr;
   QLabel* state_ = nullptr;
   QPlainTextEdit* log_ = nullptr;
-  QSpinBox* jobs_ = nullptr;
+  NumberField* jobs_ = nullptr;
   QCheckBox* plots_ = nullptr;
   QPushButton* run_button_ = nullptr;
   QPushButton* stop_button_ = nullptr;

@@ -1,6 +1,5 @@
 // The sandbox's forms: the controls that show, build and read a test's settings (set-up, groups, drones, failures, comm, wind).
 #include <QComboBox>
-#include <QDoubleSpinBox>
 #include <QFileInfo>
 #include <QFormLayout>
 #include <QGroupBox>
@@ -10,7 +9,6 @@
 #include <QLineEdit>
 #include <QPushButton>
 #include <QSettings>
-#include <QSpinBox>
 #include <QTimer>
 #include <QToolButton>
 #include <QVBoxLayout>
@@ -18,6 +16,7 @@
 #include <charconv>
 #include <nlohmann/json.hpp>
 
+#include "number_field.hpp"
 #include "param_panel.hpp"
 #include "salsa/core/files/names.hpp"
 #include "sandbox_page.hpp"
@@ -118,16 +117,14 @@ void SandboxPage::build_forms(QVBoxLayout* column) {
   target_kind_->setObjectName("target_kind");
   for (const auto& e : host_->target_kinds()) target_kind_->addItem(q(e.factory.name));
   form->addRow("target kind", target_kind_);
-  targets_ = new QSpinBox;
-  targets_->setObjectName("targets");
-  targets_->setRange(0, 10'000'000);
-  targets_->setSingleStep(100);
-  targets_->setKeyboardTracking(false);  // one new world per edit, not one per keystroke
+  // The ranges a test file allows (test_reader.cpp); one new world per edit, not one per keystroke.
+  targets_ = new NumberField({"targets", 0, 0, 10'000'000, "", "", 1});
+  targets_->setToolTip("targets placed on the map (allowed: whole number in [0, 10000000])");
   form->addRow("targets", targets_);
   // A line, not a spin box: a QSpinBox holds an int, and seeds go to 2^53.
   seed_ = new QLineEdit;
   seed_->setObjectName("seed");
-  seed_->setToolTip(QString("the test's seed: a whole number in [0, %1] (Enter applies it)").arg(max_sandbox_seed));
+  seed_->setToolTip(QString("the test's seed: a whole number in [0, %1] (Enter applies it)").arg(max_seed));
   form->addRow("seed", seed_);
   physics_ = new QComboBox;
   physics_->setObjectName("physics");
@@ -140,11 +137,8 @@ void SandboxPage::build_forms(QVBoxLayout* column) {
   auto* live = new QGroupBox("Live (recorded; kept by Save as test)");
   auto* live_form = new QVBoxLayout(live);
   auto* drones_row = new QFormLayout;
-  drones_ = new QSpinBox;
-  drones_->setObjectName("drones");
-  drones_->setRange(1, 1'000'000);
-  drones_->setKeyboardTracking(false);
-  drones_->setToolTip("drones added at the (chosen group's) base, or its highest ids removed");
+  drones_ = new NumberField({"drones", 1, 1, 1'000'000, "", "", 1});
+  drones_->setToolTip("drones added at the (chosen group's) base, or its highest ids removed (allowed: whole number in [1, 1000000])");
   drones_row->addRow("drones", drones_);
   live_form->addLayout(drones_row);
   live_form->addWidget(new QLabel("<b>Behavior parameters</b>"));
@@ -168,8 +162,8 @@ void SandboxPage::build_forms(QVBoxLayout* column) {
   battery_panel_->setObjectName("battery_panel");
   battery_panel_->set_schema(drone_schema(DroneSection::energy));
   // 0 means "off" for these two: say so rather than show "0.0 Wh".
-  qobject_cast<QDoubleSpinBox*>(battery_panel_->spin_box("battery_capacity"))->setSpecialValueText("none");
-  qobject_cast<QDoubleSpinBox*>(battery_panel_->spin_box("charge_power"))->setSpecialValueText("no charging");
+  battery_panel_->spin_box("battery_capacity")->set_special_text("none");
+  battery_panel_->spin_box("charge_power")->set_special_text("no charging");
   battery_toggle_ = fold_button("battery_toggle", "Battery and power model",
                                 "battery capacity (0 Wh: no battery model), the rotary-wing power model of Zeng, Xu & Zhang (2019) "
                                 "and charging at the base",
@@ -196,14 +190,9 @@ void SandboxPage::build_forms(QVBoxLayout* column) {
   auto* failures = new QGroupBox("Failures (live, recorded)");
   auto* failure_form = new QFormLayout(failures);
   auto mtbf_box = [](const char* name, const QString& tip) {
-    auto* box = new QDoubleSpinBox;
+    auto* box = new NumberField({std::string("failures.") + name, 0, 0, 1e9, "s", "", 60});  // as check_change allows
     box->setObjectName(name);
-    box->setRange(0, 1e9);  // as check_change allows
-    box->setDecimals(0);
-    box->setSingleStep(60);
-    box->setSuffix(" s");
-    box->setSpecialValueText("never");
-    box->setKeyboardTracking(false);
+    box->set_special_text("never");
     box->setToolTip(tip + " (allowed: [0, 1e9] s; 0: never)");
     return box;
   };
@@ -226,7 +215,14 @@ void SandboxPage::build_forms(QVBoxLayout* column) {
   comm_box_->setToolTip("messages between drones (docs/test-format.md#communication); off: nobody hears anybody");
   comm_panel_ = new ParamPanel;
   comm_panel_->set_schema(comm_parameters());
-  (new QVBoxLayout(comm_box_))->addWidget(comm_panel_);
+  auto* comm_column = new QVBoxLayout(comm_box_);
+  comm_column->addWidget(comm_panel_);
+  // Why the view may show no links: only messages are drawn, and only a behavior that broadcasts sends.
+  comm_note_ = new QLabel;
+  comm_note_->setObjectName("comm_note");
+  comm_note_->setWordWrap(true);
+  comm_note_->setStyleSheet("color: palette(mid)");
+  comm_column->addWidget(comm_note_);
   column->addWidget(comm_box_);
 
   // Wind, the same way: on or off starts over (the test's field plugin, if any, is kept), its numbers live.
@@ -263,7 +259,7 @@ void SandboxPage::build_forms(QVBoxLayout* column) {
   });
   connect(map_panel_, &ParamPanel::changed, this, reload);
   connect(target_kind_, &QComboBox::currentTextChanged, this, reload);
-  connect(targets_, &QSpinBox::valueChanged, this, reload);
+  connect(targets_, &NumberField::valueChanged, this, reload);
   connect(physics_, &QComboBox::currentTextChanged, this, reload);
   connect(seed_, &QLineEdit::editingFinished, this, &SandboxPage::seed_edited);
   connect(open_map_button, &QPushButton::clicked, this, &SandboxPage::ask_open_map);
@@ -272,7 +268,7 @@ void SandboxPage::build_forms(QVBoxLayout* column) {
     group_name_ = name.toStdString();
     if (auto t = engine_.current_test()) show_test(*t);
   });
-  connect(drones_, &QSpinBox::valueChanged, this, [this](int n) {
+  connect(drones_, &NumberField::valueChanged, this, [this](double n) {
     if (!updating_) live_change(group_key("drones"), n);
   });
   connect(behavior_panel_, &ParamPanel::changed, this, [this](const std::string& name, double v) {
@@ -282,10 +278,10 @@ void SandboxPage::build_forms(QVBoxLayout* column) {
     connect(drone, &ParamPanel::changed, this, [this](const std::string& name, double v) {
       if (!updating_) live_change(group_key("drone." + name), v);
     });
-  connect(drone_mtbf_, &QDoubleSpinBox::valueChanged, this, [this](double v) {
+  connect(drone_mtbf_, &NumberField::valueChanged, this, [this](double v) {
     if (!updating_) live_change("failures.drone_mtbf", v);
   });
-  connect(camera_mtbf_, &QDoubleSpinBox::valueChanged, this, [this](double v) {
+  connect(camera_mtbf_, &NumberField::valueChanged, this, [this](double v) {
     if (!updating_) live_change("failures.camera_mtbf", v);
   });
   connect(comm_box_, &QGroupBox::toggled, this, [this](bool) {
@@ -333,7 +329,7 @@ std::optional<TestSpec> SandboxPage::spec_from_controls(std::string* why) {
   for (ParamPanel* panel : drone_panels())
     for (const Parameter& p : panel->schema()) salsa::drone_schema().find(p.name)->set(d, panel->value(p.name));
   group["drone"] = drone_json(d);
-  group["drones"] = drones_->value();
+  group["drones"] = drones_->whole();
   j.erase("failures");
   if (drone_mtbf_->value() > 0 || camera_mtbf_->value() > 0)
     j["failures"] = {{"drone_mtbf", drone_mtbf_->value()}, {"camera_mtbf", camera_mtbf_->value()}};
@@ -357,7 +353,7 @@ std::optional<TestSpec> SandboxPage::spec_from_controls(std::string* why) {
   if (!map_file_.isEmpty()) j["map"] = {{"file", map_file_.toStdString()}};
   else j["map"] = {{"name", map_->currentText().toStdString()}, {"params", params_json(map_panel_)}};
   const bool same_kind = target_kind_->currentText().toStdString() == file_base_.target.name;
-  j["targets"] = {{"kind", target_kind_->currentText().toStdString()}, {"count", targets_->value()}};
+  j["targets"] = {{"kind", target_kind_->currentText().toStdString()}, {"count", targets_->whole()}};
   if (same_kind) j["targets"]["params"] = json::parse(resolved_json(file_base_, *host_))["targets"]["params"];
   j["seed"] = seed_value_;
   j.erase("physics");
@@ -394,12 +390,12 @@ void SandboxPage::seed_edited() {
   const std::string text = seed_->text().trimmed().toStdString();
   std::uint64_t v = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || v > max_sandbox_seed) {
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || v > max_seed) {
     const bool was = updating_;
     updating_ = true;
     seed_->setText(QString::number(seed_value_));
     updating_ = was;
-    show_message(QString("seed: \"%1\" is not a seed (allowed: whole number in [0, %2])").arg(q(text)).arg(max_sandbox_seed));
+    show_message(QString("seed: \"%1\" is not a seed (allowed: whole number in [0, %2])").arg(q(text)).arg(max_seed));
     return;
   }
   seed_->setText(QString::number(v));  // "007" shows as 7
@@ -450,15 +446,22 @@ void SandboxPage::show_test(const TestSpec& t) {
     map_panel_->set_schema(host_->map(t.map.name).factory.parameters, t.map.params);
   }
   target_kind_->setCurrentText(q(t.target.name));
-  targets_->setValue(static_cast<int>(t.targets));
+  targets_->setValue(static_cast<double>(t.targets));
   seed_value_ = t.seed;
   seed_->setText(QString::number(t.seed));
   physics_->setCurrentText(t.physics == PhysicsMode::light ? "light" : "box2d");
-  drones_->setValue(static_cast<int>(group.drones));
+  drones_->setValue(static_cast<double>(group.drones));
+  // The box names the configuration the values are (live changes may have made them another's).
+  const std::vector<DroneConfig> configs = drone_configs();
+  const auto same = std::find_if(configs.begin(), configs.end(), [&](const DroneConfig& c) {
+    return std::all_of(salsa::drone_schema().begin(), salsa::drone_schema().end(),
+                       [&](const DroneProperty& p) { return p.get(c) == p.get(group.drone); });
+  });
+  const QString shown = q(same != configs.end() ? same->name : group.drone.name);
   drone_config_->clear();
-  for (const DroneConfig& c : drone_configs()) drone_config_->addItem(q(c.name));
-  if (drone_config_->findText(q(group.drone.name)) < 0) drone_config_->addItem(q(group.drone.name));
-  drone_config_->setCurrentText(q(group.drone.name));
+  for (const DroneConfig& c : configs) drone_config_->addItem(q(c.name));
+  if (drone_config_->findText(shown) < 0) drone_config_->addItem(shown);
+  drone_config_->setCurrentText(shown);
   show_drone(group.drone);
   if (group.drone.battery_capacity > 0) battery_toggle_->setChecked(true);  // a battery in use is shown
   if (section_in_use(group.drone, DroneSection::noise)) noise_toggle_->setChecked(true);  // so is noise
@@ -521,11 +524,20 @@ void SandboxPage::apply_drone_config(const QString& name) {
 void SandboxPage::save_drone_config() {
   bool ok = false;
   const QString name = QInputDialog::getText(this, "Save drone configuration", "Name:", QLineEdit::Normal, "my-drone", &ok);
-  if (!ok || name.isEmpty()) return;
+  if (ok && !name.isEmpty()) save_drone_config_as(name);
+}
+
+std::string SandboxPage::save_drone_config_as(const QString& name) {
   if (const std::string why = name_problem(name.toStdString()); !why.empty()) {
     show_message("drone configuration name: " + q(why));
-    return;
+    return "drone configuration name: " + why;
   }
+  // One entry per name: a built-in configuration keeps its values.
+  for (const DroneConfig& c : builtin_drone_configs())
+    if (q(c.name) == name) {
+      show_message("drone configuration name: '" + name + "' is a built-in configuration (allowed: any other name)");
+      return last_message_.toStdString();
+    }
   QSettings settings;
   json saved = json::object();
   try {
@@ -544,6 +556,7 @@ void SandboxPage::save_drone_config() {
   drone_config_->setCurrentText(name);
   updating_ = was;
   show_message("saved drone configuration '" + name + "'", false);
+  return {};
 }
 
 }  // namespace salsa::gui

@@ -13,8 +13,9 @@
 #include <QPlainTextEdit>
 #include <QPushButton>
 #include <QScrollArea>
+#include <QScrollBar>
 #include <QSettings>
-#include <QSpinBox>
+#include "number_field.hpp"
 #include <QVBoxLayout>
 #include <algorithm>
 #include <fstream>
@@ -129,6 +130,25 @@ void SandboxPage::use_plugins(std::shared_ptr<const PluginHost> host, const QStr
                       }});
 }
 
+namespace {
+/// Keeps a vertical scroll area as wide as its panel's minimum (plus the scroll bar), as rows come and go.
+class FitWidth : public QObject {
+ public:
+  explicit FitWidth(QScrollArea* area) : QObject(area), area_(area) {}
+  bool eventFilter(QObject* watched, QEvent* event) override {
+    if (event->type() == QEvent::LayoutRequest || event->type() == QEvent::Show) {
+      const int width = static_cast<QWidget*>(watched)->minimumSizeHint().width() +
+                        area_->verticalScrollBar()->sizeHint().width() + 2 * area_->frameWidth();
+      if (area_->minimumWidth() != width) area_->setMinimumWidth(width);
+    }
+    return false;
+  }
+
+ private:
+  QScrollArea* area_;
+};
+}  // namespace
+
 void SandboxPage::build_controls() {
   auto* panel = new QWidget;
   auto* column = new QVBoxLayout(panel);
@@ -147,11 +167,8 @@ void SandboxPage::build_controls() {
   pacing_->setObjectName("pacing");
   pacing_->addItems({"real time", "steps per frame", "larger time step ×", "as fast as possible"});
   pacing_->setToolTip("real time; N exact steps per frame; a step N times longer (fast, inexact); or flat out");
-  pacing_amount_ = new QSpinBox;
-  pacing_amount_->setObjectName("pacing_amount");
-  pacing_amount_->setRange(1, 1000);
+  pacing_amount_ = new NumberField({"pacing_amount", 4, 1, 1000, "", "", 1});
   pacing_amount_->setValue(4);
-  pacing_amount_->setKeyboardTracking(false);
   pacing_amount_->setEnabled(false);
   speed->addWidget(pacing_, 1);
   speed->addWidget(pacing_amount_);
@@ -164,7 +181,10 @@ void SandboxPage::build_controls() {
   auto* scroll = new QScrollArea;
   scroll->setWidget(panel);
   scroll->setWidgetResizable(true);
-  scroll->setMinimumWidth(340);
+  // Never sideways: the panel is as wide as its widest row needs (rebuilt rows included), so Tab never
+  // scrolls it to a field cut off at the right.
+  scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+  panel->installEventFilter(new FitWidth(scroll));
   controls_ = scroll;
 
   charts_ = new LiveCharts;
@@ -185,7 +205,7 @@ void SandboxPage::build_controls() {
   connect(step_button, &QPushButton::clicked, this, &SandboxPage::step);
   connect(reset_button, &QPushButton::clicked, this, &SandboxPage::reset);
   connect(pacing_, &QComboBox::currentIndexChanged, this, &SandboxPage::set_pacing);
-  connect(pacing_amount_, &QSpinBox::valueChanged, this, &SandboxPage::set_pacing);
+  connect(pacing_amount_, &NumberField::valueChanged, this, &SandboxPage::set_pacing);
 }
 
 void SandboxPage::show_message(const QString& text, bool error) {
@@ -361,10 +381,10 @@ void SandboxPage::set_pacing() {
   const int mode = pacing_->currentIndex();
   p.mode = mode == 0 ? Pacing::real_time : mode == 1 ? Pacing::steps_per_frame : mode == 2 ? Pacing::real_time : Pacing::fastest;
   pacing_amount_->setEnabled(mode == 1 || mode == 2);
-  if (mode == 1) p.steps = pacing_amount_->value();
+  if (mode == 1) p.steps = static_cast<int>(pacing_amount_->whole());
   if (mode == 2) {  // the larger step runs as fast as it can: it is there for speed
     p.mode = Pacing::fastest;
-    p.dt_factor = pacing_amount_->value();
+    p.dt_factor = static_cast<int>(pacing_amount_->whole());
   }
   pending_.push_back({engine_.set_pacing(p), [this](const std::string& why) {
                         if (why.empty()) return;
@@ -437,11 +457,12 @@ void SandboxPage::refresh() {
   // The test's time: the sandbox pauses there once and says so; Start runs on past it, marked below.
   const double end = loaded_ ? loaded_->time : 0;
   const bool past = loaded_ && snap->time >= end - 1e-9 && snap->test_name == loaded_->name;
-  if (past && !past_time_told_ && snap->state == RunState::running) {
+  // The engine paused itself on the step that reached it (pacing cannot carry it further).
+  if (past && !past_time_told_) {
     past_time_told_ = true;
-    pause();
-    show_message(QString("paused at t = %1 s: the test's time is %2 s (Start runs on past it; Save as test keeps the time reached)")
-                     .arg(snap->time, 0, 'f', 1).arg(end),
+    if (snap->state != RunState::running) run_button_->setText("Start");
+    show_message(QString("paused at t = %1 s, the test's time (Start runs on past it; Save as test keeps the time reached)")
+                     .arg(snap->time, 0, 'f', 1),
                  false);
   }
   const auto now = Clock::now();
@@ -454,9 +475,15 @@ void SandboxPage::refresh() {
   }
   slow_refresh_ = now;
   charts_->show_rows(snap->stats);
-  status_time_->setText(past ? QString("t = %1 s, past the test's %2 s").arg(snap->time, 0, 'f', 1).arg(end)
-                             : QString("t = %1 s").arg(snap->time, 0, 'f', 1));
-  status_time_->setStyleSheet(past ? "color: #b00020; font-weight: bold" : "");
+  comm_note_->setText(!comm_box_->isChecked() ? QString()
+                      : !snap->links.empty()
+                          ? QString("%1 messages delivered for the next step, drawn as links (View > Communication links)").arg(snap->links.size())
+                          : "No messages in flight, so no links drawn: a link is a message delivered, and only a behavior that "
+                            "broadcasts sends any (" + behavior_->currentText() + " has sent none this step)");
+  const bool beyond = past && snap->time > end + 1e-9;  // ran on with Start, not just at the end
+  status_time_->setText(beyond ? QString("t = %1 s, past the test's %2 s").arg(snap->time, 0, 'f', 1).arg(end)
+                               : QString("t = %1 s").arg(snap->time, 0, 'f', 1));
+  status_time_->setStyleSheet(beyond ? "color: #b00020; font-weight: bold" : "");
   status_speed_->setText(QString("%1× real time").arg(snap->speed, 0, 'f', snap->speed < 10 ? 2 : 0));
   status_fps_->setText(QString("%1 FPS").arg(fps_, 0, 'f', 0));
   const std::size_t targets = snap->found.size();

@@ -23,8 +23,6 @@
 
 class QComboBox;
 class QGroupBox;
-class QDoubleSpinBox;
-class QSpinBox;
 class QToolButton;
 class QLabel;
 class QLineEdit;
@@ -35,11 +33,10 @@ class QVBoxLayout;
 namespace salsa::gui {
 
 class ParamPanel;
+class NumberField;
 class LiveCharts;
 class Recorder;
 
-/// The largest seed the sandbox takes: 2^53, what a JSON number holds exactly (the CLI's --seed limit).
-inline constexpr std::uint64_t max_sandbox_seed = 9007199254740992ULL;
 
 class SandboxPage : public QWidget {
   Q_OBJECT
@@ -55,6 +52,9 @@ class SandboxPage : public QWidget {
   std::string open_map(const QString& file);
   std::string save_test(const QString& file);
   std::string save_screenshot(const QString& file);
+  /// Saves the drone values shown as the named configuration (Save as… without its dialog); refused
+  /// for a bad name or a built-in configuration's.
+  std::string save_drone_config_as(const QString& name);
   void start();
   void pause();
   void toggle_run();
@@ -91,16 +91,17 @@ class SandboxPage : public QWidget {
   ParamPanel* noise_panel() const { return noise_panel_; }       ///< the sensor noise drone properties
   QToolButton* noise_toggle() const { return noise_toggle_; }    ///< shows or hides the noise panel
   QComboBox* group_box() const { return group_; }                ///< whose controls (shown with 2+ groups)
-  QDoubleSpinBox* drone_mtbf_box() const { return drone_mtbf_; }
-  QDoubleSpinBox* camera_mtbf_box() const { return camera_mtbf_; }
+  NumberField* drone_mtbf_box() const { return drone_mtbf_; }
+  NumberField* camera_mtbf_box() const { return camera_mtbf_; }
   QPushButton* fail_button() const { return fail_; }             ///< fails the inspected drone
   QGroupBox* comm_box() const { return comm_box_; }              ///< checked: the test has "comm" (a new start state)
   ParamPanel* comm_panel() const { return comm_panel_; }         ///< its fields, live
+  QLabel* comm_note() const { return comm_note_; }               ///< messages in flight, or why the view draws no links
   QGroupBox* wind_box() const { return wind_box_; }              ///< checked: the test has "wind" (a new start state)
   ParamPanel* wind_panel() const { return wind_panel_; }         ///< its numbers, live
   ParamPanel* map_panel() const { return map_panel_; }
-  QSpinBox* drones_box() const { return drones_; }
-  QSpinBox* targets_box() const { return targets_; }
+  NumberField* drones_box() const { return drones_; }
+  NumberField* targets_box() const { return targets_; }
   QLineEdit* seed_box() const { return seed_; }
   QComboBox* physics_box() const { return physics_; }             ///< box2d or light (a new start state)
   QComboBox* behavior_box() const { return behavior_; }
@@ -164,13 +165,13 @@ class SandboxPage : public QWidget {
   QLabel* map_file_label_ = nullptr;
   QString map_file_;
   QComboBox* target_kind_ = nullptr;
-  QSpinBox* targets_ = nullptr;
+  NumberField* targets_ = nullptr;
   QLineEdit* seed_ = nullptr;
   QComboBox* physics_ = nullptr;
   QWidget* group_row_ = nullptr;
   QComboBox* group_ = nullptr;
   std::string group_name_;  ///< the chosen group
-  QSpinBox* drones_ = nullptr;
+  NumberField* drones_ = nullptr;
   ParamPanel* behavior_panel_ = nullptr;
   QComboBox* drone_config_ = nullptr;
   ParamPanel* drone_panel_ = nullptr;
@@ -180,17 +181,18 @@ class SandboxPage : public QWidget {
   ParamPanel* noise_panel_ = nullptr;
   /// The panels of the drone properties, one per section of drone_schema(), indexed by DroneSection.
   std::array<ParamPanel*, 3> drone_panels() const { return {drone_panel_, battery_panel_, noise_panel_}; }
-  QDoubleSpinBox* drone_mtbf_ = nullptr;
-  QDoubleSpinBox* camera_mtbf_ = nullptr;
+  NumberField* drone_mtbf_ = nullptr;
+  NumberField* camera_mtbf_ = nullptr;
   QPushButton* fail_ = nullptr;
   QGroupBox* comm_box_ = nullptr;
   ParamPanel* comm_panel_ = nullptr;
+  QLabel* comm_note_ = nullptr;  ///< the messages in flight, or why there are none
   QGroupBox* wind_box_ = nullptr;
   ParamPanel* wind_panel_ = nullptr;
   std::optional<std::uint32_t> fail_target_;  ///< the inspected drone the fail button names
   QPushButton* run_button_ = nullptr;
   QComboBox* pacing_ = nullptr;
-  QSpinBox* pacing_amount_ = nullptr;
+  NumberField* pacing_amount_ = nullptr;
   LiveCharts* charts_ = nullptr;
   QPlainTextEdit* inspector_ = nullptr;
   QLabel* status_time_ = nullptr;

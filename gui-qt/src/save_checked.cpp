@@ -7,6 +7,7 @@
 #include <QDir>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QLineEdit>
 #include <QMessageBox>
 
 namespace fs = std::filesystem;
@@ -31,21 +32,36 @@ class CheckedSaveDialog : public QFileDialog {
       : QFileDialog(parent, title, suggested, filter), check_(std::move(check)) {
     setAcceptMode(QFileDialog::AcceptSave);
     setOption(QFileDialog::DontUseNativeDialog);  // native dialogs cannot be kept open on a bad name
-    if (folder) setOption(QFileDialog::ShowDirsOnly);
+    if (folder) {
+      // A folder, new (typed) or existing (clicked: a stopped run's, to resume it). Directory mode puts a
+      // clicked folder's name in the line; accept() takes it instead of opening it.
+      setOption(QFileDialog::ShowDirsOnly);
+      setFileMode(QFileDialog::Directory);
+      setLabelText(QFileDialog::Accept, "Choose");
+      folder_ = true;
+    }
     connect(this, &QFileDialog::directoryEntered, this, [this](const QString& dir) { show_folder(dir); });
     show_folder(directory().absolutePath());
   }
 
   void accept() override {
+    // A folder path typed with a trailing slash goes there, as in any file dialog; only a name chooses.
+    if (auto* line = findChild<QLineEdit*>("fileNameEdit"); folder_ && line && line->text().endsWith('/') && QFileInfo(line->text()).isDir()) {
+      setDirectory(line->text());
+      line->clear();
+      return;
+    }
     const QString file = selectedFiles().value(0);
     if (file.isEmpty()) return QFileDialog::accept();
     const QString parent = QFileInfo(file).absolutePath();
     QString why = folder_problem(parent);  // a file, or an output folder to be made: its parent is written
+    if (why.isEmpty() && folder_) why = folder_problem(file);  // an existing output folder is written into
     if (why.isEmpty() && check_) why = QString::fromStdString(check_(file));
     if (!why.isEmpty()) {
       QMessageBox::warning(this, windowTitle(), file + ": " + why);  // the dialog stays open, the name as typed
       return;
     }
+    if (folder_) return QDialog::accept();  // QFileDialog's would open an existing folder, or refuse a new one
     QFileDialog::accept();
   }
 
@@ -57,6 +73,7 @@ class CheckedSaveDialog : public QFileDialog {
     setLabelText(QFileDialog::FileName, why.isEmpty() ? "File name:" : "Not here (" + QFileInfo(dir).fileName() + " is read-only):");
   }
   std::function<std::string(const QString&)> check_;
+  bool folder_ = false;
 };
 
 }  // namespace

@@ -13,6 +13,7 @@ namespace salsa::gui {
 /// A save dialog that refuses a bad target while it is open: a folder that cannot be written is named
 /// in the dialog as soon as it is entered, and Save keeps the dialog open with the reason when the
 /// folder is not writable or `check(file)` says why not ("" = fine). Returns the file, or "" on Cancel.
+/// `folder`: an output folder, new (typed) or existing (clicked, e.g. a stopped run's to resume it).
 QString ask_save_file(QWidget* parent, const QString& title, const QString& suggested, const QString& filter,
                       const std::function<std::string(const QString& file)>& check = {}, bool folder = false);
 

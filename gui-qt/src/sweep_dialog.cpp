@@ -7,7 +7,7 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QListWidget>
-#include <QSpinBox>
+#include "number_field.hpp"
 #include <QTemporaryDir>
 #include <filesystem>
 #include <fstream>
@@ -87,19 +87,19 @@ SweepDialog::SweepDialog(std::shared_ptr<const PluginHost> host, const TestSpec&
   drones_ = new QLineEdit(QString::number(base_.groups[0].drones));
   drones_->setPlaceholderText("10, 20, 30  or  10:50:10");
   form->addRow("swarm sizes", drones_);
-  repeats_ = new QSpinBox;
-  repeats_->setRange(1, 1000);
+  repeats_ = new NumberField({"repeats", 1, 1, static_cast<double>(max_queue_tests), "", "", 1});
+  repeats_->setToolTip(QString::fromStdString("each test run this many times on other worlds (allowed: " + repeats_->spec().range() + ")"));
   form->addRow("repeats", repeats_);
   seed_ = new QLineEdit("1");  // a line: seeds go to 2^53, past a spin box's int
   seed_->setObjectName("queue_seed");
-  seed_->setToolTip("the queue seed, a whole number in [0, 9007199254740992]: each repeat's worlds come from it");
+  seed_->setToolTip(QString("the queue seed, a whole number in [0, %1]: each repeat's worlds come from it").arg(max_seed));
   form->addRow("queue seed", seed_);
   count_ = new QLabel;
   count_->setWordWrap(true);
   form->addRow(count_);
   connect(behaviors_, &QListWidget::itemChanged, this, &SweepDialog::update_count);
   connect(drones_, &QLineEdit::textChanged, this, &SweepDialog::update_count);
-  connect(repeats_, &QSpinBox::valueChanged, this, &SweepDialog::update_count);
+  connect(repeats_, &NumberField::valueChanged, this, &SweepDialog::update_count);
   connect(seed_, &QLineEdit::textChanged, this, &SweepDialog::update_count);
   update_count();
 }
@@ -158,11 +158,11 @@ std::string SweepDialog::queue_json(std::string* why) const {
   } catch (const std::exception&) {
   }
   // Checked here too: the reader takes numbers as doubles, and 2^53 + 1 would round into range.
-  if (!seed.is_number_unsigned() || seed.get<std::uint64_t>() > 9007199254740992ULL) {
-    *why = "queue seed: \"" + seed_->text().trimmed().toStdString() + "\" is not a seed (allowed: whole number in [0, 9007199254740992])";
+  if (!seed.is_number_unsigned() || seed.get<std::uint64_t>() > max_seed) {
+    *why = "queue seed: \"" + seed_->text().trimmed().toStdString() + "\" is not a seed (allowed: whole number in [0, " + std::to_string(max_seed) + "])";
     return {};
   }
-  const json queue{{"seed", seed}, {"repeats", repeats_->value()},
+  const json queue{{"seed", seed}, {"repeats", repeats_->whole()},
                    {"sweep", {{"test", test}, {"behaviors", behaviors}, {"drones", *drones}}}};
   return queue.dump(2);
 }

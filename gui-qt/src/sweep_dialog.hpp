@@ -14,9 +14,10 @@ class QComboBox;
 class QLabel;
 class QLineEdit;
 class QListWidget;
-class QSpinBox;
 
 namespace salsa::gui {
+
+class NumberField;
 
 /// "Add sweep": behaviors, parameter values, swarm sizes, repeats and the queue seed over the sandbox's
 /// test; shows how many tests it makes (or why it is refused) as you type.
@@ -32,7 +33,7 @@ class SweepDialog : public QWidget {
   QListWidget* behaviors() const { return behaviors_; }
   void set_axis(int row, const QString& behavior_param, const QString& values);  ///< "flocking.cohesion_weight", "1, 2"
   QLineEdit* drones() const { return drones_; }
-  QSpinBox* repeats() const { return repeats_; }
+  NumberField* repeats() const { return repeats_; }
   QLineEdit* seed() const { return seed_; }
   QLabel* count_label() const { return count_; }
 
@@ -47,7 +48,7 @@ class SweepDialog : public QWidget {
   QListWidget* behaviors_ = nullptr;
   std::vector<std::pair<QComboBox*, QLineEdit*>> axes_;
   QLineEdit* drones_ = nullptr;
-  QSpinBox* repeats_ = nullptr;
+  NumberField* repeats_ = nullptr;
   QLineEdit* seed_ = nullptr;
   QLabel* count_ = nullptr;
 };

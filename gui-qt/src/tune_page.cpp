@@ -22,7 +22,7 @@
 #include <QProgressBar>
 #include <QPushButton>
 #include <QScatterSeries>
-#include <QSpinBox>
+#include "number_field.hpp"
 #include <QSplitter>
 #include <QTableWidget>
 #include <QTemporaryDir>
@@ -148,16 +148,15 @@ void TunePage::build() {
   algorithm_->setCurrentText("cmaes");
   algorithm_->setToolTip("cmaes: the default; random, lhs, grid: baselines; bobyqa, neldermead: local from the defaults (docs/tuning.md)");
   settings->addRow("Algorithm", algorithm_);
-  auto spin = [](int lo, int hi, int value, const char* tip) {
-    auto* s = new QSpinBox;
-    s->setRange(lo, hi);
+  auto spin = [](const char* name, double lo, double hi, double value, const std::string& tip) {
+    auto* s = new NumberField({name, value, lo, hi, "", tip, 1});
     s->setValue(value);
-    s->setToolTip(tip);
+    s->setToolTip(QString::fromStdString(tip + " (allowed: " + s->spec().range() + ")"));
     return s;
   };
-  evaluations_ = spin(1, 1000000, 200, "tests run for tuning, the defaults' included");
-  worlds_ = spin(1, 100000, 5, "every candidate runs on these paired worlds (seeds)");
-  validation_ = spin(0, 100000, 10, "held-out worlds the best few and the defaults run on afterwards (0: none)");
+  evaluations_ = spin("budget.evaluations", 1, 1000000, 200, "tests run for tuning, the defaults' included");
+  worlds_ = spin("worlds", 1, 100000, 5, "every candidate runs on these paired worlds (seeds)");
+  validation_ = spin("validation.worlds", 0, 100000, 10, "held-out worlds the best few and the defaults run on afterwards (0: none)");
   auto* budget_row = new QHBoxLayout;
   budget_row->addWidget(evaluations_);
   budget_row->addWidget(new QLabel("worlds"));
@@ -167,11 +166,11 @@ void TunePage::build() {
   settings->addRow("Evaluations", budget_row);
   auto* seed_row = new QHBoxLayout;
   seed_ = new QLineEdit("1");
-  seed_->setToolTip("the tune's seed: the worlds and the algorithm's random numbers (whole number in [0, 9007199254740992])");
+  seed_->setToolTip(QString("the tune's seed: the worlds and the algorithm's random numbers (whole number in [0, %1])").arg(max_seed));
   racing_ = new QCheckBox("racing");
   racing_->setChecked(true);
   racing_->setToolTip("drop a candidate once it is significantly worse than the best on the worlds seen so far");
-  connect(worlds_, &QSpinBox::valueChanged, racing_, [this](int w) { racing_->setEnabled(w > 1); });
+  connect(worlds_, &NumberField::valueChanged, racing_, [this](double w) { racing_->setEnabled(w > 1); });
   seed_row->addWidget(seed_, 1);
   seed_row->addWidget(racing_);
   settings->addRow("Seed", seed_row);
@@ -234,10 +233,9 @@ void TunePage::build() {
   stop_button_ = new QPushButton("Stop");
   stop_button_->setEnabled(false);
   connect(stop_button_, &QPushButton::clicked, this, &TunePage::stop);
-  jobs_ = new QSpinBox;
-  jobs_->setRange(1, 256);
+  jobs_ = new NumberField({"jobs", 1, 1, 256, "", "", 1});
   jobs_->setValue(std::max(1, QThread::idealThreadCount()));
-  jobs_->setPrefix("jobs ");
+  jobs_->setToolTip("tests run at once (allowed: whole number in [1, 256])");
   auto* open_button = new QPushButton("Open…");
   open_button->setToolTip("show a tune's output folder: its chart, and its winner for Load best");
   connect(open_button, &QPushButton::clicked, this, [this] {
@@ -248,7 +246,7 @@ void TunePage::build() {
   load_best_button_->setEnabled(false);
   load_best_button_->setToolTip("the winner (best.json) on the first tuning world, into the sandbox");
   connect(load_best_button_, &QPushButton::clicked, this, [this] { load_best(); });
-  for (QWidget* w : std::initializer_list<QWidget*>{save_button, run_button_, stop_button_, jobs_, open_button, load_best_button_})
+  for (QWidget* w : std::initializer_list<QWidget*>{save_button, run_button_, stop_button_, new QLabel("jobs"), jobs_, open_button, load_best_button_})
     run_row->addWidget(w);
   side->addLayout(run_row);
   progress_ = new QProgressBar;
@@ -386,17 +384,17 @@ std::string TunePage::tune_json(std::string* why, std::string* canonical) const 
     seed = json::parse(seed_->text().trimmed().toStdString());
   } catch (const std::exception&) {
   }
-  if (!seed.is_number_unsigned())
-    return *why = "tune: seed: \"" + seed_->text().trimmed().toStdString() + "\" is not a seed (allowed: whole number in [0, 9007199254740992])", std::string();
+  if (!seed.is_number_unsigned() || seed.get<std::uint64_t>() > max_seed)
+    return *why = "tune: seed: \"" + seed_->text().trimmed().toStdString() + "\" is not a seed (allowed: whole number in [0, " + std::to_string(max_seed) + "])", std::string();
   json j{{"test", json::parse(base_json())},
          {"parameters", params},
          {"objective", {{"column", objective_->currentText().toStdString()}, {"goal", goal_->currentText().toStdString()},
                         {"aggregate", aggregate_->currentText().toStdString()}}},
          {"algorithm", algorithm_->currentText().toStdString()},
          {"seed", seed},
-         {"budget", {{"evaluations", evaluations_->value()}}},
-         {"worlds", worlds_->value()},
-         {"validation", {{"worlds", validation_->value()}}}};
+         {"budget", {{"evaluations", evaluations_->whole()}}},
+         {"worlds", worlds_->whole()},
+         {"validation", {{"worlds", validation_->whole()}}}};
   if (!racing_->isChecked() || worlds_->value() < 2) j["racing"] = false;
   const std::string text = j.dump(2) + "\n";
   // Checked as salsa tune checks it, so a run is never started only to be refused.
@@ -439,7 +437,7 @@ std::string TunePage::run(const QString& out) {
   budget_ = static_cast<std::size_t>(evaluations_->value());
   for (QXYSeries* s : std::initializer_list<QXYSeries*>{best_, defaults_, scores_}) s->clear();
   load_best_button_->setEnabled(false);
-  QStringList args{"tune", file, "--out", dir, "--jobs", QString::number(jobs_->value())};
+  QStringList args{"tune", file, "--out", dir, "--jobs", QString::number(jobs_->whole())};
   if (resume) args << "--resume";  // finished tests are read back: the tune continues exactly
   for (const auto& d : plugin_dirs_) args << "--plugin-dir" << q(d.string());
   process_->start(args);

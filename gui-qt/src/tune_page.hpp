@@ -23,7 +23,6 @@ class QLineEdit;
 class QPlainTextEdit;
 class QProgressBar;
 class QPushButton;
-class QSpinBox;
 class QTableWidget;
 class QLineSeries;
 class QScatterSeries;
@@ -31,6 +30,8 @@ class QValueAxis;
 class QChartView;
 
 namespace salsa::gui {
+
+class NumberField;
 
 class SalsaProcess;
 
@@ -72,11 +73,11 @@ class TunePage : public QWidget {
   QComboBox* objective_box() const { return objective_; }
   QComboBox* goal_box() const { return goal_; }
   QComboBox* algorithm_box() const { return algorithm_; }
-  QSpinBox* evaluations_box() const { return evaluations_; }
-  QSpinBox* worlds_box() const { return worlds_; }
-  QSpinBox* validation_box() const { return validation_; }
+  NumberField* evaluations_box() const { return evaluations_; }
+  NumberField* worlds_box() const { return worlds_; }
+  NumberField* validation_box() const { return validation_; }
   QLineEdit* seed_box() const { return seed_; }
-  QSpinBox* jobs_box() const { return jobs_; }
+  NumberField* jobs_box() const { return jobs_; }
   QLineSeries* best_series() const { return best_; }
   QLineSeries* defaults_series() const { return defaults_; }
   QScatterSeries* candidates_series() const { return scores_; }
@@ -103,12 +104,12 @@ class TunePage : public QWidget {
   QComboBox* goal_ = nullptr;
   QComboBox* aggregate_ = nullptr;
   QComboBox* algorithm_ = nullptr;
-  QSpinBox* evaluations_ = nullptr;
-  QSpinBox* worlds_ = nullptr;
-  QSpinBox* validation_ = nullptr;
+  NumberField* evaluations_ = nullptr;
+  NumberField* worlds_ = nullptr;
+  NumberField* validation_ = nullptr;
   QCheckBox* racing_ = nullptr;
   QLineEdit* seed_ = nullptr;
-  QSpinBox* jobs_ = nullptr;
+  NumberField* jobs_ = nullptr;
   QPushButton* run_button_ = nullptr;
   QPushButton* stop_button_ = nullptr;
   QPushButton* load_best_button_ = nullptr;

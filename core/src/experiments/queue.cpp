@@ -129,7 +129,7 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
     r.only_keys(j, "", {"seed", "repeats", "base", "conditions", "reference", "top", "tests", "sweep"});
     if (!j.contains("tests") && !j.contains("sweep"))
       r.fail("tests", "missing (a queue holds \"tests\", a \"sweep\", or both)");
-    if (j.contains("seed")) queue.seed = r.integer(j["seed"], "seed", 0, 9007199254740992.0);
+    if (j.contains("seed")) queue.seed = r.integer(j["seed"], "seed", 0, static_cast<double>(max_seed));
     if (j.contains("repeats")) repeats = r.integer(j["repeats"], "repeats", 1, static_cast<double>(max_queue_tests));
     if (j.contains("tests")) {
       tests = &j["tests"];

@@ -342,7 +342,7 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
     t.condition_label = c.value("label", "");
   }
   t.seed_given = j.contains("seed");
-  t.seed = t.seed_given ? r.integer(j["seed"], "seed", 0, 9007199254740992.0) : paired_seed(1, t.repeat, world_key(t));
+  t.seed = t.seed_given ? r.integer(j["seed"], "seed", 0, static_cast<double>(max_seed)) : paired_seed(1, t.repeat, world_key(t));
 
   // changes: [{"time": 30, "set": {"behavior.params.cohesion_weight": 2, "drones": 20}}, ...], each
   // checked against the test as the earlier ones left it.

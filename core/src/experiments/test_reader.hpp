@@ -51,11 +51,15 @@ class Reader {
     if (!(x >= lo && x <= hi)) fail(field, show(v) + " is out of range (allowed: " + range + ")");
     return x;
   }
+  /// A whole number above `hi` that rounds onto it as a double (2^53 + 1 reads as 2^53): compared exactly.
+  static bool past(const json& v, double hi) {
+    return v.is_number_unsigned() && hi < 18446744073709551615.0 && v.get<std::uint64_t>() > static_cast<std::uint64_t>(hi);
+  }
   std::uint64_t integer(const json& v, const std::string& field, double lo, double hi) const {
     const std::string range = "whole number in [" + format::number(lo) + ", " + format::number(hi) + "]";
     if (!v.is_number() || v.get<double>() != std::floor(v.get<double>()))
       fail(field, show(v) + " is not a whole number (allowed: " + range + ")");
-    if (!(v.get<double>() >= lo && v.get<double>() <= hi)) fail(field, show(v) + " is out of range (allowed: " + range + ")");
+    if (!(v.get<double>() >= lo && v.get<double>() <= hi) || past(v, hi)) fail(field, show(v) + " is out of range (allowed: " + range + ")");
     return v.is_number_unsigned() ? v.get<std::uint64_t>() : static_cast<std::uint64_t>(v.get<double>());
   }
   std::string string(const json& v, const std::string& field) const {

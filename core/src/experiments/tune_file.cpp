@@ -12,6 +12,7 @@
 #include "salsa/core/experiments/queue.hpp"
 #include "salsa/core/experiments/test_models.hpp"
 #include "salsa/core/model/drone_config.hpp"
+#include "test_reader.hpp"
 #include "salsa/core/run/runner.hpp"
 #include "strict_json.hpp"
 #include "format.hpp"
@@ -50,8 +51,8 @@ struct Refuse {
     const std::string range = "whole number in [" + format::number(lo) + ", " + format::number(hi) + "]";
     if (!v.is_number() || v.get<double>() != std::floor(v.get<double>()))
       (*this)(field, show(v) + " is not a whole number (allowed: " + range + ")");
-    if (!(v.get<double>() >= lo && v.get<double>() <= hi)) (*this)(field, show(v) + " is out of range (allowed: " + range + ")");
-    return static_cast<std::uint64_t>(v.get<double>());
+    if (!(v.get<double>() >= lo && v.get<double>() <= hi) || detail::Reader::past(v, hi)) (*this)(field, show(v) + " is out of range (allowed: " + range + ")");
+    return v.is_number_unsigned() ? v.get<std::uint64_t>() : static_cast<std::uint64_t>(v.get<double>());
   }
   std::string string(const json& v, const std::string& field, const std::string& allowed) const {
     if (!v.is_string() || v.get<std::string>().empty()) (*this)(field, show(v) + " must be a non-empty string (allowed: " + allowed + ")");
@@ -346,7 +347,7 @@ TuneSpec load_tune(const fs::path& file, const PluginHost& host, std::optional<s
     if (spec.local != "bobyqa" && spec.local != "neldermead") refuse("local.algorithm", show(l["algorithm"]) + " is not a local method (allowed: bobyqa, neldermead)");
     spec.local_evaluations = refuse.whole(l["evaluations"], "local.evaluations", 1, 1e9);
   }
-  if (j.contains("seed")) spec.seed = refuse.whole(j["seed"], "seed", 0, 9007199254740992.0);
+  if (j.contains("seed")) spec.seed = refuse.whole(j["seed"], "seed", 0, static_cast<double>(max_seed));
   if (seed) spec.seed = *seed;
 
   // ---- Budget, worlds, validation, racing.

@@ -37,6 +37,10 @@ struct GroupSpec {
   bool operator==(const GroupSpec&) const = default;
 };
 
+/// The largest seed anywhere (test, queue and tune files, the CLI, the desktop): 2^53, the largest
+/// whole number a JSON number holds exactly.
+inline constexpr std::uint64_t max_seed = 9007199254740992ULL;
+
 struct TestSpec {
   std::string source;               ///< where it was read from, for messages ("queue.json: tests[2]")
   std::string name;                 ///< also its output folder's name
@@ -64,7 +68,7 @@ struct TestSpec {
   int position_iterations = 3;
   int decision_lag = 0;             ///< steps until a decision takes effect (SimulationSetup): 0 everywhere by default
   PhysicsMode physics = PhysicsMode::box2d;  ///< "physics": config.json writes it only when light
-  std::uint64_t seed = 1;
+  std::uint64_t seed = 1;           ///< in [0, max_seed]
   bool seed_given = false;          ///< "seed" was in the file: it wins over the paired seed (queue.hpp)
   std::size_t repeat = 0;           ///< which repeat of its configuration in a queue (0 first)
   std::vector<Change> changes;      ///< timed live changes, in time order (salsa/core/experiments/changes.hpp)
