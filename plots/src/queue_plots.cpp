@@ -243,8 +243,13 @@ void score_plots(const std::vector<QueueRow>& rows, const fs::path& dir) {
       std::sort(order.begin(), order.end(), [](const std::string& a, const std::string& b) { return natural_less(a, b); });
       Figure f("Targets found against " + QString::fromStdString(param) + " (" + QString::fromStdString(behavior) + "; mean, 95 % CI over repeats)",
                plot_width, plot_height);
-      const double span = *xs.rbegin() - *xs.begin();
-      f.x_axis(QString::fromStdString(behavior + "." + param), *xs.begin() - 0.03 * span, *xs.rbegin() + 0.03 * span);
+      // A switch (its values 0 and 1 alone) is two categories, not a number line with 0.2, 0.4, …
+      const bool flag = xs == std::set<double>{0, 1};
+      const double span = flag ? 3 : *xs.rbegin() - *xs.begin();  // the dodge below: 3 % of a category
+      if (flag)
+        f.x_categories(QString::fromStdString(behavior + "." + param), {QString::fromStdString(param + " = 0"), QString::fromStdString(param + " = 1")});
+      else
+        f.x_axis(QString::fromStdString(behavior + "." + param), *xs.begin() - 0.03 * span, *xs.rbegin() + 0.03 * span);
       double lo = 100, hi = 0;
       struct Point { double x, mean, lo, hi; };
       std::vector<std::vector<Point>> drawn;
