@@ -126,11 +126,11 @@ void Figure::y_categories(const std::vector<QString>& names) {
   y_lo_ = static_cast<double>(names.size()) - 0.5, y_hi_ = -0.5;  // the first name at the top
 }
 
-QStringList wrapped(const QString& text, const QFont& f, double width, int max_lines) {
+QStringList wrapped(const QString& text, const QFont& f, double width, int max_lines, bool inside_words) {
   QStringList lines;
   QTextLayout layout(text, f);
   QTextOption option;
-  option.setWrapMode(QTextOption::WrapAtWordBoundaryOrAnywhere);
+  option.setWrapMode(inside_words ? QTextOption::WrapAtWordBoundaryOrAnywhere : QTextOption::WordWrap);
   layout.setTextOption(option);
   layout.beginLayout();
   for (QTextLine line = layout.createLine(); line.isValid(); line = layout.createLine()) {
@@ -174,9 +174,9 @@ QPainter& Figure::begin() {
   const QStringList title_lines = wider(title_metrics, title_, width - 40) ? wrapped(title_, title_font, width - 40, 3) : QStringList{title_};
   const double top = 70 + 29 * static_cast<double>(title_lines.size() - 1);
 
-  // Names on the left: at most 30 % of the width, wrapped beyond.
+  // Names on the left: at most 45 % of the width, wrapped beyond.
   double left = 95;
-  for (const QString& name : y_names_) left = std::max(left, 30.0 + std::min(0.3 * width, 1.0 * tick_metrics.horizontalAdvance(name)));
+  for (const QString& name : y_names_) left = std::max(left, 30.0 + std::min(0.45 * width, 1.0 * tick_metrics.horizontalAdvance(name)));
   std::vector<QStringList> y_lines;
   int y_most_lines = 1;
   for (const QString& name : y_names_) {
@@ -186,27 +186,41 @@ QPainter& Figure::begin() {
   // Numbers on the left, the axis label beside them, apart.
   double tick_width = 0;
   for (double t : y_ticks_) tick_width = std::max(tick_width, 1.0 * tick_metrics.horizontalAdvance(tick_text(t, y_step_)));
-  // The label's centre: 72 px left of the axis, or further when the numbers reach it (its 22 px tall
-  // line 4 px clear of them).
+  // The axis label's centre is 72 px left of the axis, or further when the numbers reach it (its 22 px
+  // tall line 4 px clear of them; see the drawing below).
   if (!y_ticks_.empty()) left = std::max(left, tick_width + 40);
-  const double y_label_x = std::max(22.0, std::min(left - 72, left - tick_width - 25));
 
   // The legend: at most 30 % of the width, each entry wrapped beyond.
-  double legend_width = 0;
-  for (const auto& e : legend_) legend_width = std::max(legend_width, 50.0 + tick_metrics.horizontalAdvance(e.text));
-  legend_width = std::min(legend_width, 0.3 * width);
+  double legend_width = 0, inner = 0, slot = 0;
+  auto lay_out_legend = [&] {
+    legend_width = 0;
+    for (const auto& e : legend_) legend_width = std::max(legend_width, 50.0 + tick_metrics.horizontalAdvance(e.text));
+    legend_width = std::min(legend_width, 0.3 * width);
+    legend_x_ = width - 30 - extra_right_ - legend_width;
+    inner = width - left - (30 + (legend_width > 0 ? legend_width + 10 : 0) + extra_right_);  // the plot area's width
+    slot = x_names_.empty() ? inner : inner / static_cast<double>(x_names_.size());
+  };
+  lay_out_legend();
+  // Names below: each within its category's width, on at most 3 lines broken between words; else
+  // numbered, and the legend says which number is which.
+  const bool keyed = std::any_of(x_names_.begin(), x_names_.end(), [&](const QString& name) {
+    if (!wider(tick_metrics, name, std::min(300.0, slot - 8))) return false;
+    const QStringList lines = wrapped(name, text_font, slot - 8, 4, false);
+    return lines.size() > 3 || std::any_of(lines.begin(), lines.end(), [&](const QString& l) { return wider(tick_metrics, l, slot - 7); });
+  });
+  if (keyed) {
+    for (std::size_t i = 0; i < x_names_.size(); ++i) {
+      legend_.push_back({LegendEntry::note, Qt::black, QString::number(i + 1) + ": " + x_names_[i]});
+      x_names_[i] = QString::number(i + 1);
+    }
+    lay_out_legend();
+  }
   legend_lines_.clear();
   double legend_height = 0;
   for (const auto& e : legend_) {
     legend_lines_.push_back(wider(tick_metrics, e.text, legend_width - 50) ? wrapped(e.text, text_font, legend_width - 42) : QStringList{e.text});
     legend_height += 28 + line_step * static_cast<double>(legend_lines_.back().size() - 1);
   }
-  const double right = 30 + (legend_width > 0 ? legend_width + 10 : 0) + extra_right_;
-  legend_x_ = width - 30 - extra_right_ - legend_width;
-  const double inner = width - left - right;  // the plot area's width
-
-  // Names below: each within its category's width.
-  const double slot = x_names_.empty() ? inner : inner / static_cast<double>(x_names_.size());
   std::vector<QStringList> x_lines;
   int x_most_lines = 1;
   for (const QString& name : x_names_) {
@@ -280,7 +294,7 @@ QPainter& Figure::begin() {
     p.drawText(QRectF(x_centre - x_room / 2, plot_.bottom() + 36 + below, x_room, 30 + 22 * static_cast<double>(x_label_lines.size() - 1)),
                Qt::AlignHCenter | Qt::AlignTop, x_label_lines.join('\n'));
   p.save();
-  p.translate(y_label_x, plot_.center().y());
+  p.translate(std::max(22.0, std::min(plot_.left() - 72, plot_.left() - tick_width - 25)), plot_.center().y());
   p.rotate(-90);
   p.drawText(QRectF(-plot_.height() / 2 - 100, -12, plot_.height() + 200, 30), Qt::AlignCenter, y_label_);
   p.restore();

@@ -29,8 +29,9 @@ QFont font(int pixels, bool bold = false);
 QString tick_text(double value, double step);
 
 /// `text` broken into lines at most `width` pixels wide in `f`: at spaces where it can, inside a word
-/// where a word alone is wider; past `max_lines` the last line ends in "…".
-QStringList wrapped(const QString& text, const QFont& f, double width, int max_lines = 6);
+/// where a word alone is wider (unless `inside_words` is false: such a line is then wider); past
+/// `max_lines` the last line ends in "…".
+QStringList wrapped(const QString& text, const QFont& f, double width, int max_lines = 6, bool inside_words = true);
 
 /// A ✕ in `colour` with a white rim, centred on `at` (where a drone stopped).
 void draw_cross(QPainter& p, QPointF at, const QColor& colour);
@@ -48,8 +49,10 @@ using LayoutObserver = std::function<void(const QString& title, QSize canvas, QR
 void observe_layouts(LayoutObserver observer);
 
 /// The layout adapts to its text: a label wider than its place is wrapped (at most 6 lines); the legend
-/// is at most a third of the width; the canvas grows taller (never narrower than asked) until every
-/// legend entry, category name and axis label has its room, so the plot area stays on the canvas.
+/// takes at most 30 % of the width, names on the left 45 %; category names below that do not fit in 3
+/// lines broken between words are numbered, with the key in the legend; the canvas grows taller (never
+/// narrower than asked) until every legend entry, name and axis label has its room, so the plot area
+/// stays on the canvas.
 class Figure {
  public:
   /// A canvas of `width` × `height` pixels, or taller when the labels need it (see begin()).

@@ -54,12 +54,14 @@ Qt::PenStyle condition_style(std::size_t i) {
   return styles[i % std::size(styles)];
 }
 
-/// Legend entries naming each condition by what it changes (none without conditions).
+/// Legend entries naming each condition by what it changes (none without conditions); without lines,
+/// only those that say more than the name the axis shows.
 void condition_notes(const std::vector<QueueRow>& rows, std::vector<LegendEntry>& legend, bool with_lines) {
   const auto conditions = conditions_of(rows);
   if (conditions.size() < 2 && conditions.front().empty()) return;
   for (std::size_t c = 0; c < conditions.size(); ++c)
-    legend.push_back({with_lines ? LegendEntry::line : LegendEntry::note, QColor(90, 90, 90), condition_text(rows, conditions[c]), condition_style(c)});
+    if (const QString text = condition_text(rows, conditions[c]); with_lines || text != QString::fromStdString(conditions[c]))
+      legend.push_back({with_lines ? LegendEntry::line : LegendEntry::note, QColor(90, 90, 90), text, condition_style(c)});
 }
 
 void box_plot(const std::vector<QueueRow>& rows, const fs::path& file) {
