@@ -620,6 +620,27 @@ class TestPlots : public QObject {
     }
   }
 
+  // A queue's own labels name its conditions and variants everywhere: config.json, summary.csv,
+  // comparison.csv (a label is a valid reference) and the plots.
+  void labels_name_conditions_and_variants() {
+    write_file(path("labelled.json"), R"({"repeats": 2, "base": {"map": {"name": "empty", "params": {"size": 200}}, "drones": 4, "time": 2,
+        "targets": {"kind": "tree", "count": 50, "params": {"radius": 5}}},
+      "conditions": [{"name": "baseline"}, {"name": "windy", "label": "gusty air", "wind": {"velocity": [3, 1], "gusts": {"strength": 1.5}}}],
+      "sweep": {"behaviors": ["random_walk", {"name": "flocking", "params": {"cohesion_weight": 0.812345, "alignment_weight": 9.876543}, "label": "tuned"}]},
+      "reference": "tuned"})");
+    const CliResult r = run_salsa({"run", path("labelled.json"), "--out", path("labelled")});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const QString summary = QString::fromUtf8(read_file(path("labelled/summary.csv")));
+    QVERIFY2(summary.contains(",tuned,windy,gusty air,flocking,"), qPrintable(summary.left(2000)));
+    QVERIFY2(summary.contains(",tuned,baseline,no change,flocking,"), qPrintable(summary.left(2000)));  // the label the file left out: what changes
+    QVERIFY(!summary.contains("cohesion_weight = 0.812345"));
+    const QString comparison = QString::fromUtf8(read_file(path("labelled/comparison.csv")));
+    QVERIFY2(comparison.contains(",random_walk (defaults),tuned,"), qPrintable(comparison));
+    const QString config = QString::fromUtf8(read_file(path("labelled/flocking_aw9.876543_cw0.812345_windy_r0/config.json")));
+    QVERIFY2(config.contains("\"label\": \"tuned\"") && config.contains("\"label\": \"gusty air\""), qPrintable(config));
+    QVERIFY(QFileInfo::exists(path("labelled/plots/comparison.png")));
+  }
+
   // A sweep.set key (here the failure clock, with the camera's written 0 exactly where it is set) is
   // plotted apart, under each queue condition; a setting every test shares is no split.
   void swept_settings_are_plotted_apart() {
