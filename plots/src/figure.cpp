@@ -187,8 +187,8 @@ QPainter& Figure::begin() {
   double tick_width = 0;
   for (double t : y_ticks_) tick_width = std::max(tick_width, 1.0 * tick_metrics.horizontalAdvance(tick_text(t, y_step_)));
   // The axis label's centre is 72 px left of the axis, or further when the numbers reach it (its 22 px
-  // tall line 4 px clear of them; see the drawing below).
-  if (!y_ticks_.empty()) left = std::max(left, tick_width + 40);
+  // tall line clear of them; see the drawing below), the axis moving right to make room.
+  if (tick_width > 47) left = std::max(left, tick_width + 55);
 
   // The legend: at most 30 % of the width, each entry wrapped beyond.
   double legend_width = 0, inner = 0, slot = 0;
