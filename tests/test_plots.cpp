@@ -10,6 +10,7 @@
 #include "salsa/core/results/comparison.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/plots/results.hpp"
+#include "figure.hpp"  // plots/src: the layout each figure reports
 
 using namespace salsa_test;
 
@@ -577,6 +578,69 @@ class TestPlots : public QObject {
     QVERIFY(QImage(out + "/plots/found_over_time_5_drones.png") != with_change);
   }
 
+  // Real labels are long: a tuned variant's parameters, a condition that changes wind, radio and the
+  // swarm. Every queue plot keeps its plot area on its canvas and of a readable size, however long the
+  // labels (the layout each figure reports before it draws).
+  void long_labels_keep_the_plot_on_its_canvas() {
+    const QString out = path("long");
+    const QByteArray tuned = "flocking: separation_distance = 37.51234, alignment_weight = 9.876543, cohesion_weight = 0.812345, separation_weight = 1.234567";
+    const QByteArray combined = "wind.velocity = [3,1], wind.gusts.strength = 1.5, wind.gusts.time_scale = 8, comm.range = 50, comm.loss = 0.2, "
+                                "comm.latency = 2, comm.max_received = 5, drones → 4 at 3 s, " + QByteArray("and_a_key_without_spaces_").repeated(12);
+    QByteArray summary = "name,status,error,cell,variant,condition,condition_label,behavior,repeat,seed,drones,targets,target,map,time,fraction_found\n";
+    int k = 0;
+    for (const char* condition : {"baseline", "combined_wind_gusts_and_radio_with_a_long_name"})
+      for (const QByteArray& variant : {QByteArray("random_walk (defaults)"), tuned})
+        for (int drones : {6, 12})
+          for (int repeat = 0; repeat < 3; ++repeat, ++k) {
+            const double end = 0.2 + 0.05 * repeat + (variant[0] == 'f' ? 0.1 : 0) + (condition[0] == 'c' ? 0.05 : 0);
+            const QByteArray name = "t" + QByteArray::number(k);
+            summary += name + ",ok,,c" + QByteArray::number(drones) + ",\"" + variant + "\"," + condition + ",\"" +
+                       (condition[0] == 'c' ? combined : QByteArray("no change")) + "\",x," + QByteArray::number(repeat) + "," +
+                       QByteArray::number(repeat + 1) + "," + QByteArray::number(drones) + ",50,tree,forest,10," + QByteArray::number(end) + "\n";
+            QByteArray rows = "time,targets_found,fraction_found,alive\n";
+            for (int s = 0; s <= 10; ++s) rows += QByteArray::number(s) + ",0," + QByteArray::number(end * s / 10) + "," + QByteArray::number(drones) + "\n";
+            write_file(out + "/" + name + "/summary.csv", rows);
+          }
+    write_file(out + "/summary.csv", summary);
+    write_file(out + "/queue.json", R"({"tests": ["t0"], "configs_hash": "0123456789abcdef", "command": ["salsa", "run"]})");
+    const CliResult r = run_salsa({"plot", out});  // comparison.csv, did.csv
+    QVERIFY2(r.exit_code == 0, describe(r));
+    struct Drawn { QString title; QSize canvas; QRectF plot; };
+    std::vector<Drawn> drawn;
+    salsa::plots::observe_layouts([&](const QString& title, QSize canvas, QRectF plot) { drawn.push_back({title, canvas, plot}); });
+    salsa::plots::draw_queue_plots(out.toStdString());
+    salsa::plots::observe_layouts({});
+    QCOMPARE(drawn.size(), std::size_t{7});  // box plot, found and alive over time for 2 sizes, comparison, did
+    for (const Drawn& d : drawn) {
+      const QString what = d.title + ": plot area " + QString("%1,%2 %3 × %4 on %5 × %6").arg(d.plot.left()).arg(d.plot.top()).arg(d.plot.width())
+                                                        .arg(d.plot.height()).arg(d.canvas.width()).arg(d.canvas.height());
+      QVERIFY2(QRectF(QPointF(0, 0), QSizeF(d.canvas)).contains(d.plot), qPrintable(what));
+      QVERIFY2(d.plot.width() >= 0.3 * d.canvas.width() && d.plot.height() >= 200, qPrintable(what));  // 360 px across at least
+      QCOMPARE(d.canvas.width(), salsa::plots::plot_width);
+    }
+  }
+
+  // A queue's own labels name its conditions and variants everywhere: config.json, summary.csv,
+  // comparison.csv (a label is a valid reference) and the plots.
+  void labels_name_conditions_and_variants() {
+    write_file(path("labelled.json"), R"({"repeats": 2, "base": {"map": {"name": "empty", "params": {"size": 200}}, "drones": 4, "time": 2,
+        "targets": {"kind": "tree", "count": 50, "params": {"radius": 5}}},
+      "conditions": [{"name": "baseline"}, {"name": "windy", "label": "gusty air", "wind": {"velocity": [3, 1], "gusts": {"strength": 1.5}}}],
+      "sweep": {"behaviors": ["random_walk", {"name": "flocking", "params": {"cohesion_weight": 0.812345, "alignment_weight": 9.876543}, "label": "tuned"}]},
+      "reference": "tuned"})");
+    const CliResult r = run_salsa({"run", path("labelled.json"), "--out", path("labelled")});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const QString summary = QString::fromUtf8(read_file(path("labelled/summary.csv")));
+    QVERIFY2(summary.contains(",tuned,windy,gusty air,flocking,"), qPrintable(summary.left(2000)));
+    QVERIFY2(summary.contains(",tuned,baseline,no change,flocking,"), qPrintable(summary.left(2000)));  // the label the file left out: what changes
+    QVERIFY(!summary.contains("cohesion_weight = 0.812345"));
+    const QString comparison = QString::fromUtf8(read_file(path("labelled/comparison.csv")));
+    QVERIFY2(comparison.contains(",random_walk (defaults),tuned,"), qPrintable(comparison));
+    const QString config = QString::fromUtf8(read_file(path("labelled/flocking_aw9.876543_cw0.812345_windy_r0/config.json")));
+    QVERIFY2(config.contains("\"label\": \"tuned\"") && config.contains("\"label\": \"gusty air\""), qPrintable(config));
+    QVERIFY(QFileInfo::exists(path("labelled/plots/comparison.png")));
+  }
+
   // A sweep.set key (here the failure clock, with the camera's written 0 exactly where it is set) is
   // plotted apart, under each queue condition; a setting every test shares is no split.
   void swept_settings_are_plotted_apart() {
@@ -645,5 +709,5 @@ class TestPlots : public QObject {
   }
 };
 
-QTEST_GUILESS_MAIN(TestPlots)
+QTEST_MAIN(TestPlots)  // a QGuiApplication: the layout test draws text in this process
 #include "test_plots.moc"

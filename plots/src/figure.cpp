@@ -1,6 +1,7 @@
 #include "figure.hpp"
 
 #include <QApplication>
+#include <QTextLayout>
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -125,36 +126,143 @@ void Figure::y_categories(const std::vector<QString>& names) {
   y_lo_ = static_cast<double>(names.size()) - 0.5, y_hi_ = -0.5;  // the first name at the top
 }
 
-QPainter& Figure::begin() {
-  painter_.begin(&image_);
-  painter_.setRenderHint(QPainter::Antialiasing);
-  const QFontMetrics tick_metrics(font(15)), legend_metrics(font(15));
+QStringList wrapped(const QString& text, const QFont& f, double width, int max_lines, bool inside_words) {
+  QStringList lines;
+  QTextLayout layout(text, f);
+  QTextOption option;
+  option.setWrapMode(inside_words ? QTextOption::WrapAtWordBoundaryOrAnywhere : QTextOption::WordWrap);
+  layout.setTextOption(option);
+  layout.beginLayout();
+  for (QTextLine line = layout.createLine(); line.isValid(); line = layout.createLine()) {
+    line.setLineWidth(std::max(width, 1.0));
+    lines << text.mid(line.textStart(), line.textLength()).trimmed();
+  }
+  layout.endLayout();
+  if (lines.isEmpty()) lines << QString();
+  if (lines.size() > max_lines) {
+    const QString rest = lines.mid(max_lines - 1).join(' ');
+    lines = lines.mid(0, max_lines - 1);
+    lines << QFontMetricsF(f).elidedText(rest, Qt::ElideRight, width);
+  }
+  return lines;
+}
 
-  // ---- Layout: title on top, axis labels and tick labels outside the plot, legend on the right.
+namespace {
+
+LayoutObserver& layout_observer() {
+  static LayoutObserver observer;
+  return observer;
+}
+
+constexpr double line_step = 18;  // between two lines of 15-pixel text
+
+/// Whether `text` needs more than `width` pixels in `m` (the measure the layout reserves room by).
+bool wider(const QFontMetrics& m, const QString& text, double width) { return m.horizontalAdvance(text) > width; }
+
+}  // namespace
+
+void observe_layouts(LayoutObserver observer) { layout_observer() = std::move(observer); }
+
+QPainter& Figure::begin() {
+  const QFont text_font = font(15), label_font = font(18), title_font = font(24, true);
+  const QFontMetrics tick_metrics(text_font), label_metrics(label_font), title_metrics(title_font);
+  const double width = image_.width();
+
+  // ---- Layout: title on top, axis labels and tick labels outside the plot, legend on the right. Text
+  // wider than its place wraps, and the canvas grows taller for it (never narrower), so that no label
+  // pushes the plot area off the canvas.
+  const QStringList title_lines = wider(title_metrics, title_, width - 40) ? wrapped(title_, title_font, width - 40, 3) : QStringList{title_};
+  const double top = 70 + 29 * static_cast<double>(title_lines.size() - 1);
+
+  // Names on the left: at most 45 % of the width, wrapped beyond.
   double left = 95;
-  for (const QString& name : y_names_) left = std::max(left, 30.0 + tick_metrics.horizontalAdvance(name));
-  double legend_width = 0;
-  for (const auto& e : legend_) legend_width = std::max(legend_width, 50.0 + legend_metrics.horizontalAdvance(e.text));
-  const double right = 30 + (legend_width > 0 ? legend_width + 10 : 0) + extra_right_;
-  legend_x_ = image_.width() - 30 - extra_right_ - legend_width;
-  plot_ = QRectF(left, 70, image_.width() - left - right, image_.height() - 70 - 85);
+  for (const QString& name : y_names_) left = std::max(left, 30.0 + std::min(0.45 * width, 1.0 * tick_metrics.horizontalAdvance(name)));
+  std::vector<QStringList> y_lines;
+  int y_most_lines = 1;
+  for (const QString& name : y_names_) {
+    y_lines.push_back(wider(tick_metrics, name, left - 30) ? wrapped(name, text_font, left - 20) : QStringList{name});
+    y_most_lines = std::max(y_most_lines, static_cast<int>(y_lines.back().size()));
+  }
+  // Numbers on the left, the axis label beside them, apart.
+  double tick_width = 0;
+  for (double t : y_ticks_) tick_width = std::max(tick_width, 1.0 * tick_metrics.horizontalAdvance(tick_text(t, y_step_)));
+  // The axis label's centre is 72 px left of the axis, or further when the numbers reach it (its 22 px
+  // tall line clear of them; see the drawing below), the axis moving right to make room.
+  if (tick_width > 47) left = std::max(left, tick_width + 55);
+
+  // The legend: at most 30 % of the width, each entry wrapped beyond.
+  double legend_width = 0, inner = 0, slot = 0;
+  auto lay_out_legend = [&] {
+    legend_width = 0;
+    for (const auto& e : legend_) legend_width = std::max(legend_width, 50.0 + tick_metrics.horizontalAdvance(e.text));
+    legend_width = std::min(legend_width, 0.3 * width);
+    legend_x_ = width - 30 - extra_right_ - legend_width;
+    inner = width - left - (30 + (legend_width > 0 ? legend_width + 10 : 0) + extra_right_);  // the plot area's width
+    slot = x_names_.empty() ? inner : inner / static_cast<double>(x_names_.size());
+  };
+  lay_out_legend();
+  // Names below: each within its category's width, on at most 3 lines broken between words; else
+  // numbered, and the legend says which number is which.
+  const bool keyed = std::any_of(x_names_.begin(), x_names_.end(), [&](const QString& name) {
+    if (!wider(tick_metrics, name, std::min(300.0, slot - 8))) return false;
+    const QStringList lines = wrapped(name, text_font, slot - 8, 4, false);
+    return lines.size() > 3 || std::any_of(lines.begin(), lines.end(), [&](const QString& l) { return wider(tick_metrics, l, slot - 7); });
+  });
+  if (keyed) {
+    for (std::size_t i = 0; i < x_names_.size(); ++i) {
+      legend_.push_back({LegendEntry::note, Qt::black, QString::number(i + 1) + ": " + x_names_[i]});
+      x_names_[i] = QString::number(i + 1);
+    }
+    lay_out_legend();
+  }
+  legend_lines_.clear();
+  double legend_height = 0;
+  for (const auto& e : legend_) {
+    legend_lines_.push_back(wider(tick_metrics, e.text, legend_width - 50) ? wrapped(e.text, text_font, legend_width - 42) : QStringList{e.text});
+    legend_height += 28 + line_step * static_cast<double>(legend_lines_.back().size() - 1);
+  }
+  std::vector<QStringList> x_lines;
+  int x_most_lines = 1;
+  for (const QString& name : x_names_) {
+    x_lines.push_back(wider(tick_metrics, name, std::min(300.0, slot - 8)) ? wrapped(name, text_font, std::max(40.0, slot - 8)) : QStringList{name});
+    x_most_lines = std::max(x_most_lines, static_cast<int>(x_lines.back().size()));
+  }
+  // The axis label below them, centred on the plot and as wide as the canvas allows there.
+  const double x_centre = left + inner / 2, x_room = 2 * (std::min(x_centre, width - x_centre) - 10);
+  const QStringList x_label_lines = wider(label_metrics, x_label_, inner) ? wrapped(x_label_, label_font, x_room, 3) : QStringList{x_label_};
+  const double below = line_step * (x_most_lines - 1), bottom = 85 + below + 22 * static_cast<double>(x_label_lines.size() - 1);
+
+  // The canvas's height: the plot's rows hold their wrapped names; the legend fits beside the plot.
+  double height = image_.height();
+  if (y_most_lines > 1) height = std::max(height, top + bottom + static_cast<double>(y_names_.size()) * (line_step * y_most_lines + 8));
+  height = std::max(height, top + 4 + legend_height + 10);
+  if (height > image_.height()) {
+    image_ = QImage(image_.width(), static_cast<int>(std::ceil(height)), QImage::Format_RGB32);
+    image_.fill(Qt::white);
+  }
+  plot_ = QRectF(left, top, inner, image_.height() - top - bottom);
   if (equal_) {  // one metre is as many pixels across as up; centre the smaller side
     const double scale = std::min(plot_.width() / (x_hi_ - x_lo_), plot_.height() / (y_hi_ - y_lo_));
     const double w = scale * (x_hi_ - x_lo_), h = scale * (y_hi_ - y_lo_);
     plot_ = QRectF(plot_.left() + (plot_.width() - w) / 2, plot_.top() + (plot_.height() - h) / 2, w, h);
   }
+  if (layout_observer()) layout_observer()(title_, image_.size(), plot_);
 
   // ---- Title, grid, ticks, labels.
+  painter_.begin(&image_);
+  painter_.setRenderHint(QPainter::Antialiasing);
   QPainter& p = painter_;
   p.setPen(Qt::black);
-  p.setFont(font(24, true));
-  p.drawText(QRectF(0, 12, image_.width(), 40), Qt::AlignCenter, title_);
-  p.setFont(font(15));
+  p.setFont(title_font);
+  if (title_lines.size() == 1) p.drawText(QRectF(0, 12, width, 40), Qt::AlignCenter, title_);
+  else p.drawText(QRectF(20, 12, width - 40, 40 + 29 * static_cast<double>(title_lines.size() - 1)), Qt::AlignCenter, title_lines.join('\n'));
+  p.setFont(text_font);
   const QPen grid(QColor(225, 225, 225), 1);
   for (std::size_t i = 0; i < y_names_.size(); ++i) {
     const double y = at(x_lo_, static_cast<double>(i)).y();
     if (i % 2 == 0) p.fillRect(QRectF(plot_.left(), y - (plot_.height() / static_cast<double>(y_names_.size())) / 2, plot_.width(), plot_.height() / static_cast<double>(y_names_.size())), QColor(246, 246, 246));
-    p.drawText(QRectF(10, y - 11, plot_.left() - 20, 22), Qt::AlignRight | Qt::AlignVCenter, y_names_[i]);
+    const double h = std::max(22.0, line_step * static_cast<double>(y_lines[i].size()) + 4);
+    p.drawText(QRectF(10, y - h / 2, plot_.left() - 20, h), Qt::AlignRight | Qt::AlignVCenter, y_lines[i].join('\n'));
   }
   for (std::size_t i = 0; i < x_ticks_.size(); ++i) {
     const double x = at(x_ticks_[i], y_lo_).x();
@@ -166,7 +274,9 @@ QPainter& Figure::begin() {
   }
   for (std::size_t i = 0; i < x_names_.size(); ++i) {
     const double x = at(static_cast<double>(i), y_lo_).x();
-    p.drawText(QRectF(x - 150, plot_.bottom() + 8, 300, 22), Qt::AlignHCenter | Qt::AlignTop, x_names_[i]);
+    const double w = x_lines[i].size() == 1 && !wider(tick_metrics, x_names_[i], 300) ? 300 : std::max(300.0, slot);
+    p.drawText(QRectF(x - w / 2, plot_.bottom() + 8, w, 22 + line_step * static_cast<double>(x_lines[i].size() - 1)), Qt::AlignHCenter | Qt::AlignTop,
+               x_lines[i].join('\n'));
   }
   for (std::size_t i = 0; i < y_ticks_.size(); ++i) {
     const double y = at(x_lo_, y_ticks_[i]).y();
@@ -174,12 +284,17 @@ QPainter& Figure::begin() {
     p.drawLine(QPointF(plot_.left(), y), QPointF(plot_.right(), y));
     p.setPen(Qt::black);
     p.drawLine(QPointF(plot_.left() - 6, y), QPointF(plot_.left(), y));
-    p.drawText(QRectF(plot_.left() - 100, y - 11, 90, 22), Qt::AlignRight | Qt::AlignVCenter, tick_text(y_ticks_[i], y_step_));
+    p.drawText(QRectF(plot_.left() - 10 - std::max(90.0, tick_width), y - 11, std::max(90.0, tick_width), 22), Qt::AlignRight | Qt::AlignVCenter,
+               tick_text(y_ticks_[i], y_step_));
   }
-  p.setFont(font(18));
-  p.drawText(QRectF(plot_.left(), std::min(image_.height() - 45.0, plot_.bottom() + 36), plot_.width(), 30), Qt::AlignCenter, x_label_);
+  p.setFont(label_font);
+  if (x_label_lines.size() == 1 && !wider(label_metrics, x_label_, plot_.width()))
+    p.drawText(QRectF(plot_.left(), plot_.bottom() + 36 + below, plot_.width(), 30), Qt::AlignCenter, x_label_);
+  else
+    p.drawText(QRectF(x_centre - x_room / 2, plot_.bottom() + 36 + below, x_room, 30 + 22 * static_cast<double>(x_label_lines.size() - 1)),
+               Qt::AlignHCenter | Qt::AlignTop, x_label_lines.join('\n'));
   p.save();
-  p.translate(std::max(22.0, plot_.left() - 72), plot_.center().y());
+  p.translate(std::max(22.0, std::min(plot_.left() - 72, plot_.left() - tick_width - 25)), plot_.center().y());
   p.rotate(-90);
   p.drawText(QRectF(-plot_.height() / 2 - 100, -12, plot_.height() + 200, 30), Qt::AlignCenter, y_label_);
   p.restore();
@@ -202,7 +317,8 @@ void Figure::save(const std::filesystem::path& file) {
   p.setFont(font(15));
   double y = plot_.top() + 4;
   const double x = legend_x_;
-  for (const auto& e : legend_) {
+  for (std::size_t i = 0; i < legend_.size(); ++i) {
+    const LegendEntry& e = legend_[i];
     const QRectF symbol(x, y + 4, 34, 16);
     p.setPen(Qt::NoPen);
     p.setBrush(Qt::NoBrush);
@@ -217,8 +333,11 @@ void Figure::save(const std::filesystem::path& file) {
       case LegendEntry::note: break;
     }
     p.setPen(Qt::black);
-    p.drawText(QRectF(x + 42, y, 1000, 24), Qt::AlignLeft | Qt::AlignVCenter, e.text);
-    y += 28;
+    for (const QString& line : legend_lines_[i]) {
+      p.drawText(QRectF(x + 42, y, 1000, 24), Qt::AlignLeft | Qt::AlignVCenter, line);
+      y += line_step;
+    }
+    y += 28 - line_step;
   }
   p.end();
   if (!image_.save(QString::fromStdString(file.string()), "PNG"))

@@ -7,7 +7,10 @@
 #include <QPainter>
 #include <QString>
 
+#include <QStringList>
+
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,6 +28,11 @@ QFont font(int pixels, bool bold = false);
 /// A tick value as text with as many decimals as the step needs.
 QString tick_text(double value, double step);
 
+/// `text` broken into lines at most `width` pixels wide in `f`: at spaces where it can, inside a word
+/// where a word alone is wider (unless `inside_words` is false: such a line is then wider); past
+/// `max_lines` the last line ends in "…".
+QStringList wrapped(const QString& text, const QFont& f, double width, int max_lines = 6, bool inside_words = true);
+
 /// A ✕ in `colour` with a white rim, centred on `at` (where a drone stopped).
 void draw_cross(QPainter& p, QPointF at, const QColor& colour);
 
@@ -35,8 +43,19 @@ struct LegendEntry {
   Qt::PenStyle style = Qt::SolidLine;  // of a line
 };
 
+/// Called by each Figure once laid out, with its canvas and plot area: lets tests measure the layout
+/// that is drawn. Set it before drawing and from one thread only.
+using LayoutObserver = std::function<void(const QString& title, QSize canvas, QRectF plot)>;
+void observe_layouts(LayoutObserver observer);
+
+/// The layout adapts to its text: a label wider than its place is wrapped (at most 6 lines); the legend
+/// takes at most 30 % of the width, names on the left 45 %; category names below that do not fit in 3
+/// lines broken between words are numbered, with the key in the legend; the canvas grows taller (never
+/// narrower than asked) until every legend entry, name and axis label has its room, so the plot area
+/// stays on the canvas.
 class Figure {
  public:
+  /// A canvas of `width` × `height` pixels, or taller when the labels need it (see begin()).
   explicit Figure(const QString& title, int width, int height);
 
   /// A numeric axis over round ticks covering [lo, hi]; `exact`: the axis is [lo, hi] itself, with
@@ -56,6 +75,7 @@ class Figure {
   QPointF at(double x, double y) const;
   double pixels_per_x() const { return plot_.width() / (x_hi_ - x_lo_); }
   QRectF plot_area() const { return plot_; }
+  QSize canvas() const { return image_.size(); }
   QPainter& painter() { return painter_; }
   /// Draws the border and legend and writes the PNG. Throws std::runtime_error naming the file.
   void save(const std::filesystem::path& file);
@@ -73,6 +93,7 @@ class Figure {
   std::vector<LegendEntry> legend_;
   QRectF plot_;
   double legend_x_ = 0;
+  std::vector<QStringList> legend_lines_;  // each entry's text, wrapped
 };
 
 }  // namespace salsa::plots

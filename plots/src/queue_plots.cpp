@@ -54,12 +54,14 @@ Qt::PenStyle condition_style(std::size_t i) {
   return styles[i % std::size(styles)];
 }
 
-/// Legend entries naming each condition by what it changes (none without conditions).
+/// Legend entries naming each condition by what it changes (none without conditions); without lines,
+/// only those that say more than the name the axis shows.
 void condition_notes(const std::vector<QueueRow>& rows, std::vector<LegendEntry>& legend, bool with_lines) {
   const auto conditions = conditions_of(rows);
   if (conditions.size() < 2 && conditions.front().empty()) return;
   for (std::size_t c = 0; c < conditions.size(); ++c)
-    legend.push_back({with_lines ? LegendEntry::line : LegendEntry::note, QColor(90, 90, 90), condition_text(rows, conditions[c]), condition_style(c)});
+    if (const QString text = condition_text(rows, conditions[c]); with_lines || text != QString::fromStdString(conditions[c]))
+      legend.push_back({with_lines ? LegendEntry::line : LegendEntry::note, QColor(90, 90, 90), text, condition_style(c)});
 }
 
 void box_plot(const std::vector<QueueRow>& rows, const fs::path& file) {
@@ -243,8 +245,13 @@ void score_plots(const std::vector<QueueRow>& rows, const fs::path& dir) {
       std::sort(order.begin(), order.end(), [](const std::string& a, const std::string& b) { return natural_less(a, b); });
       Figure f("Targets found against " + QString::fromStdString(param) + " (" + QString::fromStdString(behavior) + "; mean, 95 % CI over repeats)",
                plot_width, plot_height);
-      const double span = *xs.rbegin() - *xs.begin();
-      f.x_axis(QString::fromStdString(behavior + "." + param), *xs.begin() - 0.03 * span, *xs.rbegin() + 0.03 * span);
+      // A switch (its values 0 and 1 alone) is two categories, not a number line with 0.2, 0.4, …
+      const bool flag = xs == std::set<double>{0, 1};
+      const double span = flag ? 3 : *xs.rbegin() - *xs.begin();  // the dodge below: 3 % of a category
+      if (flag)
+        f.x_categories(QString::fromStdString(behavior + "." + param), {QString::fromStdString(param + " = 0"), QString::fromStdString(param + " = 1")});
+      else
+        f.x_axis(QString::fromStdString(behavior + "." + param), *xs.begin() - 0.03 * span, *xs.rbegin() + 0.03 * span);
       double lo = 100, hi = 0;
       struct Point { double x, mean, lo, hi; };
       std::vector<std::vector<Point>> drawn;

@@ -72,6 +72,7 @@ std::vector<Condition> read_conditions(const json& list, const Reader& r) {
     if (std::string_view(key) != "name" && std::string_view(key) != "seed" && std::string_view(key) != "repeat" &&
         std::string_view(key) != "condition" && std::string_view(key) != "versions")
       allowed.push_back(key);
+  allowed.push_back("label");
   std::vector<Condition> out;
   for (std::size_t i = 0; i < list.size(); ++i) {
     Condition c;
@@ -85,7 +86,7 @@ std::vector<Condition> read_conditions(const json& list, const Reader& r) {
     for (const Condition& earlier : out)
       if (earlier.name == c.name) r.fail(c.at + ".name", show(entry["name"]) + " is already the name of " + earlier.at + " (allowed: each name once)");
     for (const auto& [key, value] : entry.items())
-      if (key != "name" && key != "set") c.fields[key] = value;
+      if (key != "name" && key != "label" && key != "set") c.fields[key] = value;
     if (entry.contains("set")) {
       c.set = entry["set"];
       if (!c.set.is_object() || c.set.empty())
@@ -99,7 +100,8 @@ std::vector<Condition> read_conditions(const json& list, const Reader& r) {
     for (std::size_t a = 0; a < c.paths.size(); ++a)  // a key set twice: in the fields and in "set"
       for (std::size_t b = a + 1; b < c.paths.size(); ++b)
         if (overlaps(c.paths[a], c.paths[b])) r.fail(c.at + "." + c.paths[b], "also set by " + c.at + "." + c.paths[a] + " (allowed: once)");
-    c.label = condition_label(c.fields, c.set);
+    // The file's short label, or what the condition changes in words.
+    c.label = entry.contains("label") ? r.label(entry["label"], c.at + ".label") : condition_label(c.fields, c.set);
     out.push_back(std::move(c));
   }
   return out;

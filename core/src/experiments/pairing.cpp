@@ -83,6 +83,7 @@ std::string variant_label(const std::string& behavior, const std::vector<std::pa
 
 std::string variant(const TestSpec& t, const PluginHost& host) {
   auto one = [&](const PluginChoice& b) {
+    if (!b.label.empty()) return b.label;
     std::vector<std::pair<std::string, std::string>> changed;
     for (const Parameter& p : host.behavior(b.name).factory.parameters)
       if (b.params.has(p.name) && b.params.get(p.name) != p.value) changed.emplace_back(p.name, format::number(b.params.get(p.name)));

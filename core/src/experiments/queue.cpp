@@ -4,6 +4,7 @@
 #include "format.hpp"
 
 #include <algorithm>
+#include <map>
 #include <optional>
 #include <unordered_map>
 
@@ -202,6 +203,17 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
       c.test.source = shown_file + ": sweep" + (s.at.empty() ? "" : " (" + s.at + ")");
       configs.push_back(std::move(c));
     });
+  }
+
+  // ---- A label names one variant: two under one name would be pooled in the comparison and the plots.
+  std::map<std::string, std::string> labelled;  // the variant as shown → as its parameters make it
+  for (const Config& c : configs) {
+    TestSpec bare = c.test;
+    for (GroupSpec& g : bare.groups) g.behavior.label.clear();
+    const std::string shown = variant(c.test, host), made = variant(bare, host);
+    if (const auto [it, fresh] = labelled.emplace(shown, made); !fresh && it->second != made)
+      throw InputError(c.test.source + ": behavior.label: \"" + shown + "\" names two variants, " + it->second + " and " + made +
+                       " (allowed: each label on one variant)");
   }
 
   // ---- The comparison's pairs: each variant against a reference (a variant of the queue, or a

@@ -177,7 +177,7 @@ std::vector<SweptPlugin> plugin_axis(const json& axis, const std::string& field,
     if (given.is_string()) given = json{{"name", given}};
     if (!given.is_object()) r.fail(at, show(item) + " must be a name or an object {\"name\", \"params\"}");
     if (maps) r.only_keys(given, at, {"name", "params", "file"});
-    else r.only_keys(given, at, {"name", "params"});
+    else r.only_keys(given, at, {"name", "params", "label"});
     const bool file = given.contains("file");
     if (file) {
       r.path(given["file"], at + (item.is_string() ? "" : ".file"));  // a non-empty string
@@ -213,6 +213,13 @@ std::vector<SweptPlugin> plugin_axis(const json& axis, const std::string& field,
       for (const Parameter& p : *schema)
         if (params.contains(p.name))
           e.params.push_back({p.name, short_name(*schema, p.name), param_values(params[p.name], pfield + "." + p.name, p, r)});
+    }
+    if (given.contains("label")) {  // a behavior's short name for its variant: one variant's
+      e.head["label"] = r.label(given["label"], at + ".label");
+      for (const auto& p : e.params)
+        if (p.values.size() > 1)
+          r.fail(at + ".label", "names one variant, and " + at + ".params." + p.name + " gives " + std::to_string(p.values.size()) +
+                                    " (allowed: a label on an entry whose parameters have one value each)");
     }
     out.push_back(std::move(e));
   }

@@ -88,10 +88,12 @@ Vec2 point(const json& v, const Reader& r, const std::string& field) {
   return {v[0].get<double>(), v[1].get<double>()};
 }
 
-/// A plugin choice at `field`: "name" or {"name": ..., "params": {...}}; the params unchecked yet.
-std::pair<std::string, json> name_and_params(const json& v, const Reader& r, const std::string& field) {
+/// A plugin choice at `field`: "name" or {"name": ..., "params": {...}} (a behavior's may have a
+/// "label" too, read apart); the params unchecked yet.
+std::pair<std::string, json> name_and_params(const json& v, const Reader& r, const std::string& field, bool labelled = false) {
   if (!v.is_object()) return {r.string(v, field), json()};
-  r.only_keys(v, field, {"name", "params"});
+  if (labelled) r.only_keys(v, field, {"name", "params", "label"});
+  else r.only_keys(v, field, {"name", "params"});
   if (!v.contains("name")) r.fail(field + ".name", "missing");
   return {r.string(v["name"], field + ".name"), v.value("params", json())};
 }
@@ -126,7 +128,8 @@ void parse_group(GroupSpec& g, const json& j, const Reader& r, const PluginHost&
   const std::string behavior = Reader::join(at, "behavior");
   if (!j.contains("behavior")) r.fail(behavior, "missing (e.g. \"behavior\": \"flocking\")");
   json params;
-  std::tie(g.behavior.name, params) = name_and_params(j["behavior"], r, behavior);
+  std::tie(g.behavior.name, params) = name_and_params(j["behavior"], r, behavior, true);
+  if (j["behavior"].contains("label")) g.behavior.label = r.label(j["behavior"]["label"], behavior + ".label");
   try {
     const auto& e = host.behavior(g.behavior.name);
     g.behavior.params = r.params(params, behavior + ".params", e.factory.parameters, "behavior '" + g.behavior.name + "'");

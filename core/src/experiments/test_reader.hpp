@@ -66,6 +66,21 @@ class Reader {
     if (!v.is_string() || v.get<std::string>().empty()) fail(field, show(v) + " must be a non-empty string");
     return v.get<std::string>();
   }
+  /// A short name of the user's for a condition or a variant, shown in summary.csv and the plots: one
+  /// line of at most max_label characters.
+  static constexpr std::size_t max_label = 60;
+  std::string label(const json& v, const std::string& field) const {
+    const std::string allowed = " (allowed: text of 1 to " + std::to_string(max_label) + " characters on one line)";
+    if (!v.is_string() || v.get<std::string>().empty()) fail(field, show(v) + " is not a label" + allowed);
+    const std::string& s = v.get<std::string>();
+    std::size_t characters = 0;
+    for (unsigned char c : s) {
+      if (c < 0x20 || c == 0x7f) fail(field, show(v) + " holds a control character" + allowed);
+      characters += (c & 0xC0) != 0x80;  // UTF-8: count the first byte of each character
+    }
+    if (characters > max_label) fail(field, show(v) + " has " + std::to_string(characters) + " characters" + allowed);
+    return s;
+  }
   std::filesystem::path path(const json& v, const std::string& field) const {
     std::filesystem::path p = string(v, field);
     return p.is_relative() && !base_.empty() ? (base_ / p).lexically_normal() : p;

@@ -55,6 +55,7 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
   // A group's fields: at the top level in the single form (as before groups), else in "groups".
   auto group_json = [](const GroupSpec& g, json& out) {
     out["behavior"] = {{"name", g.behavior.name}, {"params", params_json(g.behavior.params)}};
+    if (!g.behavior.label.empty()) out["behavior"]["label"] = g.behavior.label;
     out["drone"] = {{"name", g.drone.name}};
     // The energy model's properties matter only with a battery, sensor noise's only when some is not 0:
     // written then (config.json stays as it was without).

@@ -150,6 +150,7 @@ std::vector<std::pair<std::string, std::string>> inputs_of(const json& config) {
     if ((key == "behavior" || key == "map" || key == "targets") && value.is_object()) {
       const std::string group = key == "targets" ? "target" : key;
       for (const auto& [k, v] : value.items()) {
+        if (key == "behavior" && k == "label") continue;  // the variant column's
         if (k == "name" || (key == "targets" && k == "kind")) out.emplace_back(group, cell_text(v));
         else if (key == "targets" && k == "count") out.emplace_back("targets", cell_text(v));
         else if (k == "params" && v.is_object())
@@ -414,8 +415,9 @@ void write_queue_summary(const fs::path& out, const PluginHost* host) {
         }
         if (differs) changed.emplace_back(p, v.is_number() ? Parameter::format(v.get<double>()) : cell_text(v));
       }
-      // Without the plugin's declarations the defaults are unknown: the bare name, not "(defaults)".
-      const std::string one = declared || !changed.empty() ? variant_label(behavior, changed) : behavior;
+      // Without the plugin's declarations the defaults are unknown: the bare name, not "(defaults)". The
+      // file's own label, when it gave one, says it all.
+      const std::string one = b.contains("label") ? cell_text(b["label"]) : declared || !changed.empty() ? variant_label(behavior, changed) : behavior;
       label += (label.empty() ? "" : " / ") + (group.empty() ? "" : group + "=") + one;
     }
     r.cells["variant"] = label;

@@ -1,7 +1,7 @@
 #pragma once
 // The plots of a run, drawn from its files alone (see docs/plots.md): per test into TEST/plots/, per
-// queue into OUT/plots/. PNGs of 1200 × 800 pixels, rendered offscreen with QPainter on QImage. Call
-// start_plotting() on the main thread first (it creates Qt's application object); then
+// queue into OUT/plots/. PNGs of 1200 × 800 pixels (taller for long labels), rendered offscreen with
+// QPainter on QImage. Call start_plotting() on the main thread first (it creates Qt's application object); then
 // draw_test_plots may run on several threads at once. Throws salsa::InputError (one line naming the
 // file) on bad input.
 #include <algorithm>

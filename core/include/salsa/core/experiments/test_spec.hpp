@@ -22,6 +22,7 @@ namespace salsa {
 struct PluginChoice {
   std::string name;
   ParameterValues params;  ///< every declared parameter, defaults filled in
+  std::string label = {};  ///< a behavior's: the file's short name for its variant ("": its parameters say it)
   bool operator==(const PluginChoice&) const = default;
 };
 
