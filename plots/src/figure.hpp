@@ -35,6 +35,10 @@ struct LegendEntry {
   Qt::PenStyle style = Qt::SolidLine;  // of a line
 };
 
+/// Writes `image` as a PNG whole or not at all (QSaveFile: a temporary file renamed over `file`), so a
+/// run killed while drawing never leaves a truncated plot; runtime_error naming the file.
+void write_png(const QImage& image, const std::filesystem::path& file);
+
 class Figure {
  public:
   explicit Figure(const QString& title, int width, int height);
