@@ -34,7 +34,7 @@ int cmd_summarize(int argc, char** argv) {
   std::error_code ec;
   if (!fs::is_directory(out, ec)) throw InputError("summarize: " + out.string() + " is not a folder (allowed: the folder 'salsa run --out' wrote)");
   // A tune's folder has its own summary, report and plots (salsa tune --resume rewrites them).
-  if (holds_tune(out))
+  if (holds_results(out) && holds_tune(out))
     throw InputError("summarize: " + out.string() + " holds a tune's results (tune.json), not a queue's (allowed: the folder 'salsa run --out' " +
                      "wrote; 'salsa tune FILE --out " + out.string() + " --resume' rewrites a tune's files)");
   PluginHost host;

@@ -167,7 +167,10 @@ void claim_queue_folder(const fs::path& out, const QueueRecord& record, bool res
 
 bool holds_tune(const fs::path& out) {
   std::error_code ec;
-  return fs::is_regular_file(fs::symlink_status(out / "tune.json", ec));
+  if (!fs::is_regular_file(fs::symlink_status(out / "tune.json", ec))) return false;
+  // A tune's record (its canonical tune file), not a file of the user's that happens to be named so.
+  const auto record = read_json(out / "tune.json");
+  return record && record->is_object() && record->contains("test") && record->contains("budget");
 }
 
 bool holds_results(const fs::path& out) {

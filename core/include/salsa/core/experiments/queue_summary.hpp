@@ -52,7 +52,8 @@ void write_queue_summary(const std::filesystem::path& out, const PluginHost* hos
 /// Whether OUT holds salsa results: a queue.json record salsa wrote or a test folder with the marker.
 bool holds_results(const std::filesystem::path& out);
 
-/// Whether OUT is a tune's folder: salsa tune records its tune file in OUT/tune.json before anything
+/// Whether OUT is a tune's folder: salsa tune records its tune file (a JSON object with "test" and
+/// "budget") in OUT/tune.json before anything
 /// else. A folder holds one kind of results: salsa run and salsa summarize refuse a tune's, salsa tune
 /// refuses one holding results without it.
 bool holds_tune(const std::filesystem::path& out);
