@@ -194,8 +194,10 @@ QueueResult run_queue(const std::vector<TestSpec>& tests, const PluginHost& host
     } catch (const std::exception& x) {  // InputError (a folder taken since the check), or worse
       e.kind = Event::failed, e.message = x.what();
     }
-    // Its plots, drawn here so that they keep pace with the tests (QPainter on QImage: any thread).
-    if (e.kind == Event::ok && run.plots) try {
+    // Its plots, drawn here so that they keep pace with the tests (QPainter on QImage: any thread); a
+    // finished test whose plots were cut off (killed while drawing) gets them now.
+    const bool draw = e.kind == Event::ok || (e.kind == Event::skipped && plots::test_plots_missing(options.out / test.name));
+    if (draw && run.plots) try {
         plots::draw_test_plots(options.out / test.name);
       } catch (const std::exception& x) {
         e.plots_failed = x.what();

@@ -33,6 +33,10 @@ int cmd_summarize(int argc, char** argv) {
   const fs::path out = vm["out"].as<std::string>();
   std::error_code ec;
   if (!fs::is_directory(out, ec)) throw InputError("summarize: " + out.string() + " is not a folder (allowed: the folder 'salsa run --out' wrote)");
+  // A tune's folder has its own summary, report and plots (salsa tune --resume rewrites them).
+  if (holds_results(out) && holds_tune(out))
+    throw InputError("summarize: " + out.string() + " holds a tune's results (tune.json), not a queue's (allowed: the folder 'salsa run --out' " +
+                     "wrote; 'salsa tune FILE --out " + out.string() + " --resume' rewrites a tune's files)");
   PluginHost host;
   load_plugins(host, vm, false);
   finish_queue(out, host, !vm.count("no-plots"));

@@ -51,8 +51,10 @@ void claim_tune_folder(const fs::path& out, const TuneSpec& spec, bool resume, b
       throw InputError(out.string() + ": holds another tune (its tune.json differs from " + spec.source +
                        "; allowed: the same tune file and seed with --resume, or --force to replace it, or another --out)");
     if (!resume) throw InputError(out.string() + ": holds this tune already (allowed: --resume to continue it, --force to start again, or another --out)");
-  } else if (!fs::exists(record) && holds_results(out) && !force) {
-    throw InputError(out.string() + ": holds results that no tune wrote (allowed: another --out, or --force)");
+  } else if (!fs::exists(record) && holds_results(out)) {
+    // A queue's folder: --force replaces only what a tune wrote.
+    throw InputError(out.string() + ": holds the results of salsa run (no tune.json), which salsa tune never writes into, even with --force " +
+                     "(allowed: another --out folder)");
   }
   replace_file(record, spec.canonical + "\n");
 }

@@ -56,6 +56,51 @@ class TestQueueRun : public QObject {
   Q_OBJECT
 
  private Q_SLOTS:
+  // A run killed while a test's plots are drawn publishes no half-drawn plot: they are drawn aside
+  // (TEST/.plots.partial/) and put in place whole, and --resume draws the plots of a finished test that
+  // has none. Here the kill is staged: the plots of a finished test gone, a cut-off PNG left aside.
+  void resume_redraws_cut_off_plots() {
+    QTemporaryDir dir;
+    write_file(dir.filePath("t.json"), R"({"name": "t", "behavior": "random_walk", "drones": 3, "time": 2})");
+    CliResult r = run_salsa({"run", "t.json", "--out", "out", "-q"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const QString plots = dir.filePath("out/t/plots");
+    const QStringList drawn = QDir(plots).entryList({"*.png"}, QDir::Files, QDir::Name);
+    QVERIFY(drawn.contains("found.png"));
+    QVERIFY(!QFileInfo::exists(dir.filePath("out/t/.plots.partial")));
+    auto whole_png = [](const QString& file) {
+      const QByteArray b = read_file(file);
+      return b.startsWith("\x89PNG\r\n\x1a\n") && b.endsWith(QByteArray("IEND\xae\x42\x60\x82", 8));
+    };
+    for (const QString& f : drawn) QVERIFY2(whole_png(plots + "/" + f), qPrintable(f));
+    // Killed mid-drawing: no plots/ yet, a truncated PNG in the folder aside.
+    QVERIFY(QDir(plots).removeRecursively());
+    QVERIFY(QDir().mkpath(dir.filePath("out/t/.plots.partial")));
+    write_file(dir.filePath("out/t/.plots.partial/found.png"), "\x89PNG cut");
+    r = run_salsa({"run", "t.json", "--out", "out", "-q", "--resume"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QCOMPARE(QDir(plots).entryList({"*.png"}, QDir::Files, QDir::Name), drawn);
+    for (const QString& f : drawn) QVERIFY2(whole_png(plots + "/" + f), qPrintable(f));
+    QVERIFY(!QFileInfo::exists(dir.filePath("out/t/.plots.partial")));
+
+    // A real SIGKILL while the plots are drawn (once the folder aside appears): what is published is
+    // whole, and --resume completes it.
+    write_file(dir.filePath("k.json"), R"({"name": "k", "behavior": "random_walk", "drones": 50, "time": 60})");
+    QProcess run;
+    run.setWorkingDirectory(dir.path());
+    run.start(salsa_executable(), {"run", "k.json", "--out", "killed", "-q"});
+    QVERIFY(run.waitForStarted(30000));
+    QVERIFY(wait_for(dir.filePath("killed/k/.plots.partial")));
+    ::kill(static_cast<pid_t>(run.processId()), SIGKILL);
+    run.waitForFinished(60000);
+    const QString killed = dir.filePath("killed/k/plots");
+    for (const QString& f : QDir(killed).entryList({"*"}, QDir::Files)) QVERIFY2(whole_png(killed + "/" + f), qPrintable(f));
+    r = run_salsa({"run", "k.json", "--out", "killed", "-q", "--resume"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QVERIFY(QDir(killed).entryList({"*.png"}, QDir::Files).contains("found.png"));
+    for (const QString& f : QDir(killed).entryList({"*"}, QDir::Files)) QVERIFY2(whole_png(killed + "/" + f), qPrintable(f));
+  }
+
   void jobs_give_the_same_files_data() {
     QTest::addColumn<QStringList>("options");
     QTest::newRow("--jobs 2") << QStringList{"--jobs", "2"};

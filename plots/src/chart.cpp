@@ -88,8 +88,7 @@ void save_png(const Chart& chart, const std::filesystem::path& file, int width, 
     painter.setRenderHint(QPainter::Antialiasing);
     scene.render(&painter, QRectF(0, 0, width, height), QRectF(0, 0, width, height));
   }
-  if (!image.save(QString::fromStdString(file.string()), "PNG"))
-    throw std::runtime_error(file.string() + ": cannot write PNG");
+  write_png(image, file);
 }
 
 }  // namespace salsa::plots

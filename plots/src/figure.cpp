@@ -2,6 +2,7 @@
 
 #include <QApplication>
 #include <QTextLayout>
+#include <QSaveFile>
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -340,8 +341,13 @@ void Figure::save(const std::filesystem::path& file) {
     y += 28 - line_step;
   }
   p.end();
-  if (!image_.save(QString::fromStdString(file.string()), "PNG"))
-    throw std::runtime_error(file.string() + ": cannot write PNG");
+  write_png(image_, file);
+}
+
+void write_png(const QImage& image, const std::filesystem::path& file) {
+  QSaveFile out(QString::fromStdString(file.string()));
+  if (!out.open(QIODevice::WriteOnly) || !image.save(&out, "PNG") || !out.commit())
+    throw std::runtime_error(file.string() + ": cannot write PNG (" + out.errorString().toStdString() + ")");
 }
 
 }  // namespace salsa::plots

@@ -43,6 +43,10 @@ struct LegendEntry {
   Qt::PenStyle style = Qt::SolidLine;  // of a line
 };
 
+/// Writes `image` as a PNG whole or not at all (QSaveFile: a temporary file renamed over `file`), so a
+/// run killed while drawing never leaves a truncated plot; runtime_error naming the file.
+void write_png(const QImage& image, const std::filesystem::path& file);
+
 /// Called by each Figure once laid out, with its canvas and plot area: lets tests measure the layout
 /// that is drawn. Set it before drawing and from one thread only.
 using LayoutObserver = std::function<void(const QString& title, QSize canvas, QRectF plot)>;

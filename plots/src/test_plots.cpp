@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "salsa/core/experiments/test_spec.hpp"
+#include "salsa/core/files/output_folder.hpp"
 #include "plot_helpers.hpp"
 #include "test_data.hpp"
 
@@ -317,8 +318,11 @@ void speeds(const TestData& t, const fs::path& file) {
 
 void draw_test_plots(const fs::path& folder) {
   const TestData t = read_test(folder, true);
-  const fs::path dir = folder / "plots";
+  // Drawn in a folder of their own, put in place as a whole: plots/ is always complete, and a run killed
+  // while drawing leaves none, which --resume redraws (test_plots_missing).
+  const fs::path dir = folder / ".plots.partial", done = folder / "plots";
   std::error_code ec;
+  fs::remove_all(dir, ec);
   fs::create_directories(dir, ec);
   if (ec) throw InputError(name_of(dir) + ": cannot create folder (" + ec.message() + ")");
   time_chart(t, per_group(t, t.found, &Group::found), "targets found", "targets found (%)", std::pair{0.0, 100.0}, dir / "found.png");
@@ -346,6 +350,16 @@ void draw_test_plots(const fs::path& folder) {
     heat_map(t, dir / "heatmap.png");
     speeds(t, dir / "speeds.png");
   }
+  fs::remove_all(done, ec);
+  if (ec) throw InputError(name_of(done) + ": cannot remove the old plots (" + ec.message() + ")");
+  fs::rename(dir, done, ec);
+  if (ec) throw InputError(name_of(done) + ": cannot put the plots in place (" + ec.message() + ")");
+  sync_folder(folder);
+}
+
+bool test_plots_missing(const fs::path& folder) {
+  std::error_code ec;
+  return !fs::is_directory(fs::symlink_status(folder / "plots", ec));
 }
 
 }  // namespace salsa::plots

@@ -312,8 +312,9 @@ TuneSpec load_tune(const fs::path& file, const PluginHost& host, std::optional<s
     spec.objectives.push_back(read_objective(j["objective"], "objective", refuse, columns, spec.base));
   } else {
     const json& list = j["objectives"];
-    if (!list.is_array() || list.empty() || list.size() > 8)
-      refuse("objectives", show(list) + " must be a list of 1 to 8 objectives");
+    if (!list.is_array() || list.size() < 2 || list.size() > 8)
+      refuse("objectives", show(list) + (list.is_array() ? " has " + std::to_string(list.size()) + (list.size() == 1 ? " entry" : " entries") : std::string()) +
+                               " (allowed: a list of 2 to 8 objectives, a Pareto front; one objective is given as \"objective\")");
     for (std::size_t i = 0; i < list.size(); ++i)
       spec.objectives.push_back(read_objective(list[i], "objectives[" + std::to_string(i) + "]", refuse, columns, spec.base));
   }
@@ -388,10 +389,11 @@ TuneSpec load_tune(const fs::path& file, const PluginHost& host, std::optional<s
       refuse("budget", "\"" + spec.algorithm + "\" sizes its design from budget.evaluations, and there is none (allowed: give \"evaluations\")");
     if (!spec.local.empty()) refuse("budget", "a local finish takes its share of budget.evaluations, and there is none (allowed: give \"evaluations\")");
   }
-  const std::size_t smallest = spec.racing.on ? spec.racing.first_test : spec.worlds;
-  if (spec.evaluations > 0 && spec.evaluations < smallest + spec.local_evaluations)
-    refuse("budget.evaluations", std::to_string(spec.evaluations) + " cannot run one candidate (allowed: at least " +
-                                     std::to_string(smallest + spec.local_evaluations) + ": " + std::to_string(smallest) + " worlds" +
+  // The defaults run first on every tuning world, racing or not (they are the line racing and the
+  // report measure against): a budget short of that tunes nothing.
+  if (spec.evaluations > 0 && spec.evaluations < spec.worlds + spec.local_evaluations)
+    refuse("budget.evaluations", std::to_string(spec.evaluations) + " cannot run the defaults, which run first on every tuning world (allowed: at least " +
+                                     std::to_string(spec.worlds + spec.local_evaluations) + ": " + std::to_string(spec.worlds) + " worlds" +
                                      (spec.local_evaluations ? " plus local.evaluations" : "") + ")");
 
   // Every candidate must make a test the reader accepts: the defaults, and each range's ends.

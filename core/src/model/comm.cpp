@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "salsa/core/model/static_geometry.hpp"
+#include "model/plugin_call.hpp"
 
 namespace salsa {
 
@@ -80,7 +81,9 @@ void CommState::resize(std::size_t drones, std::span<const std::size_t> room, st
   for (std::size_t r : room) stride = std::max(stride, r);
   room_.assign(drones * stride, 0.0);
   outboxes_.assign(drones, {});
-  for (std::size_t i = 0; i < drones; ++i) outboxes_[i].room = {room_.data() + i * stride, room[groups[i]]};
+  rooms_.resize(drones);
+  groups_.assign(groups.begin(), groups.end());
+  for (std::size_t i = 0; i < drones; ++i) outboxes_[i].room = rooms_[i] = {room_.data() + i * stride, room[groups[i]]};
 }
 
 void CommState::clear() {
@@ -100,6 +103,11 @@ std::size_t CommState::collect(std::uint64_t step, double time, std::span<const 
     if (!o.sent) continue;
     o.sent = false;
     if (status[i] != DroneStatus::flying) continue;  // only flying drones decide: a stale slot at most
+    if (o.room.data() != rooms_[i].data() || o.room.size() != rooms_[i].size() || o.size > rooms_[i].size())
+      throw PluginFailure(detail::behavior_kind, groups_[i],
+                          "drone " + std::to_string(i) + "'s outbox says " + std::to_string(o.size) + " doubles " +
+                              (o.room.data() == rooms_[i].data() ? "in its slot of " + std::to_string(o.room.size()) : std::string("in a room moved off its slot")) +
+                              " (set by hand; allowed: Perception::broadcast of at most message_size() = " + std::to_string(rooms_[i].size()) + " doubles)");
     s.offset[i] = static_cast<std::uint32_t>(s.pool.size());
     s.size[i] = static_cast<std::uint32_t>(o.size);
     s.pool.insert(s.pool.end(), o.room.begin(), o.room.begin() + static_cast<std::ptrdiff_t>(o.size));

@@ -32,8 +32,9 @@ void Simulation::fleet() {
       if (on_base) {
         drones_.charge[i] = std::min(drones_.charge[i] + g.drone.charge_power * dt, g.drone.battery_capacity * 3600);
       } else {
-        // Power is drawn for the speed through the air (the ground speed without wind).
-        const double energy = flight_power(g.drone, wind_active_ ? drones_.air[i].length() : speed) * dt;
+        // Power is drawn for the speed through the air (the ground speed without wind). The step that
+        // empties the battery draws only what is left: a battery never gives more than it holds.
+        const double energy = std::min(flight_power(g.drone, wind_active_ ? drones_.air[i].length() : speed) * dt, drones_.charge[i]);
         drones_.used[i] += energy;
         drones_.charge[i] -= energy;
         if (drones_.charge[i] <= 0) {

@@ -125,6 +125,9 @@ std::optional<bool> same_queue(const fs::path& file, const json& record, std::op
 }  // namespace
 
 void check_queue_folder(const fs::path& out, const QueueRecord& record, bool resume, bool force) {
+  if (holds_tune(out))
+    throw InputError(out.string() + ": holds a tune's results (tune.json), which salsa run never writes into, even with --resume or --force " +
+                     "(allowed: another --out folder)");
   const fs::path file = out / "queue.json";
   const json text = record_json(record);
   std::optional<json> there;
@@ -160,6 +163,14 @@ void claim_queue_folder(const fs::path& out, const QueueRecord& record, bool res
     if (linked == 0) return;
     if (error != EEXIST) throw WriteError(file.string() + ": cannot write (" + std::strerror(error) + ")");
   }
+}
+
+bool holds_tune(const fs::path& out) {
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(out / "tune.json", ec))) return false;
+  // A tune's record (its canonical tune file), not a file of the user's that happens to be named so.
+  const auto record = read_json(out / "tune.json");
+  return record && record->is_object() && record->contains("test") && record->contains("budget");
 }
 
 bool holds_results(const fs::path& out) {

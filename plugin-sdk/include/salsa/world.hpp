@@ -67,7 +67,9 @@ struct Message {
   double bearing() const { return offset.angle(); }
 };
 
-/// One drone's message slot for the current step, provided by the core (Perception::broadcast).
+/// One drone's message slot for the current step, provided by the core. Write it only through
+/// Perception::broadcast: the core checks every outbox it reads, and one whose room or size was set by
+/// hand fails the test, naming the behavior.
 struct Outbox {
   std::span<double> room;  ///< message_size() doubles
   std::size_t size = 0;    ///< doubles in the message

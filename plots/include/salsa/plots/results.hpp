@@ -21,8 +21,11 @@ inline int comparison_plot_height(std::size_t rows) { return std::max(400, 180 +
 void start_plotting();
 
 /// Writes TEST/plots/*.png from config.json, summary.csv, drones.csv, targets.csv and map.json (each
-/// plot whose data is there).
+/// plot whose data is there): drawn into TEST/.plots.partial/ and renamed to TEST/plots/ when all are
+/// written, so TEST/plots/ is never half drawn.
 void draw_test_plots(const std::filesystem::path& test_folder);
+/// Whether TEST/plots/ is absent: never drawn, or the drawing was cut off (--resume draws them).
+bool test_plots_missing(const std::filesystem::path& test_folder);
 
 /// Writes OUT/plots/*.png from OUT/summary.csv, OUT/comparison.csv and the test folders' summary.csv.
 void draw_queue_plots(const std::filesystem::path& out);

@@ -79,6 +79,9 @@ class CommState {
 
   /// The broadcasts of step `step` (sent at `time`, decided on `positions`) packed into its slot;
   /// outboxes cleared for the next step. Returns how many drones broadcast. Serial, O(drones + payload).
+  /// An outbox is plugin-writable memory: one whose room or size is not what broadcast can leave there
+  /// (the slot given, at most its message_size() doubles) is a PluginFailure naming the sender's
+  /// behavior, so no plugin makes the core read outside a slot.
   std::size_t collect(std::uint64_t step, double time, std::span<const Vec2> positions, std::span<const DroneStatus> status);
 
   /// The radius around a receiver's position `now` within which step `step`'s receivers find every
@@ -117,6 +120,8 @@ class CommState {
   std::vector<Slot> ring_{2};
   std::vector<double> room_;        ///< every drone's outbox room, back to back
   std::vector<Outbox> outboxes_;
+  std::vector<std::span<double>> rooms_;  ///< each drone's slot in room_, as given: what its outbox is checked against
+  std::vector<std::uint32_t> groups_;     ///< each drone's group at resize: whose behavior a bad outbox is
 };
 
 }  // namespace salsa

@@ -27,8 +27,9 @@ QueueRecord queue_record(const std::vector<TestSpec>& tests, const PluginHost& h
 void for_each_test_config(const std::vector<TestSpec>& tests, const PluginHost& host,
                           const std::function<void(std::size_t, const std::string&)>& fn);
 
-/// Refuses (InputError, one line) an OUT whose queue.json records another queue (other test names, or
-/// other configs), unless `resume` or `force`. Writes nothing.
+/// Refuses (InputError, one line) a tune's OUT (holds_tune), whatever `resume` and `force` say, and an
+/// OUT whose queue.json records another queue (other test names, or other configs), unless `resume`
+/// or `force`. Writes nothing.
 void check_queue_folder(const std::filesystem::path& out, const QueueRecord& record, bool resume, bool force);
 
 /// check_queue_folder, then writes OUT/queue.json when absent or (with --resume or --force) when it
@@ -50,6 +51,12 @@ void write_queue_summary(const std::filesystem::path& out, const PluginHost* hos
 
 /// Whether OUT holds salsa results: a queue.json record salsa wrote or a test folder with the marker.
 bool holds_results(const std::filesystem::path& out);
+
+/// Whether OUT is a tune's folder: salsa tune records its tune file (a JSON object with "test" and
+/// "budget") in OUT/tune.json before anything
+/// else. A folder holds one kind of results: salsa run and salsa summarize refuse a tune's, salsa tune
+/// refuses one holding results without it.
+bool holds_tune(const std::filesystem::path& out);
 
 /// 12 hex digits naming a test's experimental condition apart from its behavior: a hash of its
 /// config.json without behavior, name, seed, repeat, the behavior's version and the plugin files' paths.
