@@ -256,14 +256,15 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host, const S
     std::unordered_set<double> seen;
     if (axis.is_object()) {
       for (const double x : range_values(axis, "sweep.drones", r)) {
-        if (x != std::floor(x) || x < 1 || x > 1'000'000)
-          r.fail("sweep.drones", show(axis) + " gives " + format::number(x) + ", which is out of range (allowed: whole number in [1, 1000000])");
+        if (x != std::floor(x) || x < 1 || x > static_cast<double>(max_test_drones))
+          r.fail("sweep.drones", show(axis) + " gives " + format::number(x) + ", which is out of range (allowed: whole number in [1, " +
+                                     std::to_string(max_test_drones) + "])");
         counts.push_back(x);
       }
     } else {
       for (std::size_t i = 0; const json& item : list_axis(axis, "sweep.drones", r, count_example.c_str())) {
         const std::string at = "sweep.drones[" + std::to_string(i++) + "]";
-        counts.push_back(static_cast<double>(r.integer(item, at, 1, 1'000'000)));
+        counts.push_back(static_cast<double>(r.integer(item, at, 1, max_test_drones)));
         if (!seen.insert(counts.back()).second) r.fail(at, show(item) + " is already in the list (allowed: each value once)");
       }
     }

@@ -28,6 +28,9 @@ struct PluginChoice {
   bool operator==(const PluginChoice&) const = default;
 };
 
+/// The most drones a test may hold: each group's "drones", and their sum over the groups at any time.
+inline constexpr std::size_t max_test_drones = 1'000'000;
+
 /// One group of drones alike (SimulationSetup's GroupSetup, as the test file holds it).
 struct GroupSpec {
   std::string name = "swarm";       ///< the single form's one group is "swarm"
