@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <unordered_set>
 
 #include "salsa/core/experiments/queue.hpp"
@@ -242,6 +243,14 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host, const S
   once("maps", "map");
   once("drones", "drones");
   once("drone", "drone");
+  // The behaviors, drones and drone axes set the single form's fields: with groups, each group has its own.
+  if (base.contains("groups") && base["groups"].is_array())
+    for (const auto& [axis, key, instead] : {std::tuple{"behaviors", "behavior", "groups.<name>.behavior.params.<p>"},
+                                             {"drones", "drones", "groups.<name>.drones"}, {"drone", "drone", "groups.<name>.drone.<property>"}})
+      if (s.contains(axis))
+        r.fail(std::string("sweep.") + axis, std::string(own.contains("groups") ? "sweep.test" : "base") + " has \"groups\", each with its own " + key +
+                                                 " (allowed beside groups: sweep.maps, sweep.targets, and sweep.set with keys such as " + instead +
+                                                 ", <name> one of: " + entry_names(base["groups"]) + ")");
   if (s.contains("behaviors"))
     sweep.behaviors = plugin_axis(s["behaviors"], "sweep.behaviors", r, false,
                                   [&](const std::string& name) -> const Parameters& { return host.behavior(name).factory.parameters; });
