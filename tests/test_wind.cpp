@@ -90,42 +90,6 @@ class TestWind : public QObject {
   }();
 
  private Q_SLOTS:
-  // Every built-in behavior steers through steer_along or seek: steered upwind (and across it) in a
-  // steady 1 m/s wind, a 10 m/s drone makes headway at 9 m/s along its course (the act phase's update:
-  // air velocity plus steering, clamped to max_speed, plus the wind), not bent downwind.
-  void a_drone_steered_upwind_makes_headway() {
-    const Vec2 wind{1, 0};
-    for (const Vec2 course : {Vec2{-1, 0}, Vec2{-1, -1}, Vec2{0, 1}}) {
-      salsa::Perception me;
-      me.max_speed = 10, me.max_force = 0.3;
-      me.air_velocity = {0, -10}, me.velocity = me.air_velocity + wind;
-      for (int step = 0; step < 600; ++step) {
-        const Vec2 a = salsa::steer_along(me, course);
-        me.air_velocity = (me.air_velocity + a).clamped(me.max_speed);
-        me.velocity = me.air_velocity + wind;
-      }
-      const Vec2 u = course.normalized();
-      const double along = u.dot(wind), expected = along + std::sqrt(along * along - wind.dot(wind) + 100);  // |s·u − wind| = 10
-      QVERIFY2(std::abs(me.velocity.dot(u) - expected) < 1e-6 && std::abs(me.velocity.cross(u)) < 1e-6,
-               qPrintable(QString("course (%1, %2): ground velocity (%3, %4), expected %5 m/s along the course")
-                              .arg(course.x).arg(course.y).arg(me.velocity.x).arg(me.velocity.y).arg(expected)));
-    }
-  }
-
-  // Pheromone avoidance keeps its heading from its velocity: in a 1 m/s east wind it still flies west of
-  // its spawn point (500 m) across the map, as in calm air.
-  void pheromone_avoidance_flies_upwind() {
-    const salsa::TestSpec test = salsa::parse_test(R"({"behavior": "pheromone_avoidance", "drones": 10, "time": 300, "seed": 3,
-        "map": {"name": "empty", "params": {"size": 1000}}, "wind": {"velocity": [1, 0]}})", "t.json", *host_);
-    salsa::Simulation sim(salsa::make_setup(test, *host_, 1));
-    double west = 1000;
-    while (sim.time() < 300 - 1e-9) {
-      sim.run_steps(60);
-      for (const Vec2 p : sim.drone_positions()) west = std::min(west, p.x);
-    }
-    QVERIFY2(west < 200, qPrintable(QString("westmost x %1 m").arg(west)));
-  }
-
   // A drone with zero air velocity in a constant wind moves by wind × t, exactly but for the rounding
   // of Box2D's float positions: at most half their spacing per step and axis (6.1·10^-5 m from 1024 m).
   void still_drone_drifts_by_wind_times_t() {

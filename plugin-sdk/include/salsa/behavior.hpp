@@ -85,26 +85,13 @@ class BehaviorWithMemory : public Behavior {
 inline Vec2 steer_towards(const Perception& me, Vec2 desired) {
   return (desired - me.velocity).clamped(me.max_force);
 }
-/// The fastest ground velocity along `direction` (non-zero) a drone can fly in the wind it is in
-/// (velocity − air_velocity): max_speed bounds the speed through the air, so upwind the ground speed is
-/// max_speed − wind, downwind max_speed + wind. Asking for max_speed over the ground instead would ask
-/// the air speed past max_speed; the core's clamp would then bend the course downwind, a little every
-/// step, and a behavior that keeps its heading from its velocity would never fly upwind.
-inline Vec2 full_speed(const Perception& me, Vec2 direction) {
-  const Vec2 wind = me.velocity - me.air_velocity;
-  if (wind.is_zero()) return direction.with_length(me.max_speed);
-  const Vec2 u = direction.normalized();
-  // |s·u − wind| = max_speed, the root s ≥ 0 (0 when the wind is faster than the drone).
-  const double along = u.dot(wind), rest = along * along - wind.dot(wind) + me.max_speed * me.max_speed;
-  return u * (rest > 0 ? std::max(0.0, along + std::sqrt(rest)) : 0.0);
-}
 /// Full speed towards a point.
 inline Vec2 seek(const Perception& me, Vec2 point) {
-  return (point - me.position).is_zero() ? steer_towards(me, {}) : steer_towards(me, full_speed(me, point - me.position));
+  return steer_towards(me, (point - me.position).with_length(me.max_speed));
 }
 /// Full speed along `direction` (any length); zero when the direction is zero.
 inline Vec2 steer_along(const Perception& me, Vec2 direction) {
-  return direction.is_zero() ? Vec2{} : steer_towards(me, full_speed(me, direction));
+  return direction.is_zero() ? Vec2{} : steer_towards(me, direction.with_length(me.max_speed));
 }
 /// Match the neighbours' mean velocity.
 inline Vec2 alignment(const Perception& me) {
