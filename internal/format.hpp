@@ -4,6 +4,7 @@
 // fixed decimals in CsvWriter; JSON goes through nlohmann-json.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "salsa/parameters.hpp"
@@ -37,6 +38,19 @@ inline std::string short_figure(double v) {
   char text[48];
   std::snprintf(text, sizeof text, std::abs(v) >= 1000 && std::abs(v) < 1e15 ? "%.0f" : "%.3g", v);
   return text;
+}
+
+/// A figure a message compares with a bound ("1.00002 m per step, more than its radius 1 m"):
+/// short_figure's 3 significant digits, or as many more as it takes to read on the same side of
+/// `bound` as `v` is, so that no value is ever rounded onto or past the limit it breaks.
+inline std::string beyond(double v, double bound) {
+  if (!std::isfinite(v) || !std::isfinite(bound) || v == bound) return short_figure(v);
+  for (int digits = 3; digits < 17; ++digits) {
+    std::string text = digits == 3 ? short_figure(v) : significant(v, digits);
+    const double read = std::strtod(text.c_str(), nullptr);
+    if ((read > bound) == (v > bound) && read != bound) return text;
+  }
+  return number(v);  // exact
 }
 
 /// A limit quoted to the user, rounded down to 4 significant digits so that the value they may type

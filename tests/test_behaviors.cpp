@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 #include <unordered_set>
@@ -107,6 +108,37 @@ class TestBehaviors : public QObject {
     host_ = builtin_host();
     QVERIFY(host_->failures().empty());
   }
+
+  // docs/behaviors.md's table of each built-in behavior (its section "## ... (`name`)") lists exactly the
+  // parameters the behavior declares, in order.
+  void docs_list_each_behaviors_own_parameters() {
+    const QStringList lines = QString::fromUtf8(read_file(QString::fromStdString((source_dir() / "docs/behaviors.md").string()))).split('\n');
+    const QRegularExpression section(R"(^## .*\(`([a-z_]+)`\)$)"), row(R"(^\| `([a-z_]+)` \|)");
+    std::map<std::string, std::vector<std::string>> documented;
+    std::string current;
+    for (const QString& line : lines) {
+      if (line.startsWith("## ")) {
+        const auto m = section.match(line);
+        current = m.hasMatch() ? m.captured(1).toStdString() : "";
+        if (!current.empty()) documented[current];
+      } else if (const auto m = row.match(line); m.hasMatch() && !current.empty()) {
+        documented[current].push_back(m.captured(1).toStdString());
+      }
+    }
+    for (const char* name : {"flocking", "random_walk", "pheromone_avoidance", "dynamic_space_partitioning", "dynamic_space_partitioning_paper"}) {
+      QVERIFY2(documented.contains(name), name);
+      std::vector<std::string> declared;
+      for (const salsa::Parameter& p : host_->behavior(name).factory.parameters) declared.push_back(p.name);
+      const auto join = [](const std::vector<std::string>& v) {
+        std::string s;
+        for (const auto& x : v) s += x + " ";
+        return s;
+      };
+      QVERIFY2(documented[name] == declared, qPrintable(QString("%1: docs list %2, the behavior declares %3")
+                                                            .arg(name, QString::fromStdString(join(documented[name])), QString::fromStdString(join(declared)))));
+    }
+  }
+
 
   // A behavior's prepare() sees the test's drone configuration and its map (here a map file with two
   // obstacles), before any drone decides; a live drone configuration change shows in the next step.

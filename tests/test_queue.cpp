@@ -72,6 +72,32 @@ class TestQueue : public QObject {
 
   // ---- Expansion
 
+  // Finding a repeated test looks at every field a queue varies: 10,000 conditions, 10,000 values of a
+  // sweep.set key or 10,000 explicit tests that differ only in the wind are 10,000 tests, and a repeat
+  // among 10,001 is still found, naming both (a check that compared every pair of one world took
+  // minutes here).
+  void large_queues_find_the_repeated_test() {
+    const int n = 10000;
+    QStringList conditions, values, tests;
+    for (int i = 0; i < n; ++i) {
+      const QString wind = QString::fromStdString(number(i * 1e-4));
+      conditions << QString(R"({"name": "c%1", "wind": {"velocity": [%2, 0]}})").arg(i).arg(wind);
+      values << wind;
+      tests << QString(R"({"name": "t%1", "wind": {"velocity": [%2, 0]}})").arg(i).arg(wind);
+    }
+    const QString base = R"({"behavior": "random_walk", "drones": 2, "time": 1})";
+    QCOMPARE(load(QString(R"({"base": %1, "conditions": [%2], "tests": [{"name": "t"}]})").arg(base, conditions.join(", ")).toUtf8()).tests.size(),
+             std::size_t(n));
+    QCOMPARE(load(QString(R"({"sweep": {"test": %1, "set": {"wind.velocity.x": [%2]}}})").arg(base, values.join(", ")).toUtf8()).tests.size(),
+             std::size_t(n));
+    QCOMPARE(load(QString(R"({"base": %1, "tests": [%2]})").arg(base, tests.join(", ")).toUtf8()).tests.size(), std::size_t(n));
+    tests << R"({"name": "again", "wind": {"velocity": [0.5, 0]}})";  // t5000's
+    QueueOptions more;
+    more.max_tests = 20000;
+    const QString error = error_of(QString(R"({"base": %1, "tests": [%2]})").arg(base, tests.join(", ")).toUtf8(), more);
+    QVERIFY2(error.contains("q.json: tests[10000]: the same test as ") && error.contains("q.json: tests[5000] (the same world"), qPrintable(error));
+  }
+
   void expansion_counts_data() {
     QTest::addColumn<QByteArray>("queue");
     QTest::addColumn<int>("count");

@@ -18,7 +18,6 @@ constexpr std::string_view groups_prefix = "groups.";
 constexpr std::string_view params_prefix = "behavior.params.";
 constexpr std::string_view drone_prefix = "drone.";
 constexpr std::string_view wind_params_prefix = "wind.field.params.";
-constexpr double max_drones = 1'000'000;  // as "drones" in a test file
 constexpr double max_id = 4294967294.0;   // ids are 32-bit
 
 std::string whole_in(double lo, double hi) {
@@ -105,8 +104,13 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
                          "behavior '" + g.behavior.name + "'");
     }
     if (key == "drones") {
-      if (!(c.value >= 1 && c.value <= max_drones) || c.value != std::floor(c.value))
-        return value + " is out of range (allowed: " + whole_in(1, max_drones) + ")";
+      constexpr auto most = static_cast<double>(max_test_drones);
+      if (!(c.value >= 1 && c.value <= most) || c.value != std::floor(c.value))
+        return value + " is out of range (allowed: " + whole_in(1, most) + ")";
+      const double others = static_cast<double>(test.drone_total() - g.drones);
+      if (others + c.value > most)
+        return value + " drones and " + Parameter::format(others) + " in the other groups make " + Parameter::format(others + c.value) +
+               " (allowed: at most " + Parameter::format(most) + " drones in a test, over all its groups)";
       return {};
     }
     const DroneProperty* property = drone_schema().find(key.substr(drone_prefix.size()));

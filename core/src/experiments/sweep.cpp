@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <unordered_set>
 
 #include "salsa/core/experiments/queue.hpp"
@@ -249,6 +250,14 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host, const S
   once("maps", "map");
   once("drones", "drones");
   once("drone", "drone");
+  // The behaviors, drones and drone axes set the single form's fields: with groups, each group has its own.
+  if (base.contains("groups") && base["groups"].is_array())
+    for (const auto& [axis, key, instead] : {std::tuple{"behaviors", "behavior", "groups.<name>.behavior.params.<p>"},
+                                             {"drones", "drones", "groups.<name>.drones"}, {"drone", "drone", "groups.<name>.drone.<property>"}})
+      if (s.contains(axis))
+        r.fail(std::string("sweep.") + axis, std::string(own.contains("groups") ? "sweep.test" : "base") + " has \"groups\", each with its own " + key +
+                                                 " (allowed beside groups: sweep.maps, sweep.targets, and sweep.set with keys such as " + instead +
+                                                 ", <name> one of: " + entry_names(base["groups"]) + ")");
   if (s.contains("behaviors"))
     sweep.behaviors = plugin_axis(s["behaviors"], "sweep.behaviors", r, false,
                                   [&](const std::string& name) -> const Parameters& { return host.behavior(name).factory.parameters; });
@@ -263,14 +272,15 @@ Sweep read_sweep(const json& s, const Reader& r, const PluginHost& host, const S
     std::unordered_set<double> seen;
     if (axis.is_object()) {
       for (const double x : range_values(axis, "sweep.drones", r)) {
-        if (x != std::floor(x) || x < 1 || x > 1'000'000)
-          r.fail("sweep.drones", show(axis) + " gives " + format::number(x) + ", which is out of range (allowed: whole number in [1, 1000000])");
+        if (x != std::floor(x) || x < 1 || x > static_cast<double>(max_test_drones))
+          r.fail("sweep.drones", show(axis) + " gives " + format::number(x) + ", which is out of range (allowed: whole number in [1, " +
+                                     std::to_string(max_test_drones) + "])");
         counts.push_back(x);
       }
     } else {
       for (std::size_t i = 0; const json& item : list_axis(axis, "sweep.drones", r, count_example.c_str())) {
         const std::string at = "sweep.drones[" + std::to_string(i++) + "]";
-        counts.push_back(static_cast<double>(r.integer(item, at, 1, 1'000'000)));
+        counts.push_back(static_cast<double>(r.integer(item, at, 1, max_test_drones)));
         if (!seen.insert(counts.back()).second) r.fail(at, show(item) + " is already in the list (allowed: each value once)");
       }
     }

@@ -137,7 +137,7 @@ void parse_group(GroupSpec& g, const json& j, const Reader& r, const PluginHost&
     r.fail(behavior, e.what());
   }
   if (j.contains("drone")) g.drone = parse_drone(j["drone"], r, named, Reader::join(at, "drone"));
-  if (j.contains("drones")) g.drones = r.integer(j["drones"], Reader::join(at, "drones"), 1, 1'000'000);
+  if (j.contains("drones")) g.drones = r.integer(j["drones"], Reader::join(at, "drones"), 1, max_test_drones);
   if (j.contains("spawn")) {
     const std::string field = Reader::join(at, "spawn");
     const json& s = j["spawn"];
@@ -225,13 +225,14 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
       GroupSpec& g = t.groups[i];
       if (!list[i].contains("name")) r.fail(at + ".name", "missing (each group has a name, used in the outputs' columns)");
       g.name = r.string(list[i]["name"], at + ".name");
-      if (const std::string why = name_problem(g.name); !why.empty()) r.fail(at + ".name", why);
-      if (g.name.find('.') != std::string::npos)
-        r.fail(at + ".name", show(list[i]["name"]) + " has a dot (allowed: letters, digits, '_' and '-'; keys such as groups.<name>.drones split at dots)");
+      if (const std::string why = group_name_problem(g.name); !why.empty()) r.fail(at + ".name", why);
       if (const int k = t.group_index(g.name); k >= 0 && static_cast<std::size_t>(k) < i)
         r.fail(at + ".name", "'" + g.name + "' is also groups[" + std::to_string(k) + "]'s name (allowed: each name once)");
       parse_group(g, list[i], r, host, named, at);
     }
+    if (const std::size_t total = t.drone_total(); total > max_test_drones)
+      r.fail("groups", std::to_string(total) + " drones in " + std::to_string(t.groups.size()) + " groups (allowed: at most " +
+                           std::to_string(max_test_drones) + " drones in a test, over all its groups)");
   } else {
     parse_group(t.groups[0], j, r, host, named, "");
   }

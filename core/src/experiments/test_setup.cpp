@@ -86,6 +86,13 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
                        format::number(g.drone.radius) + " m from any wall)");
   }
 
+  // Room for the drones: on the map, and in the discs they spawn in.
+  if (const Problem p = check_room(s.map.bounds, s.map.spawn, s.groups)) {
+    const bool pile = p.field == "spawn.radius";
+    const std::string field = !pile ? (t.named_groups ? "groups" : "drones") : t.named_groups ? "groups" : "spawn.radius";
+    throw InputError(t.source + ": " + field + ": " + (pile ? "" : map_name + ": ") + p.what);
+  }
+
   // The targets, placed as the simulation will place them: the kind's radius and positions are input too.
   if (s.target_kind) {
     try {

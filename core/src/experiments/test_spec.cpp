@@ -35,23 +35,46 @@ bool TestSpec::fleet() const {
   return false;
 }
 
-std::optional<std::pair<std::size_t, std::size_t>> first_same_test(const std::vector<const TestSpec*>& tests) {
-  // Fields that any two same tests share; equal hashes are then compared field by field.
-  auto key = [](const TestSpec& t) {
-    std::size_t h = std::hash<std::uint64_t>{}(t.seed);
-    auto mix = [&h](std::size_t v) { h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2); };
-    auto mix_double = [&](double v) { mix(std::hash<double>{}(v == 0 ? 0.0 : v)); };  // -0 == 0, as == says
-    mix(t.drone_total()), mix(t.targets), mix(t.repeat);
-    mix_double(t.time), mix_double(t.dt);
-    std::vector<const PluginChoice*> choices{&t.map, &t.target};
-    for (const GroupSpec& g : t.groups) choices.push_back(&g.behavior);
-    for (const PluginChoice* c : choices) {
-      mix(std::hash<std::string>{}(c->name));
-      for (const auto& [name, value] : c->params.items()) mix_double(value);
-    }
-    mix(std::hash<std::string>{}(t.map_file));
-    return h;
+namespace {
+
+/// A hash of what `==` compares in a TestSpec, but its name, source and seed_given, through the
+/// models' schemas: tests that differ anywhere a queue can vary them (conditions, sweep.set keys,
+/// timed changes) fall in different buckets, so finding a repeated test stays linear.
+std::size_t content_hash(const TestSpec& t) {
+  std::size_t h = 0;
+  auto mix = [&h](std::size_t v) { h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2); };
+  auto mix_double = [&](double v) { mix(std::hash<double>{}(v == 0 ? 0.0 : v)); };  // -0 == 0, as == says
+  auto mix_text = [&](const std::string& v) { mix(std::hash<std::string>{}(v)); };
+  auto mix_choice = [&](const PluginChoice& c) {
+    mix_text(c.name);
+    for (const auto& [name, value] : c.params.items()) mix_text(name), mix_double(value);
   };
+  auto mix_fields = [&](const auto& schema, const auto& object) {
+    for (const auto& field : schema) mix_double(field.get(object));
+  };
+  mix(t.seed), mix(t.repeat), mix(t.targets), mix(t.named_groups);
+  for (const GroupSpec& g : t.groups) {
+    mix_text(g.name), mix_choice(g.behavior), mix(g.drones), mix_text(g.drone.name);
+    mix_fields(drone_schema(), g.drone);
+    if (g.spawn) mix_double(g.spawn->x), mix_double(g.spawn->y);
+    mix(static_cast<std::size_t>(g.spawn_mode)), mix_double(g.spawn_radius);
+  }
+  mix_fields(failure_schema(), t.failures), mix_fields(wind_schema(), t.wind), mix_fields(comm_schema(), t.comm);
+  for (const PluginChoice* c : {&t.wind_field, &t.map, &t.target}) mix_choice(*c);
+  for (const auto* list : {&t.contact_handlers, &t.metrics})
+    for (const PluginChoice& c : *list) mix_choice(c);
+  mix_text(t.map_file);
+  for (const double v : {t.time, t.dt, t.log_interval}) mix_double(v);
+  mix(static_cast<std::size_t>(t.velocity_iterations)), mix(static_cast<std::size_t>(t.position_iterations));
+  mix(static_cast<std::size_t>(t.decision_lag)), mix(static_cast<std::size_t>(t.physics));
+  for (const Change& c : t.changes) mix_double(c.time), mix_text(c.key), mix_double(c.value);
+  mix_text(t.condition), mix_text(t.condition_label);
+  return h;
+}
+
+}  // namespace
+
+std::optional<std::pair<std::size_t, std::size_t>> first_same_test(const std::vector<const TestSpec*>& tests) {
   auto same = [](const TestSpec& a, const TestSpec& b) {
     TestSpec x = a;
     x.name = b.name, x.source = b.source, x.seed_given = b.seed_given;
@@ -60,7 +83,7 @@ std::optional<std::pair<std::size_t, std::size_t>> first_same_test(const std::ve
   std::unordered_multimap<std::size_t, std::size_t> seen;
   seen.reserve(tests.size());
   for (std::size_t j = 0; j < tests.size(); ++j) {
-    const std::size_t k = key(*tests[j]);
+    const std::size_t k = content_hash(*tests[j]);
     for (auto [it, end] = seen.equal_range(k); it != end; ++it)
       if (same(*tests[it->second], *tests[j])) return std::pair{it->second, j};
     seen.emplace(k, j);

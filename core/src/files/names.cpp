@@ -2,18 +2,31 @@
 
 namespace salsa {
 
-std::string name_problem(std::string_view name) {
+namespace {
+// Empty when `name` is 1 to max_name_length letters, digits, '_', '-' (and '.' with `dots`) starting
+// with a letter or digit, else the name shown on one line and `rules`.
+std::string name_check(std::string_view name, bool dots, const std::string& rules) {
   auto alnum = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9'); };
   bool ok = !name.empty() && name.size() <= max_name_length && alnum(name.front());
-  for (char c : name) ok = ok && (alnum(c) || c == '_' || c == '-' || c == '.');
+  for (char c : name) ok = ok && (alnum(c) || c == '_' || c == '-' || (dots && c == '.'));
   if (ok) return {};
   std::string shown(name.substr(0, 60));
   for (char& c : shown)
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';  // one line, whatever the input
   if (name.size() > 60) shown += "...";
-  return "\"" + shown + "\"" + (name.size() > max_name_length ? " is " + std::to_string(name.size()) + " characters long" : "") +
-         " (allowed: 1 to " + std::to_string(max_name_length) +
-         " letters, digits, '_', '-' and '.', starting with a letter or digit; it names a folder)";
+  return "\"" + shown + "\"" + (name.size() > max_name_length ? " is " + std::to_string(name.size()) + " characters long" : "") + " (allowed: 1 to " +
+         std::to_string(max_name_length) + rules + ")";
+}
+}  // namespace
+
+std::string name_problem(std::string_view name) {
+  return name_check(name, true, " letters, digits, '_', '-' and '.', starting with a letter or digit; it names a folder");
+}
+
+std::string group_name_problem(std::string_view name) {
+  return name_check(name, false,
+                    " letters, digits, '_' and '-', starting with a letter or digit; it names the group's columns, and keys such as "
+                    "groups.<name>.drones split at dots");
 }
 
 std::string test_name_problem(std::string_view name) {

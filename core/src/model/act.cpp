@@ -63,9 +63,9 @@ void Simulation::act_in_wind() {
         throw PluginFailure(wind_kind, 0, "velocity at " + format::point(p) + ", t = " + format::figure(t) + " s gave a wind of " + format::point(w) +
                                               " m/s (allowed: finite numbers)");
       if (speed > limit * (1 + 1e-9))
-        throw PluginFailure(wind_kind, 0, "velocity at " + format::point(p) + ", t = " + format::figure(t) + " s gave a wind of " + format::short_figure(speed) +
+        throw PluginFailure(wind_kind, 0, "velocity at " + format::point(p) + ", t = " + format::figure(t) + " s gave a wind of " + format::beyond(speed, limit) +
                                               " m/s with the test's constant wind and gusts; a drone at max_speed " + format::figure(d.max_speed) +
-                                              " m/s carried by it moves more than min(radius " + format::figure(d.radius) + " m, " +
+                                              " m/s carried by it moves more than min(radius " + format::number(d.radius) + " m, " +
                                               format::figure(box2d_max_step) + " m) per step (dt " + format::figure(dt) +
                                               " s) and could pass through a wall (allowed: at most " +
                                               (limit > 0 ? format::limit((limit)) : "0") + " m/s here)");

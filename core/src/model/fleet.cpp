@@ -73,7 +73,7 @@ const Schema<FailureSetup>& failure_schema() {
 void Simulation::set_failures(const FailureSetup& f) {
   for (const auto& field : failure_schema())
     if (const double v = field.get(f); !field.spec.check(v).empty())
-      throw std::invalid_argument("failures." + field.spec.name + ": " + format::figure(v) + " s " + field.spec.check(v));
+      throw std::invalid_argument("failures." + field.spec.name + ": " + format::number(v) + " s " + field.spec.check(v));
   setup_.failures = f;
 }
 
@@ -88,7 +88,7 @@ void Simulation::fail(std::uint32_t id, bool camera_only) {
 
 void Simulation::fail_fraction(double fraction, bool camera_only) {
   if (!(fraction >= 0 && fraction <= 1))
-    throw std::invalid_argument(format::figure(fraction) + " is out of range (allowed: a fraction in [0, 1])");
+    throw std::invalid_argument(format::number(fraction) + " is out of range (allowed: a fraction in [0, 1])");
   std::vector<std::uint32_t> candidates;
   for (std::uint32_t i = 0; i < drones_.positions.size(); ++i)
     if (drones_.status[i] == DroneStatus::flying && (!camera_only || drones_.camera[i])) candidates.push_back(i);

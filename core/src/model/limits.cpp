@@ -21,7 +21,7 @@ static_assert(box2d_max_step == b2_maxTranslation, "the step limit quoted to use
 Problem check_drone(const DroneConfig& d, double dt) {
   for (const DroneProperty& p : drone_schema())
     if (const double v = p.get(d); !p.spec.check(v).empty())
-      return {"drone." + p.spec.name, format::figure(v) + (p.spec.unit.empty() ? "" : " " + p.spec.unit) + " " + p.spec.check(v)};
+      return {"drone." + p.spec.name, format::number(v) + (p.spec.unit.empty() ? "" : " " + p.spec.unit) + " " + p.spec.check(v)};
   if (!(std::isfinite(dt) && dt > 0)) return {"dt", format::figure(dt) + " s is out of range (allowed: a finite time step > 0 s)"};
 
   // Contacts are found once per step (continuous collision is off): a drone that starts a step clear of
@@ -31,26 +31,26 @@ Problem check_drone(const DroneConfig& d, double dt) {
   const double limit = std::min(d.radius, box2d_max_step);
   if (step <= limit * (1 + 1e-9)) return {};
   const std::string why = d.radius <= box2d_max_step
-                              ? "more than the drone's radius " + format::figure(d.radius) + " m, so it could pass through a wall between two contact checks"
+                              ? "more than the drone's radius " + format::number(d.radius) + " m, so it could pass through a wall between two contact checks"
                               : "more than the " + format::figure(box2d_max_step) + " m Box2D moves a body per step";
-  return {"drone.max_speed", format::figure(d.max_speed) + " m/s × dt " + format::figure(dt) + " s = " + format::short_figure(step) + " m per step, " + why +
+  return {"drone.max_speed", format::number(d.max_speed) + " m/s × dt " + format::figure(dt) + " s = " + format::beyond(step, limit) + " m per step, " + why +
                                  " (allowed: max_speed ≤ " + format::limit((limit / dt)) + " m/s at this dt, or dt ≤ " +
                                  format::limit((limit / d.max_speed)) + " s at this max_speed)"};
 }
 
 Problem check_wind(const Wind& w, const DroneConfig& d, double dt) {
   for (const WindProperty& p : wind_schema())
-    if (const double v = p.get(w); !p.spec.check(v).empty()) return {"wind." + p.spec.name, format::figure(v) + " " + p.spec.unit + " " + p.spec.check(v)};
+    if (const double v = p.get(w); !p.spec.check(v).empty()) return {"wind." + p.spec.name, format::number(v) + " " + p.spec.unit + " " + p.spec.check(v)};
   // The gusts are clamped to gust_clamp standard deviations, so this is the most the drones meet
   // without a field (a field's own speed is checked as the run asks it).
   const double strongest = w.velocity.length() + gust_clamp * w.gust_strength;
   const double limit = wind_limit(d, dt);
   if (strongest == 0 || strongest <= limit * (1 + 1e-9)) return {};
   return {w.gust_strength > 0 ? "wind.gusts.strength" : "wind.velocity",
-          "|velocity| " + format::figure(w.velocity.length()) + " m/s + " + format::figure(gust_clamp) + " × gusts.strength " + format::figure(w.gust_strength) +
-              " m/s = " + format::short_figure(strongest) + " m/s of wind; a drone at max_speed " + format::figure(d.max_speed) + " m/s carried by it moves " +
-              format::short_figure((d.max_speed + strongest) * dt) + " m per step (dt " + format::figure(dt) + " s), more than " +
-              (d.radius <= box2d_max_step ? "its radius " + format::figure(d.radius) + " m, so it could pass through a wall"
+          "|velocity| " + format::beyond(w.velocity.length(), limit) + " m/s + " + format::figure(gust_clamp) + " × gusts.strength " + format::number(w.gust_strength) +
+              " m/s = " + format::beyond(strongest, limit) + " m/s of wind; a drone at max_speed " + format::number(d.max_speed) + " m/s carried by it moves " +
+              format::beyond((d.max_speed + strongest) * dt, std::min(d.radius, box2d_max_step)) + " m per step (dt " + format::figure(dt) + " s), more than " +
+              (d.radius <= box2d_max_step ? "its radius " + format::number(d.radius) + " m, so it could pass through a wall"
                                           : "the " + format::figure(box2d_max_step) + " m Box2D moves a body per step") +
               " (allowed: |velocity| + " + format::figure(gust_clamp) + " × gusts.strength ≤ " + (limit > 0 ? format::limit((limit)) : "0") +
               " m/s with this drone and dt; or a smaller dt)"};
@@ -72,11 +72,51 @@ Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt
   // Floats in [2^e, 2^(e+1)) are 2^(e-23) apart (doubles 2^(e-52)): the last binade where that is ≤ 2 % of a step.
   const double allowed = std::ldexp(1.0, (box2d ? 24 : 53) + std::ilogb(0.02 * step));
   return {"bounds", format::rect(bounds) + (box2d ? ": Box2D keeps positions as 32-bit floats, " : ": the light physics keeps positions as 64-bit doubles, ") +
-                        format::short_figure(spacing) + " m apart at " +
+                        format::beyond(spacing, 0.02 * step) + " m apart at " +
                         format::figure(largest) + " m, more than 2 % of a drone's step (max_speed " + format::figure(drone.max_speed) +
                         " m/s × dt " + format::figure(dt) + " s = " + format::short_figure(step) +
                         " m), so drones would move in jumps or not at all (allowed: coordinates within ±" + format::figure(allowed) +
                         " m at this max_speed and dt)"};
+}
+
+Problem check_room(const Rect& bounds, Vec2 map_spawn, std::span<const GroupSetup> groups) {
+  double bodies = 0, largest = 0;
+  std::size_t drones = 0;
+  for (const GroupSetup& g : groups) {
+    bodies += static_cast<double>(g.drones) * pi * g.drone.radius * g.drone.radius;
+    drones += g.drones, largest = std::max(largest, g.drone.radius);
+  }
+  const double area = bounds.width() * bounds.height();
+  auto most = [](double room, double radius) { return format::grouped(std::floor(room * disc_packing / (pi * radius * radius))); };
+  if (bodies > area * disc_packing)
+    return {"drones", format::grouped(static_cast<double>(drones)) + " drones (bodies of " + format::short_figure(bodies) + " m²) do not fit on the map (" +
+                          format::rect(bounds) + ": " + format::short_figure(area * disc_packing) +
+                          " m² at the densest packing of discs); they would start piled, each touching the others (allowed: at most " +
+                          most(area, largest) + " drones of radius " + format::number(largest) + " m here; or a larger map)"};
+  // The groups that spawn in discs around one point share that room.
+  std::vector<bool> counted(groups.size(), false);
+  for (std::size_t a = 0; a < groups.size(); ++a) {
+    if (counted[a] || groups[a].spawn_mode != SpawnMode::disc) continue;
+    const Vec2 point = groups[a].spawn.value_or(map_spawn);
+    double here = 0, disc = 0, radius = 0;
+    std::size_t count = 0, sharing = 0;
+    for (std::size_t b = a; b < groups.size(); ++b) {
+      const GroupSetup& g = groups[b];
+      if (g.spawn_mode != SpawnMode::disc || g.spawn.value_or(map_spawn) != point) continue;
+      counted[b] = true, ++sharing, count += g.drones, radius = std::max(radius, g.drone.radius);
+      here += static_cast<double>(g.drones) * pi * g.drone.radius * g.drone.radius;
+      disc = std::max(disc, g.spawn_radius > 0 ? g.spawn_radius : static_cast<double>(g.drones) * g.drone.radius);
+    }
+    const double room = std::min(pi * (disc + radius) * (disc + radius), area);
+    if (here <= room * disc_packing) continue;
+    const double needed = std::sqrt(here / (disc_packing * pi)) - radius;  // the disc that holds them
+    return {"spawn.radius", (sharing > 1 ? format::grouped(static_cast<double>(sharing)) + " groups spawn " : "") + format::grouped(static_cast<double>(count)) +
+                                " drones (bodies of " + format::short_figure(here) + " m²) at " + format::point(point) + " in discs of at most " +
+                                format::number(disc) + " m, which hold " + format::short_figure(room * disc_packing) +
+                                " m² at the densest packing; they would start piled, each touching the others (allowed: spawn.radius ≥ " +
+                                format::figure(std::ceil(needed)) + " m" + (sharing > 1 ? " for these groups, or spawn points of their own)" : ")")};
+  }
+  return {};
 }
 
 Problem check_targets(std::span<const Vec2> positions, std::size_t count, double radius, const Rect& bounds) {

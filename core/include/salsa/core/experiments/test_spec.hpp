@@ -26,6 +26,9 @@ struct PluginChoice {
   bool operator==(const PluginChoice&) const = default;
 };
 
+/// The most drones a test may hold: each group's "drones", and their sum over the groups at any time.
+inline constexpr std::size_t max_test_drones = 1'000'000;
+
 /// One group of drones alike (SimulationSetup's GroupSetup, as the test file holds it).
 struct GroupSpec {
   std::string name = "swarm";       ///< the single form's one group is "swarm"
@@ -91,8 +94,9 @@ struct TestSpec {
 };
 
 /// The first test that is the same as an earlier one, as (earlier, later) indices: equal in all but
-/// name and source (what gives the same data), or nullopt. Hashes a few fields and compares in full
-/// only tests that share them, so 10^6 tests take a fraction of a second (no config text per test).
+/// name and source (what gives the same data), or nullopt. Hashes every field it compares and compares
+/// in full only tests of one hash, so the time grows linearly: 10^6 tests take a fraction of a second
+/// (no config text per test), whatever the queue varies.
 std::optional<std::pair<std::size_t, std::size_t>> first_same_test(const std::vector<const TestSpec*>& tests);
 
 /// The metrics a test gets when it names none (those of them the host has loaded).

@@ -1,6 +1,7 @@
 #pragma once
 // User text that becomes a file or folder name (test names, file stems, queue and plot names) goes
-// through this one check, so no name can reach outside the folder it is meant for ("..", "a/b").
+// through this one check, so no name can reach outside the folder it is meant for ("..", "a/b"); a
+// group's name, which names columns and keys, through its own.
 #include <string>
 #include <string_view>
 
@@ -13,6 +14,10 @@ inline constexpr std::size_t max_name_length = 128;
 /// "\"..\" must start with a letter or digit and use only letters, digits, '_', '-' and '.' (1 to 128
 /// characters; it names a folder)".
 std::string name_problem(std::string_view name);
+
+/// Empty when `name` may name a group of a test, else why not: name_problem's rules without '.', as
+/// keys such as "groups.<name>.drones" split at dots.
+std::string group_name_problem(std::string_view name);
 
 /// The names of the files and folders a queue writes at its output folder's top level (plots/,
 /// summary.csv, queue.json, comparison.csv, did.csv, condition_effects.csv, timing.json, timing.csv);

@@ -42,6 +42,17 @@ Problem check_map(const MapData& map);
 /// coordinate they must still resolve 2 % of a drone's step (rounding then changes a step by at most
 /// 1 %), else drones move in jumps or freeze. Field "bounds".
 Problem check_resolution(const Rect& bounds, const DroneConfig& drone, double dt, PhysicsMode physics = PhysicsMode::box2d);
+struct GroupSetup;
+/// Room for the drones, so that they do not start (and stay) piled, every drone touching the others,
+/// with time and memory growing with the square of their count: their bodies' area (Σ π radius²) at most
+/// what the map's bounds hold at the densest packing of discs (π/√12 of the area), and, for the groups
+/// that spawn in discs around one point, at most what the largest of their discs holds (widened by a
+/// drone radius: a disc holds the centres; the default disc, drones × radius, holds its own group).
+/// Field "drones" (the map) or "spawn.radius" (a pile at a spawn point); `groups` as make_setup names them.
+Problem check_room(const Rect& bounds, Vec2 map_spawn, std::span<const GroupSetup> groups);
+/// The densest packing of equal discs in the plane, the share of the area they cover: π/√12.
+inline constexpr double disc_packing = 0.9068996821171089;
+
 /// A target kind's radius (finite, ≥ 0) and the positions it placed (as many as asked, finite, inside
 /// the bounds).
 Problem check_targets(std::span<const Vec2> positions, std::size_t count, double radius, const Rect& bounds);
