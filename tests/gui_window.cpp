@@ -4,6 +4,8 @@
 #include "common.hpp"
 
 #include <QAction>
+#include <QChartView>
+#include <QGraphicsTextItem>
 #include <QLineSeries>
 #include <QComboBox>
 #include <QDoubleSpinBox>
@@ -252,6 +254,33 @@ class GuiWindow : public QObject {
       QTest::keyClick(QApplication::focusWidget(), Qt::Key_Tab);
       QVERIFY2(scroll->horizontalScrollBar()->value() == 0,
                qPrintable(QString("Tab %1 (%2) scrolled the panel sideways").arg(i).arg(QApplication::focusWidget()->objectName())));
+    }
+  }
+
+  // On a 1366 x 768 laptop screen each live chart is tall enough that Qt Charts draws every label
+  // (title, tick numbers, axis title) in full: an elided one ends in "...".
+  void the_live_charts_are_readable_on_a_laptop_screen() {
+    window_->set_mode(MainWindow::Mode::sandbox);
+    window_->resize(1366, 720);
+    SandboxPage& sandbox = *window_->sandbox();
+    sandbox.start();
+    QTRY_VERIFY_WITH_TIMEOUT(sandbox.charts()->series(0)->count() >= 2, 5000);
+    sandbox.pause();
+    QApplication::processEvents();
+    for (int i = 0; i < 4; ++i) {
+      QChartView* view = sandbox.charts()->view(i);
+      int numbers = 0;
+      for (QGraphicsItem* item : view->scene()->items()) {
+        auto* text = dynamic_cast<QGraphicsTextItem*>(item);
+        if (!text || !text->isVisible()) continue;
+        const QString s = text->toPlainText();
+        QVERIFY2(!s.endsWith("...") && !s.endsWith(QChar(0x2026)),
+                 qPrintable(QString("chart %1 (%2 x %3 px) elides '%4'").arg(i).arg(view->width()).arg(view->height()).arg(s)));
+        bool number = false;
+        s.toDouble(&number);
+        numbers += number;
+      }
+      QVERIFY2(numbers >= 6, qPrintable(QString("chart %1 shows %2 tick numbers").arg(i).arg(numbers)));
     }
   }
 

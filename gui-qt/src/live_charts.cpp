@@ -3,6 +3,7 @@
 #include <QChart>
 #include <QChartView>
 #include <QLineSeries>
+#include <QScrollArea>
 #include <QValueAxis>
 #include <QVBoxLayout>
 #include <cmath>
@@ -18,10 +19,23 @@ constexpr std::array<Spec, 4> specs{{{"Targets found (%)", &StatsRow::found_perc
                                      {"Coverage (%)", &StatsRow::coverage_percent, 100},
                                      {"Mean speed (m/s)", &StatsRow::mean_speed, 0},
                                      {"Mean nearest-neighbour distance (m)", &StatsRow::mean_nn_distance, 0}}};
+constexpr int min_chart_height = 170;  // title, tick numbers and axis title all drawn in full
 }  // namespace
 
 LiveCharts::LiveCharts(QWidget* parent) : QWidget(parent) {
-  auto* layout = new QVBoxLayout(this);
+  // The charts scroll rather than shrink: below about 150 px Qt Charts elides every tick label to
+  // "...", and four readable charts do not fit beside the view on a 768 px screen.
+  auto* scroll = new QScrollArea;
+  scroll->setObjectName("live_charts_scroll");
+  scroll->setWidgetResizable(true);
+  scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+  scroll->setFrameShape(QFrame::NoFrame);
+  auto* outer = new QVBoxLayout(this);
+  outer->setContentsMargins(0, 0, 0, 0);
+  outer->addWidget(scroll);
+  auto* inner = new QWidget;
+  scroll->setWidget(inner);
+  auto* layout = new QVBoxLayout(inner);
   layout->setContentsMargins(0, 0, 0, 0);
   layout->setSpacing(2);
   for (std::size_t i = 0; i < specs.size(); ++i) {
@@ -57,7 +71,7 @@ LiveCharts::LiveCharts(QWidget* parent) : QWidget(parent) {
     c.series->attachAxis(c.y);
     c.view = new QChartView(chart);
     c.view->setRenderHint(QPainter::Antialiasing);
-    c.view->setMinimumHeight(100);  // four fit beside the view on a 768 px screen
+    c.view->setMinimumHeight(min_chart_height);
     layout->addWidget(c.view);
   }
 }

@@ -22,6 +22,7 @@ class LiveCharts : public QWidget {
   /// Shows `rows` (does nothing when it is the object shown last).
   void show_rows(const std::shared_ptr<const std::vector<StatsRow>>& rows);
   QLineSeries* series(int i) const { return charts_[static_cast<std::size_t>(i)].series; }
+  QChartView* view(int i) const { return charts_[static_cast<std::size_t>(i)].view; }
 
  private:
   struct Chart {
