@@ -159,7 +159,7 @@ std::string QueueModel::replace(int row, const std::string& text) {
   try {
     TestSpec t = parse_test(text, "queue row " + std::to_string(row + 1), *host_);
     if (unique_name(t.name, row) != t.name) return last_error_ = "queue row " + std::to_string(row + 1) + ": name: '" + t.name + "' is taken (names are output folders: each test needs its own)";
-    rows_[static_cast<std::size_t>(row)] = {std::move(t), Status::pending, {}};
+    rows_[static_cast<std::size_t>(row)] = {std::move(t), Status::pending, {}, {}};
   } catch (const std::exception& e) {
     return last_error_ = e.what();
   }
@@ -183,7 +183,7 @@ std::string QueueModel::add(std::vector<TestSpec> tests) {
   for (auto& t : tests) {
     t.name = unique_name(t.name);
     t.seed_given = true;  // the row keeps its world wherever it moves
-    rows_.push_back({std::move(t), Status::pending, {}});
+    rows_.push_back({std::move(t), Status::pending, {}, {}});
   }
   endInsertRows();
   return {};
@@ -238,7 +238,7 @@ std::string QueueModel::load(const fs::path& file) {
   rows_.clear();
   for (auto& t : tests) {
     t.seed_given = true;
-    rows_.push_back({std::move(t), Status::pending, {}});
+    rows_.push_back({std::move(t), Status::pending, {}, {}});
   }
   endResetModel();
   return {};

@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "salsa/core/experiments/test_spec.hpp"
-#include "salsa/core/files/output_folder.hpp"
+#include "salsa/core/run/output_folder.hpp"
 #include "plot_helpers.hpp"
 #include "test_data.hpp"
 
