@@ -300,7 +300,7 @@ class TestReliability : public QObject {
 
   void huge_swarm_is_announced() {
     QTemporaryDir dir;
-    write(dir.filePath("huge.json"), R"({"name": "huge", "behavior": "flocking", "drones": 1000000, "time": 60})");
+    write(dir.filePath("huge.json"), R"({"name": "huge", "behavior": "flocking", "drones": 1000000, "time": 60, "map": {"name": "empty", "params": {"size": 2000}}})");
     CliResult r = run_salsa({"validate", "huge.json"}, dir.path());
     QVERIFY2(r.exit_code == 0 && non_empty_lines(r.err).size() == 1 && r.err.startsWith("salsa: warning: huge.json: 1,000,000 drones") &&
                  r.err.contains("neighbours per drone"),

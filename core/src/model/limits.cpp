@@ -2,6 +2,7 @@
 #include "salsa/core/model/simulation.hpp"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <limits>
 
@@ -88,33 +89,40 @@ Problem check_room(const Rect& bounds, Vec2 map_spawn, std::span<const GroupSetu
   }
   const double area = bounds.width() * bounds.height();
   auto most = [](double room, double radius) { return format::grouped(std::floor(room * disc_packing / (pi * radius * radius))); };
-  if (bodies > area * disc_packing)
+  if (drones > 1 && bodies > area * disc_packing)
     return {"drones", format::grouped(static_cast<double>(drones)) + " drones (bodies of " + format::short_figure(bodies) + " m²) do not fit on the map (" +
                           format::rect(bounds) + ": " + format::short_figure(area * disc_packing) +
                           " m² at the densest packing of discs); they would start piled, each touching the others (allowed: at most " +
                           most(area, largest) + " drones of radius " + format::number(largest) + " m here; or a larger map)"};
-  // The groups that spawn in discs around one point share that room.
-  std::vector<bool> counted(groups.size(), false);
-  for (std::size_t a = 0; a < groups.size(); ++a) {
-    if (counted[a] || groups[a].spawn_mode != SpawnMode::disc) continue;
-    const Vec2 point = groups[a].spawn.value_or(map_spawn);
-    double here = 0, disc = 0, radius = 0;
+  // The groups that spawn in discs around one point share that room (one pass, grouped by point). One
+  // drone alone always fits: the packing density bounds many discs, not one.
+  struct Here {
+    double bodies = 0, disc = 0, radius = 0;
     std::size_t count = 0, sharing = 0;
-    for (std::size_t b = a; b < groups.size(); ++b) {
-      const GroupSetup& g = groups[b];
-      if (g.spawn_mode != SpawnMode::disc || g.spawn.value_or(map_spawn) != point) continue;
-      counted[b] = true, ++sharing, count += g.drones, radius = std::max(radius, g.drone.radius);
-      here += static_cast<double>(g.drones) * pi * g.drone.radius * g.drone.radius;
-      disc = std::max(disc, g.spawn_radius > 0 ? g.spawn_radius : static_cast<double>(g.drones) * g.drone.radius);
-    }
-    const double room = std::min(pi * (disc + radius) * (disc + radius), area);
-    if (here <= room * disc_packing) continue;
-    const double needed = std::sqrt(here / (disc_packing * pi)) - radius;  // the disc that holds them
-    return {"spawn.radius", (sharing > 1 ? format::grouped(static_cast<double>(sharing)) + " groups spawn " : "") + format::grouped(static_cast<double>(count)) +
-                                " drones (bodies of " + format::short_figure(here) + " m²) at " + format::point(point) + " in discs of at most " +
-                                format::number(disc) + " m, which hold " + format::short_figure(room * disc_packing) +
+  };
+  std::map<std::pair<double, double>, Here> points;
+  std::vector<std::pair<double, double>> order;  // first seen first: the message names the first pile
+  for (const GroupSetup& g : groups) {
+    if (g.spawn_mode != SpawnMode::disc) continue;
+    const Vec2 point = g.spawn.value_or(map_spawn);
+    const auto [it, fresh] = points.try_emplace({point.x, point.y});
+    if (fresh) order.push_back(it->first);
+    Here& h = it->second;
+    ++h.sharing, h.count += g.drones, h.radius = std::max(h.radius, g.drone.radius);
+    h.bodies += static_cast<double>(g.drones) * pi * g.drone.radius * g.drone.radius;
+    h.disc = std::max(h.disc, g.spawn_radius > 0 ? g.spawn_radius : static_cast<double>(g.drones) * g.drone.radius);
+  }
+  for (const auto& key : order) {
+    const Here& h = points.at(key);
+    const double room = std::min(pi * (h.disc + h.radius) * (h.disc + h.radius), area);
+    if (h.count < 2 || h.bodies <= room * disc_packing) continue;
+    const double needed = std::sqrt(h.bodies / (disc_packing * pi)) - h.radius;  // the disc that holds them
+    return {"spawn.radius", (h.sharing > 1 ? format::grouped(static_cast<double>(h.sharing)) + " groups spawn " : "") +
+                                format::grouped(static_cast<double>(h.count)) + " drones (bodies of " + format::short_figure(h.bodies) + " m²) at " +
+                                format::point({key.first, key.second}) + " in discs of at most " + format::number(h.disc) + " m, which hold " +
+                                format::short_figure(room * disc_packing) +
                                 " m² at the densest packing; they would start piled, each touching the others (allowed: spawn.radius ≥ " +
-                                format::figure(std::ceil(needed)) + " m" + (sharing > 1 ? " for these groups, or spawn points of their own)" : ")")};
+                                format::figure(std::ceil(needed)) + " m" + (h.sharing > 1 ? " for these groups, or spawn points of their own)" : ")")};
   }
   return {};
 }
