@@ -86,6 +86,22 @@ double worst_overlap(const Simulation& sim) {
   return worst;
 }
 
+/// Flies `setup`'s crowd to (100, 100) for 20 s: over 300 drones end within `near_radius` of it (the
+/// crowd really presses) and no two overlap more than 2 % of their radii's sum in the last 10 s.
+void expect_packed_and_apart(const SimulationSetup& setup, double near_radius) {
+  Simulation sim(setup);
+  double worst = 0;
+  for (int s = 0; s < 1200; ++s) {
+    sim.step();
+    if (s >= 600) worst = std::max(worst, worst_overlap(sim));
+  }
+  std::size_t near = 0;
+  for (Vec2 p : sim.drone_positions()) near += distance(p, {100, 100}) < near_radius;
+  QVERIFY2(near > 300, qPrintable(QString("only %1 drones near the point").arg(near)));
+  qInfo("deepest overlap in the crowd: %.4f of the radii's sum", worst);
+  QVERIFY2(worst <= 0.02, qPrintable(QString("overlap %1 of the radii's sum").arg(worst)));
+}
+
 }  // namespace
 
 class TestLight : public QObject {
@@ -191,17 +207,7 @@ class TestLight : public QObject {
     setup.groups[0].drones = 400;
     setup.groups[0].spawn_mode = SpawnMode::uniform;
     setup.groups[0].behavior = std::make_shared<Towards>(Vec2{100, 100});
-    Simulation sim(setup);
-    double worst = 0;
-    for (int s = 0; s < 1200; ++s) {
-      sim.step();
-      if (s >= 600) worst = std::max(worst, worst_overlap(sim));
-    }
-    std::size_t near = 0;  // packed: the crowd really presses
-    for (Vec2 p : sim.drone_positions()) near += distance(p, {100, 100}) < 25;
-    QVERIFY2(near > 300, qPrintable(QString("only %1 drones near the point").arg(near)));
-    qInfo("deepest overlap in the packed crowd: %.4f of the radii's sum", worst);
-    QVERIFY2(worst <= 0.02, qPrintable(QString("overlap %1 of the radii's sum").arg(worst)));
+    expect_packed_and_apart(setup, 25);
   }
 
   // A pile of two drone sizes (and masses) keeps the same tolerance as one size: 200 of each flying to
@@ -228,17 +234,7 @@ class TestLight : public QObject {
     setup.groups.push_back(setup.groups[0]);
     setup.groups[1].drone = racer(big_radius, 10);
     setup.groups[1].drone.mass = big_mass;
-    Simulation sim(setup);
-    double worst = 0;
-    for (int s = 0; s < 1200; ++s) {
-      sim.step();
-      if (s >= 600) worst = std::max(worst, worst_overlap(sim));
-    }
-    std::size_t near = 0;  // packed: the crowd really presses
-    for (Vec2 p : sim.drone_positions()) near += distance(p, {100, 100}) < 50;
-    QVERIFY2(near > 300, qPrintable(QString("only %1 drones near the point").arg(near)));
-    qInfo("deepest overlap in the mixed pile: %.4f of the radii's sum", worst);
-    QVERIFY2(worst <= 0.02, qPrintable(QString("overlap %1 of the radii's sum").arg(worst)));
+    expect_packed_and_apart(setup, 50);
   }
 
   // The same run on 1 and 2 threads (enough drones that the light physics splits them into tasks):
