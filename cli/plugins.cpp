@@ -81,7 +81,10 @@ void describe_columns(const Entry<Metric>& e) {
 
 int cmd_describe(int argc, char** argv) {
   po::options_description o("describe options");
-  o.add_options()("name", po::value<std::string>(), "plugin name (behavior, target kind, map, contact handler, metric or wind field), drone, comm or wind");
+  std::string models;
+  for (const TestModel& m : test_models()) models += ", " + m.key;
+  const std::string help = "plugin name (behavior, target kind, map, contact handler, metric or wind field), or drone" + models;
+  o.add_options()("name", po::value<std::string>(), help.c_str());
   po::variables_map vm;
   if (!parse(argc, argv, "describe", "NAME [options]", o, vm, plugin_options, positional("name"))) return 0;
   if (!vm.count("name")) throw InputError("describe: missing NAME (see 'salsa plugins' for the names)");
@@ -117,7 +120,7 @@ int cmd_describe(int argc, char** argv) {
     std::cout << m.meaning << "\n\n";
     Parameters specs;
     for (const ModelField& f : m.fields) specs.push_back(f.spec);
-    table(specs);
+    if (!specs.empty()) table(specs);  // a model without a section has its settings among the drone's
     if (name == "wind") {
       PluginHost host;
       load_plugins(host, vm, true);

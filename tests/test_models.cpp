@@ -1,6 +1,7 @@
 // A model declared here, outside the core, joins a test's sections through add_test_model alone: the
 // test reader (with its one-line errors), config.json, timed changes (checked, applied to the test and to
-// a running simulation), sweeps, conditions and tune keys take it without a line of theirs changed.
+// a running simulation), sweeps, conditions, tune keys and the data files (summary.csv, outcome.csv, the
+// columns a metric or tune objective may name) take it without a line of theirs changed.
 #include <QtTest>
 
 #include <set>
@@ -10,6 +11,7 @@
 #include "salsa/core/experiments/test_models.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/core/experiments/tune_file.hpp"
+#include "salsa/core/run/runner.hpp"
 
 using namespace salsa;
 using namespace salsa_test;
@@ -40,7 +42,15 @@ TestModel sway() {
             const auto it = t.extra_numbers.find("sway.amplitude");
             return it != t.extra_numbers.end() && it->second > 5 ? "amplitude above 5 is refused by the model itself" : "";
           },
-          .apply = [](Simulation&, const TestSpec&) { ++applied; }};
+          .apply = [](Simulation&, const TestSpec&) { ++applied; },
+          // Two columns while it is on: its amplitude now, and the flying drones' mean x (m).
+          .output_columns = [](const TestSpec& t) { return t.extra_numbers.empty() ? std::vector<std::string>{} : std::vector<std::string>{"sway_amplitude", "sway_mean_x"}; },
+          .output_values = [](const Simulation& sim, const TestSpec& t) {
+            double x = 0;
+            for (const Vec2 p : sim.drone_positions()) x += p.x;
+            return std::vector<std::string>{std::to_string(t.extra_numbers.at("sway.amplitude")),
+                                            std::to_string(x / static_cast<double>(sim.drone_count()))};
+          }};
 }
 
 const std::string base = R"("behavior": "random_walk", "drones": 3, "time": 2, "map": {"name": "empty", "params": {"size": 100}})";
@@ -101,6 +111,29 @@ class TestModels : public QObject {
     apply_change(sim, t, {1, "sway.amplitude", 3}, *host_);
     QCOMPARE(applied, 1);
     QCOMPARE(t.extra_numbers.at("sway.amplitude"), 3.0);
+  }
+
+  void the_data_files_carry_its_columns() {
+    QTemporaryDir out;
+    RunOptions options;
+    options.out = out.path().toStdString();
+    const TestSpec t = parse_test("{\"name\": \"swaying\", " + base + R"(, "sway": {"amplitude": 2}, "changes": [{"time": 1, "set": {"sway.amplitude": 4}}]})", "t.json", *host_);
+    run_test(t, *host_, options);
+    const QStringList summary = non_empty_lines(read_file(out.path() + "/swaying/summary.csv"));
+    QVERIFY2(summary[0].endsWith(",sway_amplitude,sway_mean_x"), qPrintable(summary[0]));
+    QVERIFY2(summary.first(2).last().contains(",2.000000,"), qPrintable(summary[1]));  // time 0: as the file says
+    QVERIFY2(summary.last().contains(",4.000000,"), qPrintable(summary.last()));       // after the change
+    const QStringList outcome = non_empty_lines(read_file(out.path() + "/swaying/outcome.csv"));
+    QVERIFY2(outcome[0].endsWith(",sway_amplitude,sway_mean_x"), qPrintable(outcome[0]));
+    // The run's own mean x, so the row is the simulation's, not a constant.
+    const double mean_x = outcome[1].split(',').last().toDouble();
+    QVERIFY2(mean_x > 0 && mean_x < 100, qPrintable(outcome[1]));
+    QCOMPARE(summary.last().split(',').last().toDouble(), mean_x);
+    // A metric or tune objective may name them; a test without the model has neither.
+    const DataColumns columns = data_columns(t, *host_);
+    QVERIFY(std::find(columns.outcome.begin(), columns.outcome.end(), "sway_mean_x") != columns.outcome.end());
+    const DataColumns plain = data_columns(parse_test("{" + base + "}", "t.json", *host_), *host_);
+    QVERIFY(std::find(plain.summary.begin(), plain.summary.end(), "sway_amplitude") == plain.summary.end());
   }
 
   void sweeps_conditions_and_tune_keys_reach_it() {

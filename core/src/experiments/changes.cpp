@@ -149,7 +149,8 @@ std::string check_change(const TestSpec& test, const Change& c, const PluginHost
     return {};
   }
   std::string models;
-  for (const TestModel& m : test_models()) models += m.key + ".<" + m.names() + ">, " + (m.other_forms.empty() ? "" : m.other_forms + ", ");
+  for (const TestModel& m : test_models())
+    if (m.section) models += m.key + ".<" + m.names() + ">, " + (m.other_forms.empty() ? "" : m.other_forms + ", ");
   return "unknown key (allowed: behavior.params.<name>, drones, drone.<property>, groups.<name>.<any of those>, " + models +
          "fail.drone, fail.camera, fail.fraction, fail.camera_fraction)";
 }

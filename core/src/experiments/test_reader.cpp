@@ -18,7 +18,8 @@ namespace detail {
 
 std::vector<const char*> test_keys() {
   std::vector<const char*> keys{"name", "behavior", "drone", "drone_configs", "drones", "groups"};
-  for (const TestModel& m : test_models()) keys.push_back(m.key.c_str());
+  for (const TestModel& m : test_models())
+    if (m.section) keys.push_back(m.key.c_str());
   for (const char* k : {"map", "spawn", "targets", "contact_handlers", "metrics", "time", "dt", "log_interval", "velocity_iterations",
                         "position_iterations", "decision_lag", "physics", "seed", "repeat", "changes", "condition", "versions"})
     keys.push_back(k);
@@ -237,7 +238,7 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
     parse_group(t.groups[0], j, r, host, named, "");
   }
   for (const TestModel& m : test_models())
-    if (j.contains(m.key)) parse_model(t, m, j[m.key], r);
+    if (m.section && j.contains(m.key)) parse_model(t, m, j[m.key], r);
   if (j.contains("wind") && j["wind"].contains("field")) parse_wind_field(t, j["wind"]["field"], r, host);
 
   // map: "name" | "file.json" | {"name", "params", "file"}

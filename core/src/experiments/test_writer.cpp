@@ -81,7 +81,7 @@ std::string resolved_json(const TestSpec& t, const PluginHost& host) {
     group_json(t.groups[0], j);
   }
   for (const TestModel& m : test_models())  // only those in use: a test without one keeps its config.json bytes
-    if (m.in_use(t)) j[m.key] = model_json(t, m);
+    if (m.section && m.in_use(t)) j[m.key] = model_json(t, m);
   if (!t.wind_field.name.empty()) j["wind"]["field"] = {{"name", t.wind_field.name}, {"params", params_json(t.wind_field.params)}};
   j["map"] = {{"name", t.map.name}, {"params", params_json(t.map.params)}};
   if (!t.map_file.empty()) j["map"]["file"] = t.map_file;

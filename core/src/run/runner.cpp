@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "format.hpp"
+#include "salsa/core/experiments/test_models.hpp"
 #include "salsa/core/files/map_file.hpp"
 #include "salsa/core/run/metrics.hpp"
 #include "salsa/core/run/session.hpp"
@@ -39,42 +40,13 @@ std::string header(std::string columns, const std::vector<std::string>& more) {
   return columns;
 }
 
-/// The fleet's values (fleet_values) as text, for summary.csv and outcome.csv alike: counts whole,
-/// energy in Wh to 4 decimals. After alive and energy come, per group, found, alive and energy.
-std::vector<std::string> fleet_texts(const std::vector<double>& values) {
-  std::vector<std::string> out(values.size());
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    const bool energy = k < 2 ? k == 1 : (k - 2) % 3 == 2;
-    if (energy) append_number(out[k], values[k] == 0 ? 0.0 : values[k], 4);
-    else out[k] = std::to_string(static_cast<std::uint64_t>(values[k]));
-  }
-  return out;
-}
-
-/// The comm model's counters as text, in comm_columns' order.
-std::vector<std::string> comm_texts(const CommCounters& c) {
-  std::vector<std::string> out;
-  for (std::uint64_t v : {c.sent, c.delivered, c.dropped_range, c.dropped_obstacle, c.dropped_loss, c.dropped_cap})
-    out.push_back(std::to_string(v));
-  return out;
-}
-
-/// The columns after salsa's and the metrics': the fleet's (TestSpec::fleet), the comm model's (with
-/// "comm"), then false_detections (counts_false_detections).
-std::vector<std::string> model_columns(const TestSpec& test) {
-  std::vector<std::string> out = test.fleet() ? fleet_columns(test) : std::vector<std::string>{};
-  if (test.comm.on) out.insert(out.end(), std::begin(comm_columns), std::end(comm_columns));
-  if (counts_false_detections(test)) out.emplace_back("false_detections");
-  return out;
-}
-
-// summary.csv: one row per logged step, salsa's columns, the metrics', then the models' (model_columns).
+// summary.csv: one row per logged step, salsa's columns, the metrics', then the test models'.
 class SummaryObserver final : public Observer {
  public:
-  SummaryObserver(const fs::path& file, MetricSet& metrics, const TestSpec& test)
-      : csv_(file, header(header(summary_columns, metrics.step_columns()), model_columns(test))),
-        metrics_(metrics), fleet_(test.fleet()), comm_(test.comm.on), per_group_(test.groups.size() > 1),
-        false_detections_(counts_false_detections(test)) {}
+  /// The columns are the test's as it starts; the values read the session's test as timed changes left it.
+  SummaryObserver(const fs::path& file, MetricSet& metrics, const Session& session)
+      : outputs_(session.current()), csv_(file, header(header(summary_columns, metrics.step_columns()), outputs_.columns())),
+        metrics_(metrics), session_(session) {}
   void observe(const Simulation& sim) override {
     const SummaryRow row = summary_row(sim);
     csv_.field(row.time, 4).field(static_cast<std::uint64_t>(row.targets_found)).field(row.fraction_found, 6);
@@ -83,19 +55,16 @@ class SummaryObserver final : public Observer {
     else csv_.empty_field();
     csv_.field(row.collisions);
     metrics_.row(sim, csv_);
-    if (fleet_)
-      for (const std::string& text : fleet_texts(fleet_values(sim, per_group_))) csv_.text(text);
-    if (comm_)
-      for (const std::string& text : comm_texts(sim.comm_counters())) csv_.text(text);
-    if (false_detections_) csv_.field(sim.false_detections());
+    for (const std::string& text : outputs_.values(sim, session_.current())) csv_.text(text);
     csv_.end_row();
   }
   void close() { csv_.close(); }
 
  private:
+  ModelOutputs outputs_;
   CsvWriter csv_;
   MetricSet& metrics_;
-  bool fleet_, comm_, per_group_, false_detections_;
+  const Session& session_;
 };
 
 // drones.csv: one row per logged step and drone not removed; with the fleet, its group, status and
@@ -174,7 +143,7 @@ DataColumns data_columns(const TestSpec& test, const PluginHost& host) {
     }
   };
   const MetricSet metrics(test, host);
-  const std::vector<std::string> models = model_columns(test);
+  const std::vector<std::string> models = ModelOutputs(test).columns();
   DataColumns c{split(summary_columns), split(outcome_columns)};
   for (const auto& [to, more] : {std::pair{&c.summary, metrics.step_columns()}, std::pair{&c.outcome, metrics.final_columns()}}) {
     to->insert(to->end(), more.begin(), more.end());
@@ -231,7 +200,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     } catch (const WriteError& e) {
       throw write_failed(e);
     }
-    SummaryObserver summary(work / "summary.csv", session->metrics(), test);
+    SummaryObserver summary(work / "summary.csv", session->metrics(), *session);
     std::optional<DroneObserver> drones;
     if (options.drones_csv) drones.emplace(work / "drones.csv", test.fleet());
     session->add_observer(&summary);
@@ -274,17 +243,10 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
       summary.close();
       if (drones) drones->close();
       write_targets(work / "targets.csv", sim);
-      if (test.fleet()) {
-        write_fleet(work / "fleet.csv", sim);
-        const std::vector<std::string> columns = fleet_columns(test);
-        const std::vector<std::string> texts = fleet_texts(fleet_values(sim, test.groups.size() > 1));
-        for (std::size_t k = 0; k < columns.size(); ++k) finals.emplace_back(columns[k], texts[k]);
-      }
-      if (test.comm.on) {
-        const std::vector<std::string> texts = comm_texts(sim.comm_counters());
-        for (std::size_t k = 0; k < texts.size(); ++k) finals.emplace_back(comm_columns[k], texts[k]);
-      }
-      if (counts_false_detections(test)) finals.emplace_back("false_detections", std::to_string(sim.false_detections()));
+      if (test.fleet()) write_fleet(work / "fleet.csv", sim);
+      const ModelOutputs outputs(test);
+      const std::vector<std::string> texts = outputs.values(sim, session->current());
+      for (std::size_t k = 0; k < texts.size(); ++k) finals.emplace_back(outputs.columns()[k], texts[k]);
       write_file(work / "outcome.csv", outcome_csv(sim, finals));
     } catch (const WriteError& e) {
       throw write_failed(e);

@@ -66,41 +66,6 @@ SummaryRow summary_row(const Simulation& sim) {
   return row;
 }
 
-std::vector<std::string> fleet_columns(const TestSpec& test) {
-  std::vector<std::string> out{"alive", "energy_used_Wh"};
-  if (test.groups.size() > 1)
-    for (const GroupSpec& g : test.groups)
-      for (const char* column : {".found", ".alive", ".energy_used_Wh"}) out.push_back(g.name + column);
-  return out;
-}
-
-std::vector<double> fleet_values(const Simulation& sim, bool per_group) {
-  const std::size_t groups = per_group ? sim.group_count() : 0;
-  std::vector<double> found(groups), alive(groups + 1), energy(groups + 1);  // [groups]: everyone
-  const auto status = sim.drone_status();
-  const auto group = sim.drone_groups();
-  for (std::uint32_t i = 0; i < status.size(); ++i) {
-    const double joules = sim.energy_used(i);
-    const bool flying = status[i] == DroneStatus::flying;
-    alive[groups] += flying, energy[groups] += joules;
-    if (per_group) alive[group[i]] += flying, energy[group[i]] += joules;
-  }
-  if (per_group)
-    for (const TargetState& t : sim.targets())
-      if (t.found()) ++found[group[t.found_by]];
-  std::vector<double> out{alive[groups], energy[groups] / 3600};
-  for (std::size_t g = 0; g < groups; ++g) out.insert(out.end(), {found[g], alive[g], energy[g] / 3600});
-  return out;
-}
-
-bool counts_false_detections(const TestSpec& test) {
-  for (const GroupSpec& g : test.groups)
-    if (g.drone.false_detection_rate > 0) return true;
-  for (const Change& c : test.changes)
-    if (c.key.ends_with("drone.false_detection_rate") && c.value > 0) return true;
-  return false;
-}
-
 const char* status_name(const Simulation& sim, std::uint32_t id) {
   switch (sim.drone_status()[id]) {
     case DroneStatus::flying: return sim.camera_works(id) ? "flying" : "camera_failed";

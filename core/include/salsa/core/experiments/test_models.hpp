@@ -1,9 +1,11 @@
 #pragma once
-// The models a test switches on with a section of its own ("failures": {...}, "comm": {...}, "wind":
-// {...}), each declared once: its section's key, what it is, its numbers bound into the test, when it
-// is in use, what it refuses, and how a running simulation takes a change. The test reader and writer,
-// timed changes and sweeps (<key>.<field>), tune keys and `salsa describe` iterate test_models(); a
-// model declared outside the core (a test's own, a tool's) joins them with add_test_model.
+// A test's models, each declared once (core/src/experiments/models/, one file each): the fleet (groups,
+// batteries, failures' counts), failures, comm, wind and sensor noise. A declaration gives the model's
+// section key, what it is, its numbers bound into the test, when it is in use, what it refuses, how a
+// running simulation takes a change, and its columns in summary.csv and outcome.csv. The test reader
+// and writer, timed changes and sweeps (<key>.<field>), tune keys, `salsa describe` and the data files
+// iterate test_models(); a model declared outside the core (a test's own, a tool's) joins them with
+// add_test_model.
 #include <functional>
 #include <string>
 #include <string_view>
@@ -27,6 +29,9 @@ struct ModelField {
 
 struct TestModel {
   std::string key{};    ///< its section in a test file and the first part of its keys ("comm.range")
+  /// false: no section of its own in test files; its settings are the drone's (battery, noise) and it
+  /// declares its outputs alone.
+  bool section = true;
   std::string meaning{};///< a paragraph for `salsa describe <key>`
   std::vector<ModelField> fields{};
   /// Written to config.json (and its keys tunable) only then, so a test without it keeps its bytes.
@@ -44,14 +49,31 @@ struct TestModel {
   /// Keys of its section read elsewhere (the wind's "field", a plugin choice), and their dotted forms.
   std::vector<std::string> other_keys{};
   std::string other_forms{}; ///< "wind.field.params.<name>": for messages listing the keys
+  /// Its columns in summary.csv (each logged step) and outcome.csv (the end), after salsa's and the
+  /// metrics', the models in test_models() order; none while it is off. May be empty.
+  std::function<std::vector<std::string>(const TestSpec&)> output_columns{};
+  /// Their values now as text, in the same order (asked only of a model that gave columns).
+  std::function<std::vector<std::string>(const Simulation&, const TestSpec&)> output_values{};
 
   const ModelField* find(std::string_view name) const;
   std::string names() const;  ///< "range, line_of_sight, ...": for messages
 };
 
-/// Every model of a test's sections, in file order (failures, comm, wind), then those added.
+/// Every model of a test, in file order (fleet, failures, comm, wind, noise), then those added.
 const std::vector<TestModel>& test_models();
-/// The model whose keys `key` starts with ("comm.range" → comm), or nullptr.
+/// The columns a test's models add to summary.csv and outcome.csv, fixed as the test starts.
+class ModelOutputs {
+ public:
+  explicit ModelOutputs(const TestSpec& test);
+  const std::vector<std::string>& columns() const { return columns_; }
+  /// Their values now, as text, in the same order; `test` as timed changes have left it.
+  std::vector<std::string> values(const Simulation& sim, const TestSpec& test) const;
+
+ private:
+  std::vector<const TestModel*> models_;
+  std::vector<std::string> columns_;
+};
+/// The model with a section whose keys `key` starts with ("comm.range" → comm), or nullptr.
 const TestModel* model_of_key(std::string_view key);
 /// Adds a model declared outside the core (before any test is read); its numbers live where its own
 /// fields' get and set put them (TestSpec::extra_numbers for a model with no struct in the core).

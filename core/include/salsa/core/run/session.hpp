@@ -40,14 +40,6 @@ struct SummaryRow {
 };
 SummaryRow summary_row(const Simulation& sim);
 
-/// The fleet's columns of summary.csv and outcome.csv (when TestSpec::fleet(); docs/output-format.md):
-/// alive, energy_used_Wh, and with "groups" <name>.found, <name>.alive, <name>.energy_used_Wh for each
-/// group in order. fleet_values gives their values now, in that order; counts are whole numbers.
-std::vector<std::string> fleet_columns(const TestSpec& test);
-std::vector<double> fleet_values(const Simulation& sim, bool per_group);
-/// Whether summary.csv and outcome.csv carry the false_detections column: some group has a false
-/// detection rate, from the start or by a timed change.
-bool counts_false_detections(const TestSpec& test);
 /// A drone's status as the outputs write it: flying, camera_failed, landed, failed or removed.
 const char* status_name(const Simulation& sim, std::uint32_t id);
 
