@@ -83,7 +83,7 @@ int cmd_describe(int argc, char** argv) {
   po::options_description o("describe options");
   std::string models;
   for (const TestModel& m : test_models()) models += ", " + m.key;
-  const std::string help = "plugin name (behavior, target kind, map, contact handler, metric or wind field), or drone" + models;
+  const std::string help = "plugin name (behavior, target kind, map, contact handler, metric or wind field), or drone" + models + ", columns";
   o.add_options()("name", po::value<std::string>(), help.c_str());
   po::variables_map vm;
   if (!parse(argc, argv, "describe", "NAME [options]", o, vm, plugin_options, positional("name"))) return 0;
@@ -110,6 +110,17 @@ int cmd_describe(int argc, char** argv) {
       for (const DroneProperty& p : drone_schema())  // the energy model's and noise only where a configuration sets them
         if (p.section == DroneSection::body || p.get(c) != p.spec.value) std::cout << " " << p.spec.name << "=" << Parameter::format(p.get(c));
       std::cout << "\n";
+    }
+    return 0;
+  }
+  if (name == "columns") {  // the drones' state by name: what --drone-columns and the Python package read
+    std::cout << "columns: each drone's state, one column per quantity, kept by the model named (the wind's once a test\n"
+                 "has had wind). salsa run --drone-columns NAME,... adds them to drones.csv (a vector as NAME_x, NAME_y).\n\n";
+    std::cout << "  " << std::left << std::setw(26) << "COLUMN" << std::setw(8) << "UNIT" << std::setw(10) << "MODEL" << std::setw(9) << "VALUES" << "MEANING\n";
+    for (const StateColumn& c : Simulation::declared_columns()) {
+      const char* type = c.type == StateColumn::Type::f64 ? (c.width == 2 ? "2 x f64" : "f64") : c.type == StateColumn::Type::u32 ? "u32" : "u8";
+      std::cout << "  " << std::setw(26) << std::string(c.name) << std::setw(8) << std::string(c.unit) << std::setw(10) << std::string(c.model)
+                << std::setw(9) << type << c.meaning << "\n";
     }
     return 0;
   }

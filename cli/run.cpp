@@ -10,6 +10,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <unordered_map>
 
 #include "salsa/core/run/output_folder.hpp"
@@ -40,6 +41,7 @@ po::options_description run_options() {
       "log-interval", po::value<std::string>(), "seconds between logged rows (overrides the files)")(
       "threads", po::value<std::string>()->default_value("0"), "threads for each simulation's decide phase (0: all cores; default 1 when tests run side by side)")(
       "no-drones-csv", "do not write drones.csv (it is the largest file)")(
+      "drone-columns", po::value<std::string>(), "more columns of drones.csv: drone state columns by name, comma-separated, e.g. battery_left,air_velocity (salsa describe columns)")(
       "resume", "skip tests whose output folder holds the identical finished test")(
       "force", "replace the output folders salsa wrote for these tests")(
       "isolate", "run each test in its own process: a crashing plugin fails that test only")(
@@ -111,6 +113,12 @@ int cmd_run(int argc, char** argv) {
   options.resume = vm.count("resume");
   options.threads = static_cast<int>(whole_option(vm, "threads", 1024, "; 0 means all cores"));
   options.drones_csv = !vm.count("no-drones-csv");
+  if (vm.count("drone-columns")) {
+    if (!options.drones_csv) throw InputError("--drone-columns: not with --no-drones-csv (they are columns of drones.csv)");
+    std::stringstream list(vm["drone-columns"].as<std::string>());
+    for (std::string name; std::getline(list, name, ',');) options.drone_columns.push_back(name);
+    if (const std::string why = drone_columns_problem(options.drone_columns); !why.empty()) throw InputError("--drone-columns: " + why);
+  }
   std::size_t jobs = vm.count("jobs") ? whole_option(vm, "jobs", 1024, "; 0 means all cores") : mpi ? 1 : 0;
   if (jobs == 0) jobs = static_cast<std::size_t>(std::max(1, tbb::info::default_concurrency()));
   const auto [shard, shards] = mpi || child ? std::pair<std::size_t, std::size_t>{0, 1} : shard_option(vm);

@@ -88,6 +88,22 @@ class TestColumns : public QObject {
     QCOMPARE(static_cast<const double*>(wind.data)[0], 1.0);  // the wind each drone flew in
   }
 
+  void the_declared_columns_are_those_a_simulation_keeps() {
+    Simulation sim(field(3));
+    Wind w;
+    w.velocity = {1, 0};
+    sim.set_wind(w, nullptr);
+    sim.step();  // every model on: the wind's columns too
+    const std::vector<StateColumn> kept = sim.columns(), declared = Simulation::declared_columns();
+    QCOMPARE(declared.size(), kept.size());
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+      QCOMPARE(declared[k].name, kept[k].name);
+      QCOMPARE(declared[k].unit, kept[k].unit);
+      QCOMPARE(declared[k].model, kept[k].model);
+      QVERIFY(declared[k].type == kept[k].type && declared[k].width == kept[k].width && declared[k].data == nullptr);
+    }
+  }
+
   void a_changed_drone_count_is_seen_by_name() {
     Simulation sim(field(5));
     sim.set_drone_count(8);

@@ -248,6 +248,41 @@ class TestOutputFolder : public QObject {
              describe(r));
   }
 
+  void drones_csv_takes_state_columns_by_name() {
+    QTemporaryDir dir;
+    write(dir.filePath("t.json"), R"({"name": "t", "behavior": "random_walk", "drones": 3, "time": 2, "log_interval": 0.5, "seed": 4,
+      "map": {"name": "empty", "params": {"size": 200}}, "drone": {"battery_capacity": 50},
+      "changes": [{"time": 1, "set": {"wind.velocity.x": 2}}]})");
+    CliResult r = run_env({"run", "t.json", "--out", "out", "-q", "--no-plots", "--drone-columns", "battery_left,air_velocity,failure_due"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const QStringList rows = QString::fromUtf8(read_file(dir.filePath("out/t/drones.csv"))).split('\n', Qt::SkipEmptyParts);
+    QCOMPARE(rows[0], QString("time,id,x,y,vx,vy,group,status,energy_used_Wh,battery_left,air_velocity_x,air_velocity_y,failure_due"));
+    double drawn = 0;
+    for (const QString& row : rows.mid(1)) {
+      const QStringList f = row.split(',');
+      QCOMPARE(f.size(), 13);
+      // battery_left (J) is the 50 Wh battery less the energy drawn (Wh, 4 decimals): the simulation's own column.
+      QVERIFY2(std::abs(f[9].toDouble() - (50 - f[8].toDouble()) * 3600) < 0.5, qPrintable(row));
+      // The wind's columns are empty until the wind first blows, then hold the air velocity.
+      QCOMPARE(f[10].isEmpty(), f[0].toDouble() <= 1);  // the change comes before the step that starts at 1 s
+      if (f[0].toDouble() > 1) QVERIFY2(std::abs(f[10].toDouble() - (f[4].toDouble() - 2)) < 1e-3, qPrintable(row));
+      drawn = std::max(drawn, f[8].toDouble());
+    }
+    QVERIFY(drawn > 0);
+    // A name that is no column, or one drones.csv has already, is refused in one line before anything runs.
+    r = run_env({"run", "t.json", "--out", "bad", "--drone-columns", "battery"}, dir.path());
+    QVERIFY2(one_line(r, "--drone-columns: 'battery' is not a drone state column (allowed: steering, commanded, status_since, camera_works, energy_used, battery_left,"), describe(r));
+    r = run_env({"run", "t.json", "--out", "bad", "--drone-columns", "position"}, dir.path());
+    QVERIFY2(one_line(r, "--drone-columns: 'position' is in drones.csv already"), describe(r));
+    QVERIFY(!QFileInfo::exists(dir.filePath("bad")));
+    // --resume keeps the test while its drones.csv has the columns asked for, and reruns it for others.
+    r = run_env({"run", "t.json", "--out", "out", "--resume", "--no-plots", "--drone-columns", "air_velocity"}, dir.path());
+    QVERIFY2(r.exit_code == 0 && r.out.contains("already complete"), describe(r));
+    r = run_env({"run", "t.json", "--out", "out", "--resume", "--no-plots", "--drone-columns", "wind"}, dir.path());
+    QVERIFY2(r.exit_code == 0 && !r.out.contains("already complete"), describe(r));
+    QVERIFY(read_file(dir.filePath("out/t/drones.csv")).startsWith("time,id,x,y,vx,vy,group,status,energy_used_Wh,wind_x,wind_y\n"));
+  }
+
   void write_errors_say_what_happened() {
     QCOMPARE(salsa::write_failure(EROFS), std::string("read-only file system"));
     QCOMPARE(salsa::write_failure(EACCES), std::string("permission denied"));

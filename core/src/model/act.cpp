@@ -70,9 +70,9 @@ void Simulation::act_in_wind() {
                                               " s) and could pass through a wall (allowed: at most " +
                                               (limit > 0 ? format::limit((limit)) : "0") + " m/s here)");
     }
-    const Vec2 air = (drones_.air[i] + a).clamped(groups_[g].properties.max_speed);
-    drones_.air[i] = air;
-    drones_.wind[i] = w;
+    const Vec2 air = (drones_.air.velocity[i] + a).clamped(groups_[g].properties.max_speed);
+    drones_.air.velocity[i] = air;
+    drones_.air.wind[i] = w;
     drones_.commanded[i] = air + w;
   }
   physics_->set_velocities(drones_.commanded, drones_.status);
@@ -87,15 +87,20 @@ void Simulation::read_back() {
   if (!wind_active_) return;
   // What the physics left of the ground velocity (a collision changes it) less the wind flown in.
   for (std::size_t i = 0; i < drones_.positions.size(); ++i)
-    if (drones_.status[i] == DroneStatus::flying) drones_.air[i] = drones_.velocities[i] - drones_.wind[i];
+    if (drones_.status[i] == DroneStatus::flying) drones_.air.velocity[i] = drones_.velocities[i] - drones_.air.wind[i];
   gusts_.advance(setup_.wind.gust_strength, setup_.wind.gust_time_scale, setup_.dt);
 }
 
 void Simulation::track_air() {
-  for (std::size_t i = drones_.air.size(); i < drones_.velocities.size(); ++i) {
-    drones_.air.push_back(drones_.velocities[i]);
-    drones_.wind.push_back({});
+  for (std::size_t i = drones_.air.velocity.size(); i < drones_.velocities.size(); ++i) {
+    drones_.air.velocity.push_back(drones_.velocities[i]);
+    drones_.air.wind.push_back({});
   }
+}
+
+void Simulation::Drones::Air::columns(std::vector<StateColumn>& out) const {
+  out.push_back(StateColumn::of("air_velocity", "m/s", "wind", "its velocity relative to the air", velocity));
+  out.push_back(StateColumn::of("wind", "m/s", "wind", "the wind it flew in during the last step", wind));
 }
 
 }  // namespace salsa

@@ -40,7 +40,7 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   me.id = id;
   me.position = p;
   me.velocity = drones_.velocities[id];
-  me.air_velocity = wind_active_ ? drones_.air[id] : drones_.velocities[id];
+  me.air_velocity = wind_active_ ? drones_.air.velocity[id] : drones_.velocities[id];
   me.max_speed = cfg.max_speed;
   me.max_force = cfg.max_force;
   me.radius = cfg.radius;
@@ -53,9 +53,9 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   me.group = g;
   me.base = groups_[g].base;
   me.battery_capacity = group.drone.battery_capacity;
-  me.battery = me.battery_capacity > 0 ? std::clamp(drones_.charge[id] / (me.battery_capacity * 3600), 0.0, 1.0) : 1.0;
+  me.battery = me.battery_capacity > 0 ? std::clamp(drones_.fleet.charge[id] / (me.battery_capacity * 3600), 0.0, 1.0) : 1.0;
   me.neighbours = s.neighbours;
-  me.obstacles = {drones_.hits.data() + id * ray_slots_, drones_.hit_counts[id]};
+  me.obstacles = {drones_.sensing.hits.data() + id * ray_slots_, drones_.sensing.hit_counts[id]};
   s.targets.clear();
   if (senses.targets) {
     s.targets.assign(sensed_[id].seen.begin(), sensed_[id].seen.end());

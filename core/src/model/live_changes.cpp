@@ -34,7 +34,7 @@ void Simulation::set_drone_count(std::size_t n, std::uint32_t group) {
     next.since[i] = time();
     next.velocities[i] = next.commanded[i] = next.steering[i] = {};
   }
-  next.hits.resize(next.positions.size() * ray_slots_);
+  next.sensing.hits.resize(next.positions.size() * ray_slots_);
   for (std::uint32_t g = 0; g < setup_.groups.size(); ++g)
     plugin_call(behavior_kind, g, [&] { setup_.groups[g].behavior->resize(next.positions.size()); });
   // Handlers see the drones as they will be (removed ones stay in the spans, with their status).
@@ -78,15 +78,15 @@ void Simulation::set_drone_config(const DroneConfig& config, std::uint32_t group
   for (std::uint32_t i = 0; i < drones_.positions.size(); ++i) {
     if (drones_.groups[i] != group) continue;
     // Max speed bounds the air velocity: with wind the ground velocity may exceed it.
-    if (wind_active_) drones_.air[i] = drones_.air[i].clamped(config.max_speed);
+    if (wind_active_) drones_.air.velocity[i] = drones_.air.velocity[i].clamped(config.max_speed);
     else drones_.velocities[i] = drones_.velocities[i].clamped(config.max_speed);
     if (capacity != old_capacity)
-      drones_.charge[i] = capacity <= 0 ? inf : old_capacity <= 0 ? capacity : drones_.charge[i] / old_capacity * capacity;
+      drones_.fleet.charge[i] = capacity <= 0 ? inf : old_capacity <= 0 ? capacity : drones_.fleet.charge[i] / old_capacity * capacity;
   }
   setup_ = std::move(next_setup);
   groups_ = std::move(next_groups);
   ray_slots_ = ray_slots(groups_);
-  drones_.hits.assign(drones_.positions.size() * ray_slots_, {});
+  drones_.sensing.hits.assign(drones_.positions.size() * ray_slots_, {});
   grid_range_ = 0;
   for (const GroupSetup& g : setup_.groups) grid_range_ = std::max(grid_range_, g.drone.detection_range);
   targets_.grid = std::move(regridded.grid);

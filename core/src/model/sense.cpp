@@ -63,7 +63,7 @@ void Simulation::sense() {
     seen.clear();
     sensed.entered.clear();
     if (false_detections) phantoms_[i].clear();
-    if (drones_.status[i] != DroneStatus::flying) return void(drones_.hit_counts[i] = 0);  // a stopped drone sees nothing
+    if (drones_.status[i] != DroneStatus::flying) return void(drones_.sensing.hit_counts[i] = 0);  // a stopped drone sees nothing
     const Group& group = groups_[drones_.groups[i]];
     const DroneProperties& cfg = group.properties;
     const Vec2 p = drones_.positions[i];
@@ -72,8 +72,8 @@ void Simulation::sense() {
     if (!s.segment_ids.empty())
       for (Vec2 direction : group.rays)
         if (auto hit = geometry_.ray_cast(p, direction, cfg.obstacle_range, s.segment_ids))
-          drones_.hits[i * ray_slots_ + count++] = *hit;
-    drones_.hit_counts[i] = count;
+          drones_.sensing.hits[i * ray_slots_ + count++] = *hit;
+    drones_.sensing.hit_counts[i] = count;
     const Group::Noise& noise = group.noise;
     // Whether each target came into view: `before` is in the same grid order, so a target still in
     // view lies past the last one met there.
@@ -86,19 +86,19 @@ void Simulation::sense() {
       if (k < before.size()) from = k + 1;
       else sensed.entered.push_back(static_cast<std::uint32_t>(seen.size() - 1));
     };
-    if (kind && drones_.camera[i] && noise.miss > 0) {
+    if (kind && drones_.fleet.camera[i] && noise.miss > 0) {
       Rng rng = noise_rng(setup_.seed, NoiseStream::misses, steps_, i);  // one draw per target in view, in grid order
       targets_in_reach(targets_.grid, sensed, p, group.reach, [&](std::uint32_t t, Vec2 at, double d2) {
         const double d = std::sqrt(d2);
         if (plugin_call(target_kind, 0, [&] { return kind->in_view(d, cfg.camera_range); }) && !rng.chance(noise.miss))
           sighted(t, at, d);
       });
-    } else if (kind && drones_.camera[i])
+    } else if (kind && drones_.fleet.camera[i])
       targets_in_reach(targets_.grid, sensed, p, group.reach, [&](std::uint32_t t, Vec2 at, double d2) {
         const double d = std::sqrt(d2);
         if (plugin_call(target_kind, 0, [&] { return kind->in_view(d, cfg.camera_range); })) sighted(t, at, d);
       });
-    if (noise.false_rate > 0 && drones_.camera[i]) {  // anywhere in the camera's disc, with or without targets
+    if (noise.false_rate > 0 && drones_.fleet.camera[i]) {  // anywhere in the camera's disc, with or without targets
       Rng rng = noise_rng(setup_.seed, NoiseStream::phantoms, steps_, i);
       for (std::size_t k = poisson(rng, noise.false_rate * setup_.dt); k > 0; --k) {
         const double angle = rng.angle();  // drawn first, in its own statement: the order is not the compiler's
@@ -108,6 +108,10 @@ void Simulation::sense() {
   }, ahead);
   if (false_detections)
     for (const auto& phantoms : phantoms_) false_detections_ += phantoms.size();
+}
+
+void Simulation::Drones::Sensing::columns(std::vector<StateColumn>& out) const {
+  out.push_back(StateColumn::of("obstacle_hits", "", "sensing", "how many of its obstacle rays hit something in the last sense", hit_counts));
 }
 
 }  // namespace salsa

@@ -120,7 +120,7 @@ Simulation::World Simulation::build_world(const SimulationSetup& s, Parallel& pa
   w.spawn_rng = Rng(s.seed, spawn_stream);
   for (std::uint32_t g = 0; g < s.groups.size(); ++g)
     w.drones = grown(std::move(w.drones), g, s.groups[g].drones, s, w.geometry, w.groups[g].base, w.spawn_rng, 0);
-  w.drones.hits.assign(w.drones.positions.size() * ray_slots(w.groups), {});
+  w.drones.sensing.hits.assign(w.drones.positions.size() * ray_slots(w.groups), {});
   return w;
 }
 
@@ -140,20 +140,20 @@ Simulation::Drones Simulation::grown(Drones d, std::uint32_t group, std::size_t 
     d.velocities.push_back(Vec2::polar(spawn_rng.uniform(0.1 * g.drone.max_speed, g.drone.max_speed), heading));
     d.rngs.emplace_back(s.seed, first_drone_stream + i);
     const auto [drone, camera] = failure_draws(s.seed, static_cast<std::uint32_t>(i));
-    d.due.push_back(drone);
-    d.camera_due.push_back(camera);
+    d.fleet.due.push_back(drone);
+    d.fleet.camera_due.push_back(camera);
   }
   d.steering.resize(n);
   d.commanded.resize(n);
   d.groups.resize(n, group);
   d.status.resize(n, DroneStatus::flying);
-  d.camera.resize(n, 1);
-  d.used.resize(n, 0.0);
-  d.charge.resize(n, g.drone.battery_capacity > 0 ? g.drone.battery_capacity * 3600 : inf);
+  d.fleet.camera.resize(n, 1);
+  d.fleet.used.resize(n, 0.0);
+  d.fleet.charge.resize(n, g.drone.battery_capacity > 0 ? g.drone.battery_capacity * 3600 : inf);
   d.since.resize(n, time);
-  d.exposure.resize(n, 0.0);
-  d.camera_exposure.resize(n, 0.0);
-  d.hit_counts.resize(n, 0);
+  d.fleet.exposure.resize(n, 0.0);
+  d.fleet.camera_exposure.resize(n, 0.0);
+  d.sensing.hit_counts.resize(n, 0);
   return d;
 }
 

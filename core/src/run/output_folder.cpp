@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "salsa/core/files/names.hpp"
+#include "salsa/core/model/simulation.hpp"
 
 namespace salsa {
 
@@ -180,7 +181,7 @@ std::string refusal(const TestSpec& test, const std::string& config, const RunOp
     const std::string diff = resume_difference(folder, config);
     if (diff.empty()) {
       // The same test: kept when its data is whole, rerun (replaced) when salsa wrote it.
-      const std::string missing = data_problem(folder, options.drones_csv);
+      const std::string missing = data_problem(folder, options.drones_csv, options.drone_columns);
       if (missing.empty()) return {};
       if (ours) return replaced();
       return missing + "; --resume would rerun the test, but " + replace;
@@ -239,7 +240,7 @@ void record_failure(const fs::path& out, const std::string& name, const std::str
 bool already_done(const TestSpec& test, const PluginHost& host, const RunOptions& options) {
   const fs::path folder = options.out / test.name;
   return options.resume && test_name_problem(test.name).empty() && exists_at_all(folder / "config.json") &&
-         resume_difference(folder, test_config(test, host)).empty() && data_problem(folder, options.drones_csv).empty();
+         resume_difference(folder, test_config(test, host)).empty() && data_problem(folder, options.drones_csv, options.drone_columns).empty();
 }
 
 // ---- Locks, nesting and what a finished test holds
@@ -491,7 +492,45 @@ void write_manifest(const fs::path& work, const std::string& config) {
   write_file(work / manifest_name, json{{"files", files}}.dump(2) + "\n");
 }
 
-std::string data_problem(const fs::path& folder, bool drones_wanted) {
+std::vector<std::string> drone_column_headers(const std::vector<std::string>& names) {
+  const std::vector<StateColumn> declared = Simulation::declared_columns();
+  std::vector<std::string> out;
+  for (const std::string& name : names) {
+    const auto c = std::find_if(declared.begin(), declared.end(), [&](const StateColumn& c) { return c.name == name; });
+    if (c != declared.end() && c->width == 2) out.insert(out.end(), {name + "_x", name + "_y"});
+    else out.push_back(name);
+  }
+  return out;
+}
+
+namespace {
+
+/// Which of `wanted` drones.csv's header lacks ("" when none).
+std::string lacking_columns(const fs::path& drones, const std::vector<std::string>& wanted) {
+  std::ifstream in(drones, std::ios::binary);
+  std::string header;
+  std::getline(in, header);
+  std::string lacking;
+  for (const std::string& column : drone_column_headers(wanted))
+    if (("," + header + ",").find("," + column + ",") == std::string::npos) lacking += (lacking.empty() ? "" : ", ") + column;
+  return lacking;
+}
+
+std::string data_problem_at(const fs::path& folder, bool drones_wanted);
+
+}  // namespace
+
+std::string data_problem(const fs::path& folder, bool drones_wanted, const std::vector<std::string>& drone_columns) {
+  if (std::string problem = data_problem_at(folder, drones_wanted); !problem.empty()) return problem;
+  if (drones_wanted && !drone_columns.empty())
+    if (const std::string lacking = lacking_columns(folder / "drones.csv", drone_columns); !lacking.empty())
+      return (folder / "drones.csv").string() + " lacks " + lacking + " (asked for by --drone-columns)";
+  return {};
+}
+
+namespace {
+
+std::string data_problem_at(const fs::path& folder, bool drones_wanted) {
   std::error_code ec;
   const fs::path manifest = folder / manifest_name;
   json files;
@@ -525,5 +564,7 @@ std::string data_problem(const fs::path& folder, bool drones_wanted) {
   }
   return {};
 }
+
+}  // namespace
 
 }  // namespace salsa

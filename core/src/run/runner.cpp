@@ -6,7 +6,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <atomic>
+#include <charconv>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -68,15 +70,20 @@ class SummaryObserver final : public Observer {
 };
 
 // drones.csv: one row per logged step and drone not removed; with the fleet, its group, status and
-// energy drawn.
+// energy drawn; then the state columns asked for by name (RunOptions::drone_columns).
 class DroneObserver final : public Observer {
  public:
-  DroneObserver(const fs::path& file, bool fleet)
-      : csv_(file, fleet ? "time,id,x,y,vx,vy,group,status,energy_used_Wh" : "time,id,x,y,vx,vy"), fleet_(fleet) {}
+  DroneObserver(const fs::path& file, bool fleet, const std::vector<std::string>& columns)
+      : csv_(file, header(fleet ? "time,id,x,y,vx,vy,group,status,energy_used_Wh" : "time,id,x,y,vx,vy", drone_column_headers(columns))),
+        fleet_(fleet), columns_(columns) {
+    for (const std::string& name : columns) widths_.push_back(width(name));
+  }
   void observe(const Simulation& sim) override {
     const auto p = sim.drone_positions();
     const auto v = sim.drone_velocities();
     const auto status = sim.drone_status();
+    std::vector<StateColumn> extra;
+    for (const std::string& name : columns_) extra.push_back(sim.column(name));  // none yet: the wind's before it blew
     for (std::uint32_t i = 0; i < p.size(); ++i) {
       if (status[i] == DroneStatus::removed) continue;
       csv_.field(sim.time(), 4).field(static_cast<std::uint64_t>(i));
@@ -85,14 +92,41 @@ class DroneObserver final : public Observer {
         csv_.text(sim.setup().groups[sim.drone_groups()[i]].name).text(status_name(sim, i));
         csv_.field(sim.energy_used(i) / 3600, 4);
       }
+      for (std::size_t k = 0; k < extra.size(); ++k) write_value(extra[k], widths_[k], i);
       csv_.end_row();
     }
   }
   void close() { csv_.close(); }
 
  private:
+  static std::size_t width(const std::string& name) {
+    for (const StateColumn& c : Simulation::declared_columns())
+      if (c.name == name) return c.width;
+    return 1;
+  }
+  /// Drone i's value(s) of `c` as written: whole numbers as they are, doubles in their shortest form that
+  /// reads back exactly (a clock of 1e-7 keeps its digits); empty while the simulation keeps no such column.
+  void write_value(const StateColumn& c, std::size_t width, std::uint32_t i) {
+    for (std::size_t k = 0; k < width; ++k) {
+      if (!c.data || i >= c.rows) {
+        csv_.empty_field();
+        continue;
+      }
+      const std::size_t at = i * c.width + k;
+      if (c.type == StateColumn::Type::u8) csv_.field(std::uint64_t{static_cast<const std::uint8_t*>(c.data)[at]});
+      else if (c.type == StateColumn::Type::u32) csv_.field(std::uint64_t{static_cast<const std::uint32_t*>(c.data)[at]});
+      else {
+        char text[32];
+        const auto end = std::to_chars(text, text + sizeof text, static_cast<const double*>(c.data)[at]).ptr;
+        csv_.text({text, static_cast<std::size_t>(end - text)});
+      }
+    }
+  }
+
   CsvWriter csv_;
   bool fleet_;
+  std::vector<std::string> columns_;
+  std::vector<std::size_t> widths_;
 };
 
 // fleet.csv: each drone at the end, removed ones too: its status, since when, energy and battery.
@@ -153,6 +187,25 @@ DataColumns data_columns(const TestSpec& test, const PluginHost& host) {
 }
 
 
+std::string drone_columns_problem(const std::vector<std::string>& names) {
+  const std::vector<StateColumn> declared = Simulation::declared_columns();
+  auto written = [](std::string_view name) { return name == "position" || name == "velocity" || name == "group" || name == "status"; };
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string& name = names[k];
+    if (written(name))
+      return "'" + name + "' is in drones.csv already (x, y, vx, vy; group and status with the fleet model)";
+    if (std::find(names.begin(), names.begin() + static_cast<std::ptrdiff_t>(k), name) != names.begin() + static_cast<std::ptrdiff_t>(k))
+      return "'" + name + "' is named twice";
+    if (std::none_of(declared.begin(), declared.end(), [&](const StateColumn& c) { return c.name == name; })) {
+      std::string allowed;
+      for (const StateColumn& c : declared)
+        if (!written(c.name)) allowed += (allowed.empty() ? "" : ", ") + std::string(c.name);
+      return "'" + name + "' is not a drone state column (allowed: " + allowed + ")";
+    }
+  }
+  return {};
+}
+
 RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOptions& options) {
   RunResult result;
   // The runner's own check of the name, whatever the reader did: it becomes a path.
@@ -202,7 +255,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     }
     SummaryObserver summary(work / "summary.csv", session->metrics(), *session);
     std::optional<DroneObserver> drones;
-    if (options.drones_csv) drones.emplace(work / "drones.csv", test.fleet());
+    if (options.drones_csv) drones.emplace(work / "drones.csv", test.fleet(), options.drone_columns);
     session->add_observer(&summary);
     if (drones) session->add_observer(&*drones);
     try {

@@ -157,9 +157,9 @@ class Simulation final : public WorldView {
   Vec2 spawn_point() const { return groups_[0].base; }
   /// Per drone: whether its camera works, energy drawn so far (J), battery left (J; +inf without a
   /// battery model) and when its status began (s; 0 while flying).
-  bool camera_works(std::uint32_t id) const { return drones_.camera[id] != 0; }
-  double energy_used(std::uint32_t id) const { return drones_.used[id]; }
-  double battery_left(std::uint32_t id) const { return drones_.charge[id]; }
+  bool camera_works(std::uint32_t id) const { return drones_.fleet.camera[id] != 0; }
+  double energy_used(std::uint32_t id) const { return drones_.fleet.used[id]; }
+  double battery_left(std::uint32_t id) const { return drones_.fleet.charge[id]; }
   double status_time(std::uint32_t id) const { return drones_.since[id]; }
   const std::vector<TargetState>& targets() const { return targets_.states; }
   const Wind& wind() const { return setup_.wind; }
@@ -170,7 +170,7 @@ class Simulation final : public WorldView {
   Vec2 wind_at(Vec2 p, double t) const;
   /// Each drone's velocity relative to the air (m/s): drone_velocities() minus the wind it flew in
   /// (the same span as drone_velocities() while the test has had no wind).
-  std::span<const Vec2> air_velocities() const { return wind_active_ ? drones_.air : drones_.velocities; }
+  std::span<const Vec2> air_velocities() const { return wind_active_ ? drones_.air.velocity : drones_.velocities; }
   std::size_t targets_found() const { return targets_.found; }
   std::uint64_t collisions() const { return collisions_; }  ///< contacts begun, drone–drone and drone–obstacle
   /// False detections so far (the drone configuration's false_detection_rate): phantom targets the
@@ -190,11 +190,14 @@ class Simulation final : public WorldView {
   std::vector<double> nearest_neighbour_distances() const;
   /// The drone's obstacle-ray hits of the last sense phase.
   std::span<const ObstacleHit> obstacle_hits(std::uint32_t id) const {
-    return {drones_.hits.data() + id * ray_slots_, id < drones_.hit_counts.size() ? drones_.hit_counts[id] : 0u};
+    return {drones_.sensing.hits.data() + id * ray_slots_, id < drones_.sensing.hit_counts.size() ? drones_.sensing.hit_counts[id] : 0u};
   }
   /// The drones' state as named columns (columns.hpp), each a view of the array the step uses: a
   /// model's columns are there while the model keeps them (the wind's once the test has had wind).
   std::vector<StateColumn> columns() const;
+  /// Every column a simulation may keep, whichever models a test turns on (no data): for checking a
+  /// name before a run and for `salsa describe columns`.
+  static std::vector<StateColumn> declared_columns();
   /// The column called `name`, or one with data == nullptr.
   StateColumn column(std::string_view name) const;
   /// Seconds spent in each phase so far (zeros unless SimulationSetup::profile).
@@ -233,22 +236,34 @@ class Simulation final : public WorldView {
   void observe();
   void comm_changed();  // drones, sizes or the model changed: resize before the next decide, forget inbox()'s grid
 
-  // Drones, structure of arrays indexed by id.
+  // Drones, structure of arrays indexed by id (columns(): their names and units): the drone's own
+  // arrays, then each model's in a struct that declares its columns in the model's file.
   struct Drones {
     std::vector<Vec2> positions, velocities, steering, commanded;
-    /// With wind only: velocity relative to the air, and the wind added in the last act phase (m/s).
-    std::vector<Vec2> air, wind;
     std::vector<Rng> rngs;
     std::vector<std::uint32_t> groups;
     std::vector<DroneStatus> status;
-    std::vector<std::uint8_t> camera;   ///< 1 while the camera works
-    std::vector<double> used, charge;   ///< J drawn so far; J left in the battery (+inf: no battery model)
     std::vector<double> since;          ///< s: when the status began
-    /// Failure clocks: exposure so far (∫ dt / mtbf) against an Exp(1) draw from the drone's failure
-    /// stream; the drone (its camera) fails when exposure reaches the draw. Rates may change live.
-    std::vector<double> exposure, due, camera_exposure, camera_due;
-    std::vector<ObstacleHit> hits;      ///< ray_slots_ per drone
-    std::vector<std::uint8_t> hit_counts;
+    /// Batteries and failures (fleet.cpp).
+    struct Fleet {
+      std::vector<std::uint8_t> camera;   ///< 1 while the camera works
+      std::vector<double> used, charge;   ///< J drawn so far; J left in the battery (+inf: no battery model)
+      /// Failure clocks: exposure so far (∫ dt / mtbf) against an Exp(1) draw from the drone's failure
+      /// stream; the drone (its camera) fails when exposure reaches the draw. Rates may change live.
+      std::vector<double> exposure, due, camera_exposure, camera_due;
+      void columns(std::vector<StateColumn>& out) const;
+    } fleet;
+    /// With wind only (act.cpp): velocity relative to the air, and the wind added in the last act phase (m/s).
+    struct Air {
+      std::vector<Vec2> velocity, wind;
+      void columns(std::vector<StateColumn>& out) const;
+    } air;
+    /// What each drone's obstacle rays hit in the last sense (sense.cpp).
+    struct Sensing {
+      std::vector<ObstacleHit> hits;      ///< ray_slots_ per drone
+      std::vector<std::uint8_t> hit_counts;
+      void columns(std::vector<StateColumn>& out) const;
+    } sensing;
   };
   /// What the simulation derives for each group from its GroupSetup.
   struct Group {

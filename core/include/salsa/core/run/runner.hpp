@@ -24,6 +24,9 @@ struct RunOptions {
   bool resume = false;  ///< skip tests whose folder holds the identical finished test
   int threads = 0;      ///< decide threads per simulation; 0: all cores
   bool drones_csv = true;
+  /// More columns of drones.csv: drone state columns by name (Simulation::columns(); a vector as
+  /// <name>_x and <name>_y), after the usual ones. Checked with drone_columns_problem.
+  std::vector<std::string> drone_columns;
   /// When set, the running test's steps so far are stored here after every step (for progress).
   std::atomic<std::size_t>* progress = nullptr;
   /// When set, called after every step (salsa bench queue records the floor's velocities here).
@@ -52,6 +55,9 @@ struct DataColumns {
   std::vector<std::string> summary, outcome;
 };
 DataColumns data_columns(const TestSpec& test, const PluginHost& host);
+/// Why `names` cannot be drones.csv's extra columns ("" when they can): the first that is no drone
+/// state column, with the names allowed.
+std::string drone_columns_problem(const std::vector<std::string>& names);
 
 /// Runs one test into `options.out / test.name`, written in a hidden ".partial" folder first and moved
 /// into place only when complete, with timing.json (wall seconds and steps). Throws InputError,
