@@ -22,7 +22,7 @@ std::string TestModel::names() const {
 namespace {
 
 std::vector<TestModel>& registry() {
-  static std::vector<TestModel> models{models::fleet(), models::failures(), models::comm(), models::wind(), models::noise()};
+  static std::vector<TestModel> models = models::core_models();
   return models;
 }
 
