@@ -504,8 +504,12 @@ void SandboxPage::refresh() {
   if (snap->selected && snap->status_of(snap->selected->id) == DroneStatus::flying) fail_target_ = snap->selected->id;
   fail_->setEnabled(fail_target_ && snap->state != RunState::failed);
   fail_->setText(fail_target_ ? QString("Fail drone %1").arg(*fail_target_) : QString("Fail the inspected drone"));
-  if (snap->selected) inspector_->setPlainText(inspection_text(*snap));
-  else if (!inspector_->toPlainText().isEmpty()) inspector_->clear();
+  // Longer than its box: a person scrolled down to a model's lines stays there as the values change.
+  if (const QString text = inspection_text(*snap); text != inspector_->toPlainText()) {
+    const int at = inspector_->verticalScrollBar()->value();
+    inspector_->setPlainText(text);
+    inspector_->verticalScrollBar()->setValue(at);
+  }
 }
 
 // ---------------------------------------------------------------- settings
