@@ -122,14 +122,14 @@ Inspection Engine::Worker::inspect(std::uint32_t id) const {
   }
   if ((in.fleet = fleet_on())) in.status = status_name(*sim, id);
   // The test as run so far (its changes those applied): a test model of a column's model name says
-  // whether that model is on. The fleet keeps its arrays in every test: on as fleet_on() says. Any
-  // other model lists its columns only while it keeps them.
+  // whether that model is on (the fleet keeps its arrays in every test, a fail.* change may switch it
+  // on). A model with no test model lists its columns only while it keeps them.
   TestSpec run = session->current();
   run.changes.assign(session->timeline().begin(), session->timeline().begin() + static_cast<std::ptrdiff_t>(session->changes_applied()));
   auto on = [&](std::string_view model) {
     for (const TestModel& m : test_models())
       if (m.key == model) return !m.in_use || m.in_use(run);
-    return model != "fleet" || in.fleet;
+    return true;
   };
   for (const StateColumn& c : sim->columns()) {
     if (id >= c.rows || !c.data || !on(c.model)) continue;
