@@ -10,6 +10,7 @@
 #include <QDoubleSpinBox>
 #include <QLineEdit>
 #include <QPushButton>
+#include <QRegularExpression>
 #include <QSettings>
 #include <QSpinBox>
 #include <QTemporaryDir>
@@ -195,7 +196,7 @@ class GuiGroups : public QObject {
 
   void failures_set_in_the_desktop_are_recorded() {
     steps(10);
-    sandbox().drone_mtbf_box()->setValue(600);  // as typed
+    sandbox().model_panel("failures")->spin_box("drone_mtbf")->setValue(600);  // as typed
     settle();
     QCOMPARE(sandbox().engine().current_test()->failures.drone_mtbf, 600.0);
     QVERIFY(has_change(live_changes(), "failures.drone_mtbf", 600));
@@ -212,7 +213,10 @@ class GuiGroups : public QObject {
     auto snap = sandbox().engine().snapshot();
     QCOMPARE(snap->status_of(7), DroneStatus::failed);
     QVERIFY(snap->selected && snap->selected->fleet);
-    QTRY_VERIFY(sandbox().inspector_text().startsWith("drone 7 of group inspectors: failed\nno battery model\n"));
+    // Its status, and the fleet's columns (no battery model: none left to count).
+    QTRY_VERIFY(sandbox().inspector_text().startsWith("drone 7 of group inspectors: failed\n"));
+    QVERIFY(sandbox().inspector_text().contains("\nfleet:\n"));
+    QVERIFY(sandbox().inspector_text().contains("\n  battery left inf Wh\n"));
     QTRY_VERIFY(!sandbox().fail_button()->isEnabled());  // it is down already
     QVERIFY(legend_rows(*snap).contains("inspectors: 11 flying, 1 stopped"));
     // The saved test replays both: the rate and the event at their times.
@@ -258,9 +262,13 @@ class GuiGroups : public QObject {
     settle();
     QTRY_VERIFY(sandbox().inspector_text().contains("battery left"));
     const auto snap = sandbox().engine().snapshot();
-    QVERIFY(snap->selected && snap->selected->battery_left && *snap->selected->battery_left < 1);
-    QVERIFY(snap->selected->energy_used > 0);
-    QVERIFY(sandbox().inspector_text().startsWith("drone 0: flying\nenergy used "));
+    const StateLine* left = snap->selected ? snap->selected->line("battery_left") : nullptr;
+    const StateLine* used = snap->selected ? snap->selected->line("energy_used") : nullptr;
+    QVERIFY(left && used && left->unit == "J");
+    QVERIFY(left->values[0] < 50 * 3600);  // drawn from its 50 Wh
+    QVERIFY(used->values[0] > 0);
+    QVERIFY(sandbox().inspector_text().startsWith("drone 0: flying\n"));
+    QVERIFY(sandbox().inspector_text().contains(QRegularExpression("\n  energy used [0-9.]+ Wh\n")));
   }
 
   // Sensor noise is a section of its own, folded like the battery's: its five properties there and

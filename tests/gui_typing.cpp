@@ -243,12 +243,12 @@ class GuiTyping : public QObject {
       double applied;        // NAN: refused, the value before kept
       const char* refusal;   // "" when applied, else the start of the status line
     };
-    sandbox().comm_box()->setChecked(true);
+    sandbox().model_box("comm")->setChecked(true);
     settle();
     NumberField* size = sandbox().map_panel()->spin_box("size");
     NumberField* drones = sandbox().drones_box();
     NumberField* targets = sandbox().targets_box();
-    NumberField* loss = sandbox().comm_panel()->spin_box("loss");
+    NumberField* loss = sandbox().model_panel("comm")->spin_box("loss");
     const Case cases[] = {
         {size, "1e308", NAN, "size: \"1e308\" is out of range (allowed: ["},
         {size, "4E2", 400, ""},
@@ -265,13 +265,13 @@ class GuiTyping : public QObject {
       for (const Case& c : cases) {
         // A field rebuilt by a reload is found again by name.
         NumberField* field = c.field == size ? sandbox().map_panel()->spin_box("size")
-                             : c.field == loss ? sandbox().comm_panel()->spin_box("loss") : c.field;
+                             : c.field == loss ? sandbox().model_panel("comm")->spin_box("loss") : c.field;
         const double before = field->value();
         QSignalSpy refused(field, &NumberField::refused);
         type_and_commit(field, c.typed, how, sandbox().view());
         settle();
         if (c.field == size) field = sandbox().map_panel()->spin_box("size");
-        if (c.field == loss) field = sandbox().comm_panel()->spin_box("loss");
+        if (c.field == loss) field = sandbox().model_panel("comm")->spin_box("loss");
         const QString what = QString("%1 typed into %2, %3").arg(c.typed, field->objectName(), name_of(how));
         const double expected = std::isnan(c.applied) ? before : c.applied;
         QVERIFY2(field->value() == expected, qPrintable(what + QString(": holds %1").arg(field->value(), 0, 'g', 17)));

@@ -143,8 +143,11 @@ class GuiWindow : public QObject {
     QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->engine().snapshot()->selected.has_value(), 5000);
     const std::uint32_t id = window_->sandbox()->engine().snapshot()->selected->id;
     QVERIFY2(distance(snap->positions[id], snap->positions[7]) < 3, "the clicked drone, or one on top of it");
-    QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->inspector_text().startsWith(QString("drone %1\nposition (").arg(id)), 5000);
+    // Its state columns by model, then its neighbours; no fleet (no battery, no failures): no status, no energy.
+    QTRY_VERIFY_WITH_TIMEOUT(window_->sandbox()->inspector_text().startsWith(QString("drone %1\ndrone:\n  position [").arg(id)), 5000);
+    QVERIFY(window_->sandbox()->inspector_text().contains("\n  velocity ["));
     QVERIFY(window_->sandbox()->inspector_text().contains("neighbours ("));
+    QVERIFY(!window_->sandbox()->inspector_text().contains("energy used"));
   }
 
   void bad_files_keep_the_state() {
@@ -355,7 +358,7 @@ class GuiWindow : public QObject {
   // The wind's velocity (-1000 to 1000 m/s) by slider: fine near 0 (a normal wind can be set), monotonic,
   // the ends exact, 0 and 3 m/s on positions of their own.
   void wind_sliders_are_fine_near_zero() {
-    ParamPanel* wind = window_->sandbox()->wind_panel();
+    ParamPanel* wind = window_->sandbox()->model_panel("wind");
     QSlider* slider = wind->slider("velocity.x");
     QVERIFY(slider);
     QCOMPARE(wind->slider_value("velocity.x", slider->minimum()), -1000.0);
@@ -374,11 +377,10 @@ class GuiWindow : public QObject {
     QVERIFY(zero && three);
     wind->set_value("velocity.x", 3);
     QCOMPARE(wind->slider_value("velocity.x", slider->value()), 3.0);
-    // Arrow keys from 3 m/s (the breeze a ticked Wind box starts): each press moves on, never stuck on a
-    // position that rounds back to 3.
+    // Arrow keys from 3 m/s (a breeze): each press moves on (a live change), never stuck on a position
+    // that rounds back to 3.
     window_->activateWindow();
     QVERIFY(QTest::qWaitForWindowActive(window_.get()));
-    window_->sandbox()->wind_box()->setChecked(true);
     settle();
     QApplication::processEvents();
     slider = wind->slider("velocity.x");

@@ -12,6 +12,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -49,25 +50,34 @@ struct StatsRow {
 };
 
 /// The selected drone, for the inspector.
+/// One column of the drones' state (Simulation::columns()) for the inspected drone.
+struct StateLine {
+  std::string model;           ///< who keeps it: "drone", "fleet", "wind", ...
+  std::string name, unit;      ///< as the column declares them ("energy_used", "J")
+  std::vector<double> values;  ///< its `width` values (x then y for a vector)
+  bool whole = false;          ///< a count, an id or a code
+};
+
 struct Inspection {
   std::uint32_t id = 0;
   std::string group;                       ///< its group's name
-  Vec2 position, velocity, commanded;      ///< m, m/s, m/s (what the behavior asked for last step)
+  Vec2 position;                           ///< m
+  /// Every state column of a model that is on, in the simulation's order (a model's new column joins
+  /// without a line here). A model with a test model of its name is on while that one is in use.
+  std::vector<StateLine> state;
   std::vector<std::uint32_t> neighbours;   ///< flying ids within its detection range
   std::vector<ObstacleHit> hits;           ///< its obstacle rays' hits, last step
   std::string memory;                      ///< Behavior::inspect(id); empty when not exposed
-  /// With the fleet model on (TestSpec::fleet, or a fail.* change made): as drones.csv and fleet.csv
-  /// say it. status: flying, camera_failed, landed or failed.
+  /// With the fleet model on (TestSpec::fleet, or a fail.* change made): its status as drones.csv and
+  /// fleet.csv name it (flying, camera_failed, landed or failed).
   bool fleet = false;
   std::string status;
-  double energy_used = 0;                  ///< Wh (drawn from its battery: 0 without one)
-  std::optional<double> battery_left;      ///< fraction 0..1; none without a battery
   /// With "comm": the senders of the messages it receives in the next step, by ascending id.
   std::optional<std::vector<std::uint32_t>> heard;
   /// With position noise: where the drone will perceive itself at its next decision (m).
   std::optional<Vec2> perceived;
-  /// With wind: its velocity through the air (m/s); `velocity` is over the ground.
-  std::optional<Vec2> air_velocity;
+  /// The state line named `name`, or nullptr (its model is off).
+  const StateLine* line(std::string_view name) const;
 };
 
 /// A group of drones as the view draws it.

@@ -3,6 +3,7 @@
 #include <limits>
 
 #include "engine_worker.hpp"
+#include "salsa/core/experiments/test_models.hpp"
 
 namespace salsa::gui {
 
@@ -96,6 +97,12 @@ bool Engine::Worker::fleet_on() const {
                      [](const Change& c) { return c.key.starts_with("fail."); });
 }
 
+const StateLine* Inspection::line(std::string_view name) const {
+  for (const StateLine& l : state)
+    if (l.name == name) return &l;
+  return nullptr;
+}
+
 Inspection Engine::Worker::inspect(std::uint32_t id) const {
   Inspection in;
   in.id = id;
@@ -104,8 +111,6 @@ Inspection Engine::Worker::inspect(std::uint32_t id) const {
   const auto p = sim->drone_positions();
   const auto status = sim->drone_status();
   in.position = p[id];
-  in.velocity = sim->drone_velocities()[id];
-  in.commanded = sim->commanded_velocities().size() > id ? sim->commanded_velocities()[id] : Vec2{};
   const DroneConfig& drone = sim->drone_config(group);
   const double range = drone.detection_range;
   if (status[id] == DroneStatus::flying)  // a stopped drone sees no one, and no one sees it
@@ -115,13 +120,31 @@ Inspection Engine::Worker::inspect(std::uint32_t id) const {
     const auto hits = sim->obstacle_hits(id);
     in.hits.assign(hits.begin(), hits.end());
   }
-  if ((in.fleet = fleet_on())) {
-    in.status = status_name(*sim, id);
-    in.energy_used = sim->energy_used(id) / 3600;  // J to Wh
-    if (drone.battery_capacity > 0) in.battery_left = std::clamp(sim->battery_left(id) / (drone.battery_capacity * 3600), 0.0, 1.0);
+  if ((in.fleet = fleet_on())) in.status = status_name(*sim, id);
+  // The test as run so far (its changes those applied): a test model of a column's model name says
+  // whether that model is on (the fleet keeps its arrays in every test, a fail.* change may switch it
+  // on). A model with no test model lists its columns only while it keeps them.
+  TestSpec run = session->current();
+  run.changes.assign(session->timeline().begin(), session->timeline().begin() + static_cast<std::ptrdiff_t>(session->changes_applied()));
+  auto on = [&](std::string_view model) {
+    for (const TestModel& m : test_models())
+      if (m.key == model) return !m.in_use || m.in_use(run);
+    return true;
+  };
+  for (const StateColumn& c : sim->columns()) {
+    if (id >= c.rows || !c.data || !on(c.model)) continue;
+    StateLine line{std::string(c.model), std::string(c.name), std::string(c.unit), {}, c.type != StateColumn::Type::f64};
+    for (std::size_t k = 0; k < c.width; ++k) {
+      const std::size_t at = id * c.width + k;
+      switch (c.type) {
+        case StateColumn::Type::f64: line.values.push_back(static_cast<const double*>(c.data)[at]); break;
+        case StateColumn::Type::u32: line.values.push_back(static_cast<const std::uint32_t*>(c.data)[at]); break;
+        case StateColumn::Type::u8: line.values.push_back(static_cast<const std::uint8_t*>(c.data)[at]); break;
+      }
+    }
+    in.state.push_back(std::move(line));
   }
   if (drone.position_noise > 0) in.perceived = sim->perceived_position(id);
-  if (session->current().has_wind()) in.air_velocity = sim->air_velocities()[id];
   if (sim->setup().comm.on) {
     in.heard.emplace();
     for (const Message& m : sim->inbox(id)) in.heard->push_back(m.sender);

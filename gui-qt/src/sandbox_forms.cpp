@@ -1,4 +1,5 @@
-// The sandbox's forms: the controls that show, build and read a test's settings (set-up, groups, drones, failures, comm, wind).
+// The sandbox's forms: the controls that show, build and read a test's settings (set-up, groups, drones;
+// the models' boxes: sandbox_models.cpp).
 #include <QComboBox>
 #include <QFileInfo>
 #include <QFormLayout>
@@ -25,18 +26,6 @@ namespace salsa::gui {
 namespace {
 
 using json = nlohmann::ordered_json;
-
-/// The comm model's and the wind's numbers as panel rows (each declared once, in its schema).
-Parameters comm_parameters() {
-  Parameters out;
-  for (const CommField& f : comm_schema()) out.push_back(f.spec);
-  return out;
-}
-Parameters wind_parameters() {
-  Parameters out;
-  for (const WindProperty& p : wind_schema()) out.push_back(p.spec);
-  return out;
-}
 
 QString q(const std::string& s) { return QString::fromStdString(s); }
 
@@ -186,56 +175,8 @@ void SandboxPage::build_forms(QVBoxLayout* column) {
   live_form->addWidget(fine);
   column->addWidget(live);
 
-  // Failures: rates for every drone of every group, and one drone failed by hand; recorded like the rest.
-  auto* failures = new QGroupBox("Failures (live, recorded)");
-  auto* failure_form = new QFormLayout(failures);
-  auto mtbf_box = [](const char* name, const QString& tip) {
-    auto* box = new NumberField({std::string("failures.") + name, 0, 0, 1e9, "s", "", 60});  // as check_change allows
-    box->setObjectName(name);
-    box->set_special_text("never");
-    box->setToolTip(tip + " (allowed: [0, 1e9] s; 0: never)");
-    return box;
-  };
-  drone_mtbf_ = mtbf_box("drone_mtbf", "mean time to failure of a whole drone: each drone's failure time is drawn from the seed");
-  camera_mtbf_ = mtbf_box("camera_mtbf", "mean time to failure of a drone's camera: it flies on, finding nothing");
-  failure_form->addRow("drone MTBF", drone_mtbf_);
-  failure_form->addRow("camera MTBF", camera_mtbf_);
-  fail_ = new QPushButton("Fail the inspected drone");
-  fail_->setObjectName("fail_drone");
-  fail_->setToolTip("click a drone, then this: it fails now (fail.drone), stopping where it is");
-  fail_->setEnabled(false);
-  failure_form->addRow(fail_);
-  column->addWidget(failures);
-
-  // Communication: turning it on or off is a new start state; its fields change live, recorded.
-  comm_box_ = new QGroupBox("Communication (fields live, recorded)");
-  comm_box_->setObjectName("comm");
-  comm_box_->setCheckable(true);
-  comm_box_->setChecked(false);
-  comm_box_->setToolTip("messages between drones (docs/test-format.md#communication); off: nobody hears anybody");
-  comm_panel_ = new ParamPanel;
-  comm_panel_->set_schema(comm_parameters());
-  auto* comm_column = new QVBoxLayout(comm_box_);
-  comm_column->addWidget(comm_panel_);
-  // Why the view may show no links: only messages are drawn, and only a behavior that broadcasts sends.
-  comm_note_ = new QLabel;
-  comm_note_->setObjectName("comm_note");
-  comm_note_->setWordWrap(true);
-  comm_note_->setStyleSheet("color: palette(mid)");
-  comm_column->addWidget(comm_note_);
-  column->addWidget(comm_box_);
-
-  // Wind, the same way: on or off starts over (the test's field plugin, if any, is kept), its numbers live.
-  wind_box_ = new QGroupBox("Wind (numbers live, recorded)");
-  wind_box_->setObjectName("wind");
-  wind_box_->setCheckable(true);
-  wind_box_->setChecked(false);
-  wind_box_->setToolTip("constant wind and gusts; a drone's max speed and power are through the air (docs/test-format.md#wind). "
-                        "Ticked with no wind set, it starts as 3 m/s along +x");
-  wind_panel_ = new ParamPanel;
-  wind_panel_->set_schema(wind_parameters());
-  (new QVBoxLayout(wind_box_))->addWidget(wind_panel_);
-  column->addWidget(wind_box_);
+  // A box per model of the test's sections (failures, comm, wind, any added), from its declaration.
+  build_model_boxes(column);
 
   // Start state: a new load, once the event loop is back. Live values: a recorded change.
   auto reload = [this] {
@@ -278,33 +219,6 @@ void SandboxPage::build_forms(QVBoxLayout* column) {
     connect(drone, &ParamPanel::changed, this, [this](const std::string& name, double v) {
       if (!updating_) live_change(group_key("drone." + name), v);
     });
-  connect(drone_mtbf_, &NumberField::valueChanged, this, [this](double v) {
-    if (!updating_) live_change("failures.drone_mtbf", v);
-  });
-  connect(camera_mtbf_, &NumberField::valueChanged, this, [this](double v) {
-    if (!updating_) live_change("failures.camera_mtbf", v);
-  });
-  connect(comm_box_, &QGroupBox::toggled, this, [this](bool) {
-    if (!updating_) schedule_reload();
-  });
-  connect(comm_panel_, &ParamPanel::changed, this, [this](const std::string& name, double v) {
-    if (!updating_) live_change("comm." + name, v);
-  });
-  connect(wind_box_, &QGroupBox::toggled, this, [this](bool on) {
-    if (updating_) return;
-    // A wind of zero is no wind: ticked over all zeros, it starts as a 3 m/s breeze along +x to edit.
-    const bool calm = std::all_of(wind_schema().begin(), wind_schema().end(), [&](const WindProperty& p) {
-      return p.spec.name == "gusts.time_scale" || wind_panel_->value(p.spec.name) == 0;
-    });
-    if (on && calm) wind_panel_->set_value("velocity.x", 3);
-    schedule_reload();
-  });
-  connect(wind_panel_, &ParamPanel::changed, this, [this](const std::string& name, double v) {
-    if (!updating_) live_change("wind." + name, v);
-  });
-  connect(fail_, &QPushButton::clicked, this, [this] {
-    if (fail_target_) live_change("fail.drone", *fail_target_);
-  });
   connect(drone_config_, &QComboBox::activated, this, [this](int) { apply_drone_config(drone_config_->currentText()); });
   connect(save_config, &QPushButton::clicked, this, &SandboxPage::save_drone_config);
 }
@@ -330,26 +244,7 @@ std::optional<TestSpec> SandboxPage::spec_from_controls(std::string* why) {
     for (const Parameter& p : panel->schema()) salsa::drone_schema().find(p.name)->set(d, panel->value(p.name));
   group["drone"] = drone_json(d);
   group["drones"] = drones_->whole();
-  j.erase("failures");
-  if (drone_mtbf_->value() > 0 || camera_mtbf_->value() > 0)
-    j["failures"] = {{"drone_mtbf", drone_mtbf_->value()}, {"camera_mtbf", camera_mtbf_->value()}};
-  j.erase("comm");
-  if (comm_box_->isChecked()) {
-    json comm = json::object();
-    for (const CommField& f : comm_schema()) {
-      const double v = comm_panel_->value(f.spec.name);
-      comm[f.spec.name] = f.flag ? json(v != 0) : json(v);
-    }
-    j["comm"] = comm;
-  }
-  const json field = j.contains("wind") && j["wind"].contains("field") ? j["wind"]["field"] : json();
-  j.erase("wind");
-  if (wind_box_->isChecked()) {
-    Wind w;
-    for (const WindProperty& p : wind_schema()) p.set(w, wind_panel_->value(p.spec.name));
-    j["wind"] = {{"velocity", {w.velocity.x, w.velocity.y}}, {"gusts", {{"strength", w.gust_strength}, {"time_scale", w.gust_time_scale}}}};
-    if (!field.is_null()) j["wind"]["field"] = field;
-  }
+  models_json(j);
   if (!map_file_.isEmpty()) j["map"] = {{"file", map_file_.toStdString()}};
   else j["map"] = {{"name", map_->currentText().toStdString()}, {"params", params_json(map_panel_)}};
   const bool same_kind = target_kind_->currentText().toStdString() == file_base_.target.name;
@@ -465,12 +360,7 @@ void SandboxPage::show_test(const TestSpec& t) {
   show_drone(group.drone);
   if (group.drone.battery_capacity > 0) battery_toggle_->setChecked(true);  // a battery in use is shown
   if (section_in_use(group.drone, DroneSection::noise)) noise_toggle_->setChecked(true);  // so is noise
-  drone_mtbf_->setValue(t.failures.drone_mtbf);
-  camera_mtbf_->setValue(t.failures.camera_mtbf);
-  comm_box_->setChecked(t.comm.on);
-  for (const CommField& f : comm_schema()) comm_panel_->set_value(f.spec.name, f.get(t.comm));
-  wind_box_->setChecked(t.has_wind());
-  for (const WindProperty& p : wind_schema()) wind_panel_->set_value(p.spec.name, p.get(t.wind));
+  show_models(t);
   updating_ = was;
 }
 

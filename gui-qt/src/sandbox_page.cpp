@@ -21,6 +21,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "inspector_text.hpp"
 #include "live_charts.hpp"
 #include "param_panel.hpp"
 #include "recorder.hpp"
@@ -475,7 +476,8 @@ void SandboxPage::refresh() {
   }
   slow_refresh_ = now;
   charts_->show_rows(snap->stats);
-  comm_note_->setText(!comm_box_->isChecked() ? QString()
+  const QGroupBox* comm = model_box("comm");
+  if (comm_note_) comm_note_->setText(!comm || !comm->isChecked() ? QString()
                       : !snap->links.empty()
                           ? QString("%1 messages delivered for the next step, drawn as links (View > Communication links)").arg(snap->links.size())
                           : "No messages in flight, so no links drawn: a link is a message delivered, and only a behavior that "
@@ -502,39 +504,11 @@ void SandboxPage::refresh() {
   if (snap->selected && snap->status_of(snap->selected->id) == DroneStatus::flying) fail_target_ = snap->selected->id;
   fail_->setEnabled(fail_target_ && snap->state != RunState::failed);
   fail_->setText(fail_target_ ? QString("Fail drone %1").arg(*fail_target_) : QString("Fail the inspected drone"));
-  if (snap->selected) {
-    const Inspection& in = *snap->selected;
-    QString text = QString("drone %1").arg(in.id);
-    if (snap->groups.size() > 1) text += QString(" of group %1").arg(q(in.group));
-    if (in.fleet) {
-      text += QString(": %1\n").arg(q(in.status));
-      text += in.battery_left ? QString("energy used %1 Wh, battery left %2 %").arg(in.energy_used, 0, 'f', 3).arg(100 * *in.battery_left, 0, 'f', 1)
-                              : QString("no battery model");
-    }
-    text += QString("\nposition (%1, %2) m\nvelocity (%3, %4) m/s, speed %5 m/s\ncommanded (%6, %7) m/s\n")
-                .arg(in.position.x, 0, 'f', 2).arg(in.position.y, 0, 'f', 2)
-                .arg(in.velocity.x, 0, 'f', 2).arg(in.velocity.y, 0, 'f', 2).arg(in.velocity.length(), 0, 'f', 2)
-                .arg(in.commanded.x, 0, 'f', 2).arg(in.commanded.y, 0, 'f', 2);
-    text += QString("neighbours (%1 within %2 m):").arg(in.neighbours.size()).arg(snap->drone_of(in.id).detection_range);
-    for (std::size_t i = 0; i < std::min<std::size_t>(in.neighbours.size(), 12); ++i) text += QString(" %1").arg(in.neighbours[i]);
-    if (in.neighbours.size() > 12) text += " …";
-    text += QString("\nobstacle hits: %1").arg(in.hits.size());
-    for (const ObstacleHit& h : in.hits) text += QString(" %1 m").arg(h.distance, 0, 'f', 1);
-    if (in.perceived)
-      text += QString("\nperceived position (%1, %2) m, %3 m off").arg(in.perceived->x, 0, 'f', 2).arg(in.perceived->y, 0, 'f', 2)
-                  .arg(distance(*in.perceived, in.position), 0, 'f', 2);
-    if (in.air_velocity)
-      text += QString("\nair velocity (%1, %2) m/s, air speed %3 m/s").arg(in.air_velocity->x, 0, 'f', 2).arg(in.air_velocity->y, 0, 'f', 2)
-                  .arg(in.air_velocity->length(), 0, 'f', 2);
-    if (in.heard) {
-      text += QString("\nmessages next step: %1 from").arg(in.heard->size());
-      for (std::size_t i = 0; i < std::min<std::size_t>(in.heard->size(), 12); ++i) text += QString(" %1").arg((*in.heard)[i]);
-      if (in.heard->size() > 12) text += " …";
-    }
-    if (!in.memory.empty()) text += "\nmemory: " + q(in.memory);
+  // Longer than its box: a person scrolled down to a model's lines stays there as the values change.
+  if (const QString text = inspection_text(*snap); text != inspector_->toPlainText()) {
+    const int at = inspector_->verticalScrollBar()->value();
     inspector_->setPlainText(text);
-  } else if (!inspector_->toPlainText().isEmpty()) {
-    inspector_->clear();
+    inspector_->verticalScrollBar()->setValue(at);
   }
 }
 

@@ -2,8 +2,8 @@
 // The sandbox page: the view in the middle, the set-up and live parameters (a panel the window docks
 // on the left), live plots and the inspector (docked on the right), and its figures for the status bar.
 // Every control either changes the running simulation (behavior parameters, drone count, drone
-// properties, failures: recorded in the timeline) or loads a new start state (behavior, map, targets,
-// seed). With two or more groups of drones, a group box chooses whose behavior, count and drone the
+// properties, the numbers of the test's models: recorded in the timeline) or loads a new start state
+// (behavior, map, targets, seed, a model switched on or off). With two or more groups of drones, a group box chooses whose behavior, count and drone the
 // controls show and change. The page owns no simulation logic: it sends commands to the Engine and
 // shows its snapshots.
 #include <QTimer>
@@ -17,6 +17,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json_fwd.hpp>
 
 #include "engine.hpp"
 #include "view.hpp"
@@ -91,14 +93,12 @@ class SandboxPage : public QWidget {
   ParamPanel* noise_panel() const { return noise_panel_; }       ///< the sensor noise drone properties
   QToolButton* noise_toggle() const { return noise_toggle_; }    ///< shows or hides the noise panel
   QComboBox* group_box() const { return group_; }                ///< whose controls (shown with 2+ groups)
-  NumberField* drone_mtbf_box() const { return drone_mtbf_; }
-  NumberField* camera_mtbf_box() const { return camera_mtbf_; }
-  QPushButton* fail_button() const { return fail_; }             ///< fails the inspected drone
-  QGroupBox* comm_box() const { return comm_box_; }              ///< checked: the test has "comm" (a new start state)
-  ParamPanel* comm_panel() const { return comm_panel_; }         ///< its fields, live
+  /// The box of a model of the test's sections (test_models(): "failures", "comm", "wind", any added),
+  /// or nullptr. Checkable when the section alone switches the model on (a new start state).
+  QGroupBox* model_box(const std::string& key) const;
+  ParamPanel* model_panel(const std::string& key) const;  ///< its fields, live
+  QPushButton* fail_button() const { return fail_; }             ///< fails the inspected drone (in the failures box)
   QLabel* comm_note() const { return comm_note_; }               ///< messages in flight, or why the view draws no links
-  QGroupBox* wind_box() const { return wind_box_; }              ///< checked: the test has "wind" (a new start state)
-  ParamPanel* wind_panel() const { return wind_panel_; }         ///< its numbers, live
   ParamPanel* map_panel() const { return map_panel_; }
   NumberField* drones_box() const { return drones_; }
   NumberField* targets_box() const { return targets_; }
@@ -141,6 +141,14 @@ class SandboxPage : public QWidget {
   /// The chosen group's index in `t` (0 when its name is not there).
   std::size_t chosen_group(const TestSpec& t) const;
   void apply_drone_config(const QString& name);
+
+  // ---- The models' boxes (sandbox_models.cpp): one per model of test_models() with fields, from its
+  // declaration (title, fields, ranges); values read and written through the fields' get and set.
+  void build_model_boxes(QVBoxLayout* column);
+  /// Shows the models of `t` (the caller holds updating_).
+  void show_models(const TestSpec& t);
+  /// The models' sections in `j` as the boxes say: a model that is off has none (its test keeps its bytes).
+  void models_json(nlohmann::ordered_json& j) const;
   void save_drone_config();
   std::vector<DroneConfig> drone_configs() const;  ///< built-in, then the user's saved ones
 
@@ -181,14 +189,15 @@ class SandboxPage : public QWidget {
   ParamPanel* noise_panel_ = nullptr;
   /// The panels of the drone properties, one per section of drone_schema(), indexed by DroneSection.
   std::array<ParamPanel*, 3> drone_panels() const { return {drone_panel_, battery_panel_, noise_panel_}; }
-  NumberField* drone_mtbf_ = nullptr;
-  NumberField* camera_mtbf_ = nullptr;
+  /// One per model of the test's sections with fields to edit, in test_models() order.
+  struct ModelBox {
+    std::string key;
+    QGroupBox* box = nullptr;
+    ParamPanel* panel = nullptr;
+  };
+  std::vector<ModelBox> model_boxes_;
   QPushButton* fail_ = nullptr;
-  QGroupBox* comm_box_ = nullptr;
-  ParamPanel* comm_panel_ = nullptr;
   QLabel* comm_note_ = nullptr;  ///< the messages in flight, or why there are none
-  QGroupBox* wind_box_ = nullptr;
-  ParamPanel* wind_panel_ = nullptr;
   std::optional<std::uint32_t> fail_target_;  ///< the inspected drone the fail button names
   QPushButton* run_button_ = nullptr;
   QComboBox* pacing_ = nullptr;
