@@ -128,14 +128,18 @@ class TestBadInput : public QObject {
     };
     map_case("spawn inside an obstacle", map_with_obstacle("[50, 50]"), {"map.json", "spawn", "[50, 50]", "obstacles[0]"},
              {"map.json", "spawn", "[50, 50]", "obstacles[0]"});
-    map_case("default spawn inside an obstacle", map_with_obstacle(""), {"map.json", "spawn", "the default"},
-             {"map.json", "spawn", "the default"});
+    map_case("default spawn inside an obstacle", map_with_obstacle(""), {"map.json", "spawn", "[50, 50] is inside obstacles[0]"},
+             {"map.json", "spawn", "[50, 50] is inside obstacles[0]"});
     map_case("spawn too close to an obstacle", map_with_obstacle("[39.5, 50]"),
              {"map.json", "spawn", "[39.5, 50]", "free space"}, {"test.json", "map.json", "spawn", "[39.5, 50]", "free space"});
     map_case("spawn outside the bounds", map_with_obstacle("[150, 10]"), {"map.json", "spawn", "[150, 10]", "outside"},
              {"map.json", "spawn", "[150, 10]", "outside"});
     map_case("polygon with 2 points", R"({"bounds": {"min": [0, 0], "max": [100, 100]}, "obstacles": [[[40, 40], [60, 40]]]})",
              {"map.json", "obstacles[0]", "at least 3 points"}, {"map.json", "obstacles[0]", "at least 3 points"});
+    // The map creator's rules hold for a map file however it is used (one set of rules, map_check.hpp).
+    map_case("polygon whose edges cross", R"({"bounds": {"min": [0, 0], "max": [100, 100]}, "spawn": [10, 10],
+               "obstacles": [[[40, 40], [60, 60], [60, 40], [40, 60]]]})",
+             {"map.json", "obstacles[0]", "edges 0 and 2 cross"}, {"test.json", "map.json", "obstacles[0]", "edges 0 and 2 cross"});
     map_case("missing bounds", R"({"spawn": [5, 5], "obstacles": [[[40, 40], [60, 40], [50, 50]]]})",
              {"map.json", "bounds", "missing"}, {"map.json", "bounds", "missing"});
     map_case("bounds.max below bounds.min", R"({"bounds": {"min": [0, 0], "max": [-100, 100]}})",

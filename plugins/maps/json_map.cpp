@@ -1,12 +1,14 @@
-// Maps read from JSON files; the format is documented in docs/maps.md. Every error is a MapError of
-// one line naming the file, the field, the offending value and what is allowed.
+// Maps read from JSON files; the format is documented in docs/maps.md. This plugin reads the file's
+// shape (a point is two numbers, a shape an array of points); the map rules (bounds, points within them,
+// enough points, a free spawn point) are the core's, checked in one place for every map file
+// (map_check.hpp). Every error is a MapError of one line naming the file, the field, the offending
+// value and what is allowed.
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 #include <salsa/sdk.hpp>
 
-#include "format.hpp"       // how salsa writes points in messages
 #include "strict_json.hpp"  // the core's strict reading: depth, duplicate keys, numbers, UTF-8, file checks
 
 namespace {
@@ -14,15 +16,6 @@ namespace {
 using nlohmann::json;
 
 std::string shown(const json& j) { return salsa::strict_json::shown(j); }
-
-bool inside_polygon(salsa::Vec2 p, const salsa::Polyline& poly) {  // even-odd rule
-  bool inside = false;
-  for (std::size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const salsa::Vec2 a = poly[i], b = poly[j];
-    if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) inside = !inside;
-  }
-  return inside;
-}
 
 class Reader {
  public:
@@ -44,21 +37,10 @@ class Reader {
       if (key != "min" && key != "max") fail("bounds", "unknown key '" + salsa::strict_json::printable(key) + "' (allowed: min, max)");
     if (!bounds.contains("min") || !bounds.contains("max")) fail("bounds", "needs both \"min\" and \"max\"");
     map.bounds = {point(bounds["min"], "bounds.min"), point(bounds["max"], "bounds.max")};
-    if (!(map.bounds.max.x > map.bounds.min.x && map.bounds.max.y > map.bounds.min.y))
-      fail("bounds.max", salsa::format::point(map.bounds.max) + " must be greater than bounds.min " + salsa::format::point(map.bounds.min));
-
-    map.obstacles = polylines(root, "obstacles", "polygon", 3, map.bounds);
-    map.hollow = polylines(root, "hollow", "outline", 3, map.bounds);
-    map.lines = polylines(root, "lines", "line", 2, map.bounds);
-
+    map.obstacles = polylines(root, "obstacles", "polygon", true);
+    map.hollow = polylines(root, "hollow", "outline", true);
+    map.lines = polylines(root, "lines", "line", false);
     map.spawn = root.contains("spawn") ? point(root["spawn"], "spawn") : map.bounds.centre();
-    if (!map.bounds.contains(map.spawn))
-      fail("spawn", salsa::format::point(map.spawn) + " is outside " + bounds_text(map.bounds));
-    for (std::size_t i = 0; i < map.obstacles.size(); ++i)
-      if (inside_polygon(map.spawn, map.obstacles[i]))
-        fail("spawn", salsa::format::point(map.spawn) +
-                          (root.contains("spawn") ? "" : " (the default, centre of the bounds)") +
-                          " is inside obstacles[" + std::to_string(i) + "]; drones must start in free space");
     return map;
   }
 
@@ -82,31 +64,19 @@ class Reader {
     return {j[0].get<double>(), j[1].get<double>()};  // finite: the reader refuses anything else
   }
 
-  static std::string bounds_text(const salsa::Rect& b) {
-    return "the bounds (" + salsa::format::rect(b) + ")";
-  }
-
-  std::vector<salsa::Polyline> polylines(const json& root, const std::string& key, const std::string& what,
-                                         std::size_t min_points, const salsa::Rect& bounds) const {
+  /// The shapes under `key`, as written; a closed shape (obstacles, hollow) may repeat its first point at
+  /// the end, which is dropped (the closing edge is implied anyway).
+  std::vector<salsa::Polyline> polylines(const json& root, const std::string& key, const std::string& what, bool closed) const {
     std::vector<salsa::Polyline> out;
     if (!root.contains(key)) return out;
     const json& list = root[key];
-    if (!list.is_array())
-      fail(key, "expected an array of " + what + "s (arrays of [x, y]), got " + shown(list));
+    if (!list.is_array()) fail(key, "expected an array of " + what + "s (arrays of [x, y]), got " + shown(list));
     for (std::size_t i = 0; i < list.size(); ++i) {
       const std::string field = key + "[" + std::to_string(i) + "]";
       if (!list[i].is_array()) fail(field, "expected an array of points [x, y], got " + shown(list[i]));
       salsa::Polyline& pts = out.emplace_back();
-      for (std::size_t j = 0; j < list[i].size(); ++j) {
-        const std::string at = field + "[" + std::to_string(j) + "]";
-        pts.push_back(point(list[i][j], at));
-        if (!bounds.contains(pts.back())) fail(at, salsa::format::point(pts.back()) + " is outside " + bounds_text(bounds));
-      }
-      // A closed outline may repeat its first point at the end; the closing edge is implied anyway.
-      if (min_points == 3 && pts.size() > 1 && pts.front() == pts.back()) pts.pop_back();
-      if (pts.size() < min_points)
-        fail(field, what + " needs at least " + std::to_string(min_points) + " points, got " +
-                        std::to_string(pts.size()));
+      for (std::size_t j = 0; j < list[i].size(); ++j) pts.push_back(point(list[i][j], field + "[" + std::to_string(j) + "]"));
+      if (closed && pts.size() > 1 && pts.front() == pts.back()) pts.pop_back();
     }
     return out;
   }

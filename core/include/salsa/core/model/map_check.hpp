@@ -1,7 +1,7 @@
 #pragma once
-// What is wrong with a map as drawn: the map creator lists these live and draws the shapes they name
-// in red. The json map plugin refuses most of them when a file is read (docs/maps.md); crossing edges
-// it cannot see cheaply, so they are found here.
+// The map rules, in one place: what is wrong with a map as drawn. The map creator lists these live and
+// draws the shapes they name in red; a map file is refused by them wherever it is used (the json map
+// plugin reads the file's shape only; docs/maps.md); a plugin's map meets the structure rules.
 #include <cstddef>
 #include <string>
 #include <vector>
