@@ -5,7 +5,7 @@
 
 #include "salsa/core/experiments/changes.hpp"
 #include "salsa/core/experiments/test_models.hpp"
-#include "salsa/core/run/metrics.hpp"
+#include "salsa/core/experiments/metric_list.hpp"
 #include "salsa/core/files/names.hpp"
 #include "salsa/core/experiments/queue.hpp"
 #include "experiments/test_reader.hpp"
@@ -321,7 +321,7 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
         t.metrics.push_back({name, ParameterValues(host.metric(name).factory.parameters)});
   }
   try {
-    MetricSet(t.metrics, host);  // columns that clash, metrics that cannot be made
+    make_metrics(t.metrics, host);  // columns that clash, metrics that cannot be made
   } catch (const MetricListError& e) {
     r.fail("metrics[" + std::to_string(e.index) + "]", e.what());
   }

@@ -13,7 +13,7 @@
 #include "salsa/core/experiments/test_models.hpp"
 #include "salsa/core/model/drone_config.hpp"
 #include "test_reader.hpp"
-#include "salsa/core/run/runner.hpp"
+#include "salsa/core/experiments/metric_list.hpp"
 #include "strict_json.hpp"
 #include "format.hpp"
 

@@ -11,27 +11,6 @@ namespace salsa {
 
 namespace {
 
-std::vector<std::string> split(const char* list) {
-  std::vector<std::string> out;
-  std::stringstream s(list);
-  for (std::string name; std::getline(s, name, ',');) out.push_back(name);
-  return out;
-}
-
-/// Column names appear in CSV headers and, prefixed by nothing, in the queue summary: a plain identifier.
-bool column_name_ok(const std::string& name) {
-  auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); };
-  return !name.empty() && name.size() <= 64 && letter(name.front()) &&
-         std::all_of(name.begin(), name.end(), [&](char c) { return letter(c) || (c >= '0' && c <= '9') || c == '_'; });
-}
-
-/// Final columns land in the queue's summary.csv beside its own columns: those names are taken too.
-const std::vector<std::string>& queue_columns() {
-  static const std::vector<std::string> names = split("name,status,error,cell,variant,behavior,repeat,seed,drones,targets,"
-                                                      "target,map,time,versions,wall_seconds");
-  return names;
-}
-
 std::string format_value(double v, int decimals) {
   if (!std::isfinite(v)) return {};
   if (v == 0) v = 0;  // no "-0.0"
@@ -56,10 +35,7 @@ std::string time_text(double t) {
 
 }  // namespace
 
-struct MetricSet::Slot {
-  std::string label;  // "metric 'area_coverage' (/path/libmetrics.so)"
-  std::shared_ptr<Metric> metric;
-  std::vector<Column> step, final;
+struct MetricSet::Slot : MetricSlot {
   std::vector<double> values;  // scratch for observe/finish
 };
 
@@ -86,59 +62,12 @@ class MetricSet::View final : public MetricView {
   const MapData& map() const override { return sim->map(); }
 };
 
-MetricSet::MetricSet(const std::vector<PluginChoice>& metrics, const PluginHost& host) : view_(std::make_unique<View>()) {
-  const std::vector<std::string> summary = split(summary_columns), outcome = split(outcome_columns);
-  // Who holds each column name so far, per file.
-  std::vector<std::pair<std::string, std::string>> step_owner, final_owner;
-  for (const auto& o : outcome) final_owner.emplace_back(o, "outcome.csv's own columns");
-  for (const auto& q : queue_columns()) final_owner.emplace_back(q, "the queue summary's own columns");
-  for (const auto& s : summary) step_owner.emplace_back(s, "summary.csv's own columns");
+MetricSet::MetricSet(const std::vector<PluginChoice>& metrics, const PluginHost& host) : MetricSet(make_metrics(metrics, host)) {}
 
-  for (std::size_t i = 0; i < metrics.size(); ++i) {
-    const PluginChoice& choice = metrics[i];
-    for (std::size_t k = 0; k < i; ++k)
-      if (metrics[k].name == choice.name)
-        throw MetricListError(i, "metric '" + choice.name + "' is listed twice (also metrics[" + std::to_string(k) +
-                                     "]; allowed: each metric once)");
-    Slot slot;
-    const char* call = "";  // the metric's own call that threw, once it exists
-    try {
-      const Entry<Metric>& entry = host.metric(choice.name);
-      slot.label = "metric '" + choice.name + "' (" + entry.plugin().file.string() + ")";
-      slot.metric = PluginHost::create(entry, choice.params);  // its message names the metric
-      call = "step_columns";
-      slot.step = slot.metric->step_columns();
-      call = "final_columns";
-      slot.final = slot.metric->final_columns();
-    } catch (const std::exception& e) {
-      throw MetricListError(i, one_line(*call ? slot.label + " failed in " + call + ": " + e.what() : e.what()));
-    } catch (...) {
-      throw MetricListError(i, *call ? slot.label + " failed in " + call + ": an exception that is not a std::exception"
-                                     : "metric '" + choice.name + "': an exception that is not a std::exception");
-    }
-    auto claim = [&](const std::vector<Column>& columns, std::vector<std::pair<std::string, std::string>>& owners,
-                     const char* file) {
-      for (const Column& c : columns) {
-        const std::string at = slot.label + ": " + file + " column \"" + c.name.substr(0, 60) + "\"";
-        if (!column_name_ok(c.name))
-          throw MetricListError(i, at + " is not a valid column name (allowed: a letter, then letters, digits and '_', 1 to 64 characters)");
-        if (c.decimals < 0 || c.decimals > 12)
-          throw MetricListError(i, at + ": decimals " + std::to_string(c.decimals) + " (allowed: 0 to 12)");
-        for (const auto& [name, owner] : owners)
-          if (name == c.name)
-            throw MetricListError(i, at + " is already one of " + owner + " (allowed: distinct column names; list only one of the two metrics)");
-        owners.emplace_back(c.name, "metric '" + choice.name + "''s columns");
-      }
-    };
-    claim(slot.step, step_owner, "summary.csv");
-    claim(slot.final, final_owner, "outcome.csv");
-    slots_.push_back(std::move(slot));
-  }
-}
+MetricSet::MetricSet(const TestSpec& test, const PluginHost& host) : MetricSet(make_metrics(test, host)) {}
 
-MetricSet::MetricSet(const TestSpec& test, const PluginHost& host) try : MetricSet(test.metrics, host) {
-} catch (const MetricListError& e) {
-  throw InputError(test.source + ": metrics[" + std::to_string(e.index) + "]: " + e.what());
+MetricSet::MetricSet(std::vector<MetricSlot> metrics) : view_(std::make_unique<View>()) {
+  for (MetricSlot& m : metrics) slots_.push_back({std::move(m), {}});
 }
 
 MetricSet::~MetricSet() = default;

@@ -166,27 +166,6 @@ void write_targets(const fs::path& file, const Simulation& sim) {
 
 // ---- Public
 
-DataColumns data_columns(const TestSpec& test, const PluginHost& host) {
-  auto split = [](std::string_view text) {
-    std::vector<std::string> out;
-    for (std::size_t start = 0;;) {
-      const std::size_t comma = text.find(',', start);
-      out.emplace_back(text.substr(start, comma - start));
-      if (comma == std::string_view::npos) return out;
-      start = comma + 1;
-    }
-  };
-  const MetricSet metrics(test, host);
-  const std::vector<std::string> models = ModelOutputs(test).columns();
-  DataColumns c{split(summary_columns), split(outcome_columns)};
-  for (const auto& [to, more] : {std::pair{&c.summary, metrics.step_columns()}, std::pair{&c.outcome, metrics.final_columns()}}) {
-    to->insert(to->end(), more.begin(), more.end());
-    to->insert(to->end(), models.begin(), models.end());
-  }
-  return c;
-}
-
-
 std::string drone_columns_problem(const std::vector<std::string>& names) {
   const std::vector<StateColumn> declared = Simulation::declared_columns();
   auto written = [](std::string_view name) { return name == "position" || name == "velocity" || name == "group" || name == "status"; };

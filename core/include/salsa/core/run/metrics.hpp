@@ -1,6 +1,7 @@
 #pragma once
-// The metrics a test asked for (TestSpec::metrics), created through the host and driven by the runner:
-// their step columns go into summary.csv, their final columns into outcome.csv (docs/output-format.md).
+// The metrics a test asked for (TestSpec::metrics), made by make_metrics (metric_list.hpp) and driven by
+// the runner: their step columns go into summary.csv, their final columns into outcome.csv
+// (docs/output-format.md).
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -11,21 +12,10 @@
 #include "salsa/core/files/csv_writer.hpp"
 #include "salsa/core/plugins/plugin_host.hpp"
 #include "salsa/core/model/simulation.hpp"
+#include "salsa/core/experiments/metric_list.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 
 namespace salsa {
-
-/// summary.csv's own columns, before any metric's.
-inline constexpr const char* summary_columns = "time,targets_found,fraction_found,mean_speed,max_speed,mean_nn_distance,collisions";
-/// outcome.csv's own columns, before any metric's.
-inline constexpr const char* outcome_columns = "targets,targets_found,fraction_found";
-
-/// A list of metrics that cannot go together, or one that cannot be made: `index` is the metric at
-/// fault (metrics[index]), the message says why (names and columns, what is allowed).
-struct MetricListError : std::runtime_error {
-  MetricListError(std::size_t i, const std::string& what) : std::runtime_error(what), index(i) {}
-  std::size_t index;
-};
 
 /// A metric threw while the test ran; the message names the metric, its file and the time.
 struct MetricFailure : std::runtime_error {
@@ -34,11 +24,10 @@ struct MetricFailure : std::runtime_error {
 
 class MetricSet {
  public:
-  /// Creates the metrics and checks their columns: valid names, no clash with salsa's own columns or
-  /// with each other. Throws MetricListError.
+  /// Makes the metrics (make_metrics: throws MetricListError, or InputError for a test).
   MetricSet(const std::vector<PluginChoice>& metrics, const PluginHost& host);
-  /// The same for a test; throws InputError naming the test's source and metrics[i].
   MetricSet(const TestSpec& test, const PluginHost& host);
+  explicit MetricSet(std::vector<MetricSlot> metrics);
   ~MetricSet();
   MetricSet(const MetricSet&) = delete;
   MetricSet& operator=(const MetricSet&) = delete;

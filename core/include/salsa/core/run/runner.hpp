@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "salsa/core/experiments/metric_list.hpp"  // DataColumns, data_columns
 #include "salsa/core/files/csv_writer.hpp"
 #include "salsa/core/plugins/plugin_host.hpp"
 #include "salsa/core/run/session.hpp"
@@ -49,12 +50,6 @@ struct Interrupted : std::runtime_error {
   int signal;
 };
 
-/// The columns of summary.csv and outcome.csv a run of `test` writes, known before it runs: salsa's,
-/// the metrics', then the models' (docs/output-format.md). Throws InputError for a bad metric list.
-struct DataColumns {
-  std::vector<std::string> summary, outcome;
-};
-DataColumns data_columns(const TestSpec& test, const PluginHost& host);
 /// Why `names` cannot be drones.csv's extra columns ("" when they can): the first that is no drone
 /// state column, with the names allowed.
 std::string drone_columns_problem(const std::vector<std::string>& names);
