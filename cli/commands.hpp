@@ -25,8 +25,9 @@ int bench_queue(const boost::program_options::variables_map& vm, const salsa::Pl
 
 namespace salsa::cli {
 /// The queue folder's summary.csv, comparison.csv and (with `draw_plots`) queue plots, from its test
-/// folders alone (summarize.cpp).
-void finish_queue(const std::filesystem::path& out, const PluginHost& host, bool draw_plots);
+/// folders alone (summarize.cpp). Returns what the comparison took from the folders' order for want of
+/// OUT/queue.json ("" when nothing).
+std::string finish_queue(const std::filesystem::path& out, const PluginHost& host, bool draw_plots);
 /// A tune folder's plots (convergence, each parameter, the Pareto front) from its candidates.csv and
 /// tune_plots.json alone (tune_folder_plots.cpp); call plots::start_plotting() first. Throws InputError.
 void draw_tune_folder(const std::filesystem::path& out);

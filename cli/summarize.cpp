@@ -13,11 +13,13 @@ using namespace salsa::cli;
 
 namespace salsa::cli {
 
-/// The queue folder's summary, comparison and plots, from its test folders alone.
-void finish_queue(const fs::path& out, const PluginHost& host, bool draw_plots) {
+/// The queue folder's summary, comparison and plots, from its test folders alone; what the comparison
+/// took from the folders' order for want of OUT/queue.json ("" when nothing).
+std::string finish_queue(const fs::path& out, const PluginHost& host, bool draw_plots) {
   write_queue_summary(out, &host);
-  write_comparison(out);
+  std::string assumed = write_comparison(out);
   if (draw_plots) plots::draw_queue_plots(out);
+  return assumed;
 }
 
 
@@ -39,7 +41,9 @@ int cmd_summarize(int argc, char** argv) {
                      "wrote; 'salsa tune FILE --out " + out.string() + " --resume' rewrites a tune's files)");
   PluginHost host;
   load_plugins(host, vm, false);
-  finish_queue(out, host, !vm.count("no-plots"));
+  // Test folders copied out of a queue's folder keep neither its baseline condition nor its reference.
+  if (const std::string assumed = finish_queue(out, host, !vm.count("no-plots")); !assumed.empty())
+    std::cerr << "salsa: warning: summarize: " << out.string() << " has no queue.json: " << assumed << std::endl;
   if (!vm.count("quiet")) std::cout << "wrote " << (out / "summary.csv").string() << std::endl;
   return 0;
 }

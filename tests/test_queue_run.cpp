@@ -381,6 +381,45 @@ class TestQueueRun : public QObject {
     QVERIFY(std::abs(effects[2][11].toDouble() - comparison[1][11].toDouble()) < 1e-5);
   }
 
+  // Test folders summarized without their queue.json (the docs' recipe for a subset: copy the folders
+  // into a new one): the baseline condition and the reference are the queue's, not the folders', so
+  // summarize says in one line what it took instead (here the baseline condition 'windy' is last in
+  // folder order, and the reference 'flocking' is not the first variant either).
+  void summarize_without_queue_json_says_what_it_assumed() {
+    QTemporaryDir dir;
+    write(dir.filePath("q.json"), R"({"repeats": 2, "reference": "flocking",
+      "base": {"drones": 5, "time": 2, "targets": {"count": 20}, "metrics": []},
+      "sweep": {"behaviors": ["random_walk", "flocking"]},
+      "conditions": [{"name": "windy", "drones": 3}, {"name": "calm"}]})");
+    CliResult r = run_salsa({"run", "q.json", "--out", "out", "-q", "--no-plots", "--no-drones-csv"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const auto did = csv_rows(dir.filePath("out/did.csv"));
+    QCOMPARE(did.size(), 1 + 1);
+    QCOMPARE(did[1].mid(7, 4), (QStringList{"random_walk (defaults)", "flocking (defaults)", "windy", "calm"}));
+    // With queue.json, nothing is assumed.
+    r = run_salsa({"summarize", "out", "-q", "--no-plots"}, dir.path());
+    QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
+    QCOMPARE(csv_rows(dir.filePath("out/did.csv")), did);
+    const fs::path sub = fs::path(dir.path().toStdString()) / "sub";
+    fs::create_directory(sub);
+    for (const auto& entry : fs::directory_iterator(fs::path(dir.path().toStdString()) / "out"))
+      if (entry.is_directory()) fs::copy(entry.path(), sub / entry.path().filename(), fs::copy_options::recursive);
+    r = run_salsa({"summarize", "sub", "-q", "--no-plots"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QCOMPARE(non_empty_lines(r.err), (QStringList{"salsa: warning: summarize: sub has no queue.json: the baseline is condition 'calm' "
+                                                  "(the first in folder order) and pairs are every two variants (no reference)"}));
+    // What it says is what it wrote.
+    const auto assumed = csv_rows(dir.filePath("sub/did.csv"));
+    QCOMPARE(assumed.size(), 1 + 1);
+    QCOMPARE(assumed[1].mid(7, 4), (QStringList{"flocking (defaults)", "random_walk (defaults)", "calm", "windy"}));
+    // A folder whose tests have one condition and one variant has nothing to assume.
+    fs::create_directory(sub.parent_path() / "one");
+    for (const char* name : {"flocking_calm_r0", "flocking_calm_r1"})
+      fs::copy(sub / name, sub.parent_path() / "one" / name, fs::copy_options::recursive);
+    r = run_salsa({"summarize", "one", "-q", "--no-plots"}, dir.path());
+    QVERIFY2(r.exit_code == 0 && r.err.isEmpty(), describe(r));
+  }
+
   // "top": comparison.csv pairs the 3 variants of each condition with the highest mean fraction_found
   // (ranked here from summary.csv; the two conditions rank them differently), each with the others,
   // the better first; queue.json records it, and a run of the same tests with another top is another queue.

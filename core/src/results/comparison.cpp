@@ -120,6 +120,7 @@ std::vector<double> variant_means(const Group& g) {
 struct Choice {
   std::string reference;
   std::size_t top = 0;
+  bool recorded = false;  // OUT/queue.json is there: the queue's choice, not an assumption
 };
 Choice recorded_choice(const fs::path& out) {
   Choice c;
@@ -130,6 +131,7 @@ Choice recorded_choice(const fs::path& out) {
   try {
     const auto j = nlohmann::json::parse(text.str());
     if (!j.is_object()) return c;
+    c.recorded = true;
     if (j.contains("reference") && j["reference"].is_string()) c.reference = j["reference"].get<std::string>();
     if (j.contains("top") && j["top"].is_number_unsigned()) c.top = j["top"].get<std::size_t>();
   } catch (const std::exception&) {
@@ -171,9 +173,24 @@ std::pair<double, double> mean_interval(const Values& v, const Values& other) {
   return {mean - half, mean + half};
 }
 
+/// What a comparison without OUT/queue.json took from the folders' order ("" when nothing): the
+/// baseline condition (the first) and the pairs (no reference: every two variants, or each against the
+/// first beyond max_all_pairs).
+std::string assumed(const std::vector<Group>& groups, bool conditions) {
+  std::string out;
+  if (conditions) out = "the baseline is condition '" + groups.front().condition + "' (the first in folder order)";
+  const auto many = std::find_if(groups.begin(), groups.end(), [](const Group& g) { return g.variants.size() > max_all_pairs; });
+  std::string pairs;
+  if (many != groups.end()) pairs = "pairs are each variant against '" + many->variants.front() + "' (the first in folder order)";
+  else if (std::any_of(groups.begin(), groups.end(), [](const Group& g) { return g.variants.size() > 1; }))
+    pairs = "pairs are every two variants (no reference)";
+  if (!out.empty() && !pairs.empty()) out += " and ";
+  return out + pairs;
+}
+
 }  // namespace
 
-void write_comparison(const fs::path& out, const std::string& metric) {
+std::string write_comparison(const fs::path& out, const std::string& metric) {
   // ---- Read: the ok tests' metric, by cell and condition, variant and (repeat, seed).
   CsvReader in(out / "summary.csv");
   const std::size_t c_cell = in.column("cell"), c_variant = in.column("variant"), c_status = in.column("status"),
@@ -292,6 +309,7 @@ void write_comparison(const fs::path& out, const std::string& metric) {
     // A queue without conditions has neither (those left from an earlier queue go).
     for (const char* name : {"did.csv", "condition_effects.csv"}) fs::remove(out / name, ec);
   }
+  return choice.recorded ? std::string() : assumed(groups, any);
 }
 
 }  // namespace salsa

@@ -21,8 +21,10 @@ namespace salsa {
 /// 95 % t-interval over the per-repeat values; and OUT/condition_effects.csv: for each variant,
 /// (variant | condition) − (variant | the cell's first condition), paired the same way, with its 95 %
 /// t-interval and the first condition's mean with its own. The reference and top are OUT/queue.json's.
+/// Without OUT/queue.json (test folders copied elsewhere), returns what it took from the folders' order
+/// instead: the baseline condition and the pairs, in words ("" when there was no choice to make).
 /// Throws InputError (one line naming the file) on bad input.
-void write_comparison(const std::filesystem::path& out, const std::string& metric = "fraction_found");
+std::string write_comparison(const std::filesystem::path& out, const std::string& metric = "fraction_found");
 
 /// Half the width of the two-sided 95 % t-interval of a mean of `n` values with sample standard
 /// deviation `sd`: t_{0.975, n-1} · sd / √n. NaN for n < 2.
