@@ -10,6 +10,7 @@
 #include <iostream>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 #include "salsa/core/results/queue_summary.hpp"
 #include "salsa/core/run/output_folder.hpp"
@@ -40,6 +41,23 @@ po::options_description tune_options() {
   return o;
 }
 
+/// --force over an earlier tune: what it wrote goes, so none of its evaluations (it may have had more)
+/// outlive it. Only folders with salsa's marker, none holding other results, and the tune's own files.
+void remove_earlier_tune(const fs::path& out) {
+  std::vector<fs::path> tests;
+  std::error_code ec;
+  for (fs::directory_iterator it(out, ec), end; !ec && it != end; it.increment(ec))
+    if (salsa_wrote(it->path())) tests.push_back(it->path());
+  if (ec) throw WriteError(out.string() + ": cannot list the folder (" + ec.message() + ")");
+  for (const fs::path& folder : tests)  // all checked before any goes
+    if (const std::string why = nested_results(folder); !why.empty()) throw InputError(why);
+  for (const fs::path& folder : tests) remove_ours(folder);
+  for (const char* file : {"tune.csv", "candidates.csv", "best.json", "report.txt", "tune_plots.json"}) {
+    fs::remove(out / file, ec);
+    if (ec) throw WriteError((out / file).string() + ": cannot remove (" + ec.message() + ")");
+  }
+}
+
 /// OUT/tune.json records the tune file that writes OUT: another tune is refused, the same one needs --resume.
 void claim_tune_folder(const fs::path& out, const TuneSpec& spec, bool resume, bool force) {
   const fs::path record = out / "tune.json";
@@ -56,6 +74,7 @@ void claim_tune_folder(const fs::path& out, const TuneSpec& spec, bool resume, b
     throw InputError(out.string() + ": holds the results of salsa run (no tune.json), which salsa tune never writes into, even with --force " +
                      "(allowed: another --out folder)");
   }
+  if (force && holds_tune(out)) remove_earlier_tune(out);
   replace_file(record, spec.canonical + "\n");
 }
 

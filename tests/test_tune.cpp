@@ -242,6 +242,26 @@ class TestTune : public QObject {
     QVERIFY2(again.err.contains("--resume"), describe(again));
   }
 
+  // --force over an earlier, longer tune leaves the new tune alone in OUT: none of the earlier
+  // evaluations' folders, and a folder salsa did not write stays.
+  void force_replaces_an_earlier_tune_whole() {
+    QTemporaryDir dir;
+    const QString out = dir.filePath("out");
+    QVERIFY2(tune(write_tune(dir, bowl_tune("random", 30, 2)), out).exit_code == 0, "first tune");
+    QVERIFY(QDir(out).mkpath("notes"));
+    auto evaluations = [&] { return QDir(out).entryList({"c*_w*"}, QDir::Dirs).size(); };
+    const qsizetype before = evaluations();
+    const CliResult r = tune(write_tune(dir, bowl_tune("random", 6, 2)), out, {"--force"});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QVERIFY(QDir(out + "/notes").exists());
+    qsizetype listed = 0;
+    for (const auto& row : csv_rows(out + "/tune.csv")) {
+      listed += 1;
+      QVERIFY2(!row["test"].isEmpty() && QDir(out + "/" + row["test"]).exists(), qPrintable(row["test"]));
+    }
+    QVERIFY2(evaluations() == listed && listed < before, qPrintable(QString("%1 folders, %2 in tune.csv, %3 before").arg(evaluations()).arg(listed).arg(before)));
+  }
+
   void best_json_replays_to_its_score() {
     QTemporaryDir dir;
     const QString out = dir.filePath("out");
