@@ -495,6 +495,29 @@ class TestLimits : public QObject {
 
   // ---------------------------------------------------------------- huge swarms
 
+  // A live change of the drone count meets the same room check as a test's start: 10,000 drones in a
+  // 10 m map would start as one pile, every drone touching every other (n² contacts), so it is refused
+  // and nothing changes; a count that fits is taken.
+  void a_live_change_into_a_pile_is_refused() {
+    for (const char* physics : {"box2d", "light"}) {
+      const std::string json = std::string(R"({"behavior": "random_walk", "drones": 10, "map": {"name": "empty", "params": {"size": 10}}, "physics": ")") +
+                               physics + "\"}";
+      const TestSpec t = parse_test(json, "pile.json", *host_);
+      Simulation sim(make_setup(t, *host_, 1));
+      sim.step();
+      try {
+        sim.set_drone_count(10000);
+        QFAIL("10,000 drones in a 10 m map were taken");
+      } catch (const std::invalid_argument& e) {
+        QVERIFY2(std::string(e.what()).starts_with("10,000 drones (bodies of ") && std::string(e.what()).find("do not fit on the map") != std::string::npos, e.what());
+      }
+      QCOMPARE(sim.drone_count(), std::size_t{10});
+      sim.set_drone_count(12);
+      sim.step();
+      QCOMPARE(sim.flying_count(), std::size_t{12});
+    }
+  }
+
   void huge_swarm_is_announced() {
     const std::string json = R"({"behavior": "random_walk", "drones": 1000000, "drone": {"detection_range": 50},
                                  "map": {"name": "empty", "params": {"size": 2000}}, "time": 60})";

@@ -23,8 +23,18 @@ void Simulation::set_drone_count(std::size_t n, std::uint32_t group) {
   check_drone_count(n);
   if (group >= setup_.groups.size()) throw std::invalid_argument("group " + std::to_string(group) + " does not exist");
   std::vector<std::uint32_t> present;  // the group's drones not removed, by id
+  std::vector<GroupSetup> counted = setup_.groups;  // every group's drones once this change is made
+  for (GroupSetup& g : counted) g.drones = 0;
   for (std::uint32_t i = 0; i < drones_.positions.size(); ++i)
-    if (drones_.groups[i] == group && drones_.status[i] != DroneStatus::removed) present.push_back(i);
+    if (drones_.status[i] != DroneStatus::removed) {
+      ++counted[drones_.groups[i]].drones;
+      if (drones_.groups[i] == group) present.push_back(i);
+    }
+  counted[group].drones = n;
+  // Room for them, as for a test's drones at the start: a pile in which every drone touches every other
+  // is refused, not simulated (its contacts grow as n²).
+  if (n > present.size())
+    if (const Problem p = check_room(setup_.map.bounds, setup_.map.spawn, counted)) throw std::invalid_argument(p.what);
   Rng rng = spawn_rng_;
   Drones next = n > present.size() ? grown(drones_, group, n - present.size(), setup_, geometry_, groups_[group].base, rng, time())
                                    : drones_;
