@@ -225,6 +225,7 @@ class Simulation final : public WorldView {
   void decide();
   void communicate();
   void act();
+  void sample_wind();         // with wind: each flying drone's, at the step's start (drones_.wind)
   void act_in_wind();         // act when the test has (had) wind
   void physics();
   void fleet();               // batteries and failures
@@ -236,7 +237,8 @@ class Simulation final : public WorldView {
   // Drones, structure of arrays indexed by id.
   struct Drones {
     std::vector<Vec2> positions, velocities, steering, commanded;
-    /// With wind only: velocity relative to the air, and the wind added in the last act phase (m/s).
+    /// With wind only: velocity relative to the air, and the wind sampled at the step's start, added
+    /// in its act phase and perceived in its decide phase (m/s).
     std::vector<Vec2> air, wind;
     std::vector<Rng> rngs;
     std::vector<std::uint32_t> groups;
