@@ -33,7 +33,7 @@ class ReturnToBase final : public salsa::BehaviorWithMemory<Trip> {
     else if (t.home && me.battery >= resume) t.home = false, t.since = 1e9;  // only charging raises the battery
     if (!t.home) {
       if ((t.since += me.dt) > turn_interval) t.heading = rng.angle(), t.since = 0;
-      return salsa::steer_towards(me, salsa::Vec2::polar(me.max_speed, t.heading)) + avoidance * salsa::avoid_near_obstacles(me);
+      return salsa::steer_towards(me, salsa::full_speed(me, t.heading)) + avoidance * salsa::avoid_near_obstacles(me);
     }
     // Home: at most full speed, distance / 2 s near the end, so that it comes to rest on the base (the
     // core charges a drone slower than 1 m/s within charge_radius of it) and holds still there.

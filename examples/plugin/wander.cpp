@@ -13,7 +13,7 @@ class Wander final : public salsa::BehaviorWithMemory<Heading> {
  public:
   salsa::Vec2 decide(const salsa::Perception& me, Heading& h, salsa::Rng& rng) override {
     if ((h.since += me.dt) > turn_interval) h = {rng.angle(), 0};
-    return steer_towards(me, salsa::Vec2::polar(me.max_speed, h.angle)) + avoidance * avoid_obstacles(me);
+    return steer_towards(me, full_speed(me, h.angle)) + avoidance * avoid_obstacles(me);
   }
 };
 SALSA_BEHAVIOR(Wander, "wander", "Random heading changes, avoids obstacles")

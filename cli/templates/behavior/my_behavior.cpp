@@ -23,7 +23,7 @@ class MyBehavior final : public salsa::BehaviorWithMemory<MyBehaviorMemory> {
     if (!h.chosen) h = {rng.angle(), true};
     h.angle += rng.uniform(-1.0, 1.0) * turn_rate * me.dt;
     // Steering terms, each at most max force; the core adds the sum to the velocity.
-    return salsa::steer_towards(me, salsa::Vec2::polar(me.max_speed, h.angle)) +
+    return salsa::steer_towards(me, salsa::full_speed(me, h.angle)) +
            salsa::avoid_drones(me, separation) + avoidance * salsa::avoid_obstacles(me);
   }
   // decide() never looks at the targets in view: the core need not gather them.

@@ -44,20 +44,18 @@ Vec2 Simulation::wind_at(Vec2 p, double t) const {
   return w;
 }
 
-// Act in wind: the steering changes the air velocity, clamped to max speed; Box2D gets the ground
-// velocity, air + the wind at the drone's position now. A field that would carry a drone through a
-// wall in one step (or returns no number) stops the run, naming the plugin.
-void Simulation::act_in_wind() {
+// The wind where each flying drone is, at the step's start: asked once per drone and step (before the
+// drones decide, so that they perceive the wind they will fly in). A field that would carry a drone
+// through a wall in one step (or returns no number) stops the run, naming the plugin.
+void Simulation::sample_wind() {
   const double t = time(), dt = setup_.dt;
   const bool field = setup_.wind_field != nullptr;
   for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
     if (drones_.status[i] != DroneStatus::flying) continue;
-    const std::uint32_t g = drones_.groups[i];
-    const Vec2 a = finite_steering(drones_.steering[i], g, i);
     const Vec2 p = drones_.positions[i];
     const Vec2 w = wind_at(p, t);
     if (field) {
-      const DroneConfig& d = setup_.groups[g].drone;
+      const DroneConfig& d = setup_.groups[drones_.groups[i]].drone;
       const double limit = wind_limit(d, dt), speed = w.length();
       if (!w.finite())
         throw PluginFailure(wind_kind, 0, "velocity at " + format::point(p) + ", t = " + format::figure(t) + " s gave a wind of " + format::point(w) +
@@ -70,10 +68,20 @@ void Simulation::act_in_wind() {
                                               " s) and could pass through a wall (allowed: at most " +
                                               (limit > 0 ? format::limit((limit)) : "0") + " m/s here)");
     }
+    drones_.air.wind[i] = w;
+  }
+}
+
+// Act in wind: the steering changes the air velocity, clamped to max speed; Box2D gets the ground
+// velocity, air + the wind sampled at the drone's position when the step started.
+void Simulation::act_in_wind() {
+  for (std::size_t i = 0; i < drones_.positions.size(); ++i) {
+    if (drones_.status[i] != DroneStatus::flying) continue;
+    const std::uint32_t g = drones_.groups[i];
+    const Vec2 a = finite_steering(drones_.steering[i], g, i);
     const Vec2 air = (drones_.air.velocity[i] + a).clamped(groups_[g].properties.max_speed);
     drones_.air.velocity[i] = air;
-    drones_.air.wind[i] = w;
-    drones_.commanded[i] = air + w;
+    drones_.commanded[i] = air + drones_.air.wind[i];
   }
   physics_->set_velocities(drones_.commanded, drones_.status);
 }

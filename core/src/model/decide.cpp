@@ -41,6 +41,7 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
   me.position = p;
   me.velocity = drones_.velocities[id];
   me.air_velocity = wind_active_ ? drones_.air.velocity[id] : drones_.velocities[id];
+  if (wind_active_) me.wind = drones_.air.wind[id];
   me.max_speed = cfg.max_speed;
   me.max_force = cfg.max_force;
   me.radius = cfg.radius;

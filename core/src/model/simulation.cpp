@@ -88,6 +88,7 @@ void Simulation::timed(Phase phase, const auto& fn) {
 }
 
 void Simulation::step() {
+  if (wind_active_) timed(Phase::act, [this] { sample_wind(); });
   // The drones' side of a step: sense, decide and report what they saw, all on the snapshot of
   // positions the step started from.
   auto think = [this] {

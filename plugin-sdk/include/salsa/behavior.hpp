@@ -2,6 +2,7 @@
 // Behaviors: how a drone decides. `prepare` runs once per step, serially; `decide` runs once per drone
 // and may run in parallel, so it may only write that drone's own memory.
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -81,17 +82,41 @@ class BehaviorWithMemory : public Behavior {
 // Each returns one steering term of length at most max force: clamp(desired − velocity, max force).
 // A behavior weights and sums them; the core does not clamp the sum.
 
-/// Steering that turns the velocity towards `desired` (m/s), at most max force.
+/// The fastest ground speed (m/s) along the unit vector `d` that the drone can fly in the wind w where
+/// it is: the largest g ≥ 0 with |g·d − w| ≤ max speed (its air speed), g = d·w + √(max² − (d × w)²);
+/// max speed − |w| straight into the wind, max speed + |w| straight down it. 0 when the wind is too
+/// strong to make way along d: the drone then flies into it, drifting as little as it can.
+inline double ground_speed_along(const Perception& me, Vec2 d) {
+  const double across = d.cross(me.wind), room = me.max_speed * me.max_speed - across * across;
+  return room > 0 ? std::max(0.0, d.dot(me.wind) + std::sqrt(room)) : 0.0;
+}
+/// The ground velocity (m/s) at full speed along `direction` (any length; zero for a zero direction):
+/// max speed without wind. In wind, the fastest the drone can hold that course (ground_speed_along):
+/// asking for max speed over the ground instead would bend the course downwind, and a behavior that
+/// follows its own velocity (pheromone avoidance, flocking's alignment) would drift downwind for good.
+inline Vec2 full_speed(const Perception& me, Vec2 direction) {
+  if (me.wind.is_zero()) return direction.with_length(me.max_speed);
+  const Vec2 d = direction.normalized();
+  return d * ground_speed_along(me, d);
+}
+/// The same along a heading (rad): Vec2::polar(max_speed, heading) without wind.
+inline Vec2 full_speed(const Perception& me, double heading) {
+  if (me.wind.is_zero()) return Vec2::polar(me.max_speed, heading);
+  const Vec2 d = Vec2::polar(1, heading);
+  return d * ground_speed_along(me, d);
+}
+
+/// Steering that turns the velocity towards `desired` (m/s over the ground), at most max force.
 inline Vec2 steer_towards(const Perception& me, Vec2 desired) {
   return (desired - me.velocity).clamped(me.max_force);
 }
 /// Full speed towards a point.
 inline Vec2 seek(const Perception& me, Vec2 point) {
-  return steer_towards(me, (point - me.position).with_length(me.max_speed));
+  return steer_towards(me, full_speed(me, point - me.position));
 }
 /// Full speed along `direction` (any length); zero when the direction is zero.
 inline Vec2 steer_along(const Perception& me, Vec2 direction) {
-  return direction.is_zero() ? Vec2{} : steer_towards(me, direction.with_length(me.max_speed));
+  return direction.is_zero() ? Vec2{} : steer_towards(me, full_speed(me, direction));
 }
 /// Match the neighbours' mean velocity.
 inline Vec2 alignment(const Perception& me) {

@@ -27,9 +27,18 @@ class Scene {
   }
   /// The drone's own state and properties; edit freely (ranges, max speed, time, ...).
   Perception& me() { return me_; }
+  /// Puts the drone at `position` flying at `velocity` over the ground (m, m/s).
   Scene& at(Vec2 position, Vec2 velocity = {}) {
     me_.position = position;
-    me_.velocity = me_.air_velocity = velocity;  // no wind in a Scene
+    me_.velocity = velocity;
+    me_.air_velocity = velocity - me_.wind;
+    return *this;
+  }
+  /// The wind where the drone is (m/s; none unless set): Perception::wind, and what step() flies in.
+  /// The ground velocity stays; the air velocity becomes ground − wind.
+  Scene& wind(Vec2 velocity) {
+    me_.wind = velocity;
+    me_.air_velocity = me_.velocity - velocity;
     return *this;
   }
   Scene& neighbour(Vec2 position, Vec2 velocity = {}) {
@@ -67,12 +76,14 @@ class Scene {
     }
     return static_cast<Behavior&>(behavior).decide(perception(), rng_);
   }
-  /// decide, then fly the step as the core does without physics: velocity += steering, clamped to max
-  /// speed; position += velocity × dt; time += dt. Neighbours, obstacles and targets stay where they are.
+  /// decide, then fly the step as the core does without physics: air velocity = velocity − wind +
+  /// steering, clamped to max speed; velocity = air velocity + wind; position += velocity × dt;
+  /// time += dt. Neighbours, obstacles, targets and the wind stay as they are.
   template <class B>
   Vec2 step(B& behavior, std::uint64_t seed = 1) {
     const Vec2 steering = decide(behavior, seed);
-    me_.velocity = me_.air_velocity = (me_.velocity + steering).clamped(me_.max_speed);
+    me_.air_velocity = (me_.velocity - me_.wind + steering).clamped(me_.max_speed);  // me().velocity may have been edited
+    me_.velocity = me_.air_velocity + me_.wind;
     me_.position += me_.velocity * me_.dt;
     me_.time += me_.dt;
     return steering;

@@ -124,11 +124,15 @@ struct Perception {
   Vec2 position;           ///< m
   /// m/s over the ground, as the drone's navigation measures it (and neighbours see it). Steering
   /// changes the air velocity, so `desired − velocity` (steer_towards) makes the ground velocity
-  /// `desired`: the helpers hold a course against the wind as far as max speed allows.
+  /// `desired` when the drone can fly it: full_speed (behavior.hpp) gives the fastest it can.
   Vec2 velocity;
-  /// m/s relative to the air: velocity minus the wind where the drone is. What max_speed bounds and the
-  /// power model draws for; equal to `velocity` in a test without wind.
+  /// m/s relative to the air: velocity minus the wind it flew in during the last step. What max_speed
+  /// bounds and the power model draws for; equal to `velocity` in a test without wind.
   Vec2 air_velocity;
+  /// m/s: the wind where the drone is, the one it flies in this step (the test's constant wind, gusts
+  /// and wind field), as a drone's wind estimate gives it; zero without wind. With it the steering
+  /// helpers aim for ground velocities the drone can fly: into a headwind, max speed − |wind|.
+  Vec2 wind;
   double max_speed = 0;    ///< m/s, relative to the air
   double max_force = 0;    ///< largest velocity change of one steering term per step, m/s (the paper's convention)
   double radius = 0;       ///< m

@@ -53,7 +53,7 @@ class DynamicSpacePartitioningPaper : public BehaviorWithMemory<DiscWalk> {
         const Vec2 ahead = me.position + me.velocity.with_length(reach);
         if (distance_squared(ahead, point) > radius_ * radius_ && Vec2::polar(1, w.heading).dot(out) > 0)
           w = {(point - me.position).angle() + rng.uniform(-pi / 3, pi / 3), duration(rng)};
-        steer = steer_towards(me, Vec2::polar(me.max_speed, w.heading));
+        steer = steer_towards(me, full_speed(me, w.heading));
       }
     }
     return steer + obstacle_weight * avoid_near_obstacles(me);

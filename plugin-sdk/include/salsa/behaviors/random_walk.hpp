@@ -32,7 +32,7 @@ class RandomWalk : public BehaviorWithMemory<RandomWalkMemory> {
     if (!away.is_zero() && Vec2::polar(1, w.heading).dot(away) < 0)
       w = {away.angle() + rng.uniform(-pi / 3, pi / 3), duration(rng), true};
 
-    return steer_towards(me, Vec2::polar(me.max_speed, w.heading)) + obstacle_weight * avoid_near_obstacles(me);
+    return steer_towards(me, full_speed(me, w.heading)) + obstacle_weight * avoid_near_obstacles(me);
   }
 
   Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only

@@ -228,6 +228,7 @@ class Simulation final : public WorldView {
   void decide();
   void communicate();
   void act();
+  void sample_wind();         // with wind: each flying drone's, at the step's start (drones_.air.wind)
   void act_in_wind();         // act when the test has (had) wind
   void physics();
   void fleet();               // batteries and failures
@@ -253,7 +254,8 @@ class Simulation final : public WorldView {
       std::vector<double> exposure, due, camera_exposure, camera_due;
       void columns(std::vector<StateColumn>& out) const;
     } fleet;
-    /// With wind only (act.cpp): velocity relative to the air, and the wind added in the last act phase (m/s).
+    /// With wind only (act.cpp): velocity relative to the air, and the wind sampled at the step's start,
+    /// perceived in its decide phase and added in its act phase (m/s).
     struct Air {
       std::vector<Vec2> velocity, wind;
       void columns(std::vector<StateColumn>& out) const;
