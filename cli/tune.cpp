@@ -52,8 +52,8 @@ void remove_earlier_tune(const fs::path& out) {
   for (const fs::path& folder : tests)  // all checked before any goes
     if (const std::string why = nested_results(folder); !why.empty()) throw InputError(why);
   for (const fs::path& folder : tests) remove_ours(folder);
-  for (const char* file : {"tune.csv", "candidates.csv", "best.json", "report.txt", "tune_plots.json"}) {
-    fs::remove(out / file, ec);
+  for (const char* file : {"tune.csv", "candidates.csv", "best.json", "report.txt", "tune_plots.json", "summary.csv", "timing.csv", "front", "plots"}) {
+    fs::remove_all(out / file, ec);  // its plots too: another tune's parameters have other plots
     if (ec) throw WriteError((out / file).string() + ": cannot remove (" + ec.message() + ")");
   }
 }
