@@ -1,10 +1,15 @@
 """Bad input raises salsa.InputError with the very line the CLI prints (without its "salsa: ")."""
 
 import json
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 
 import salsa
+from salsa import _core
 from conftest import SMALL, cli
 
 BAD = {
@@ -65,3 +70,26 @@ def test_a_queue_is_not_one_session(tmp_path):
 def test_input_error_is_its_own_class():
     assert issubclass(salsa.InputError, Exception) and not issubclass(salsa.InputError, ValueError)
     assert salsa.InputError.__module__ == "salsa" and issubclass(salsa.TestFailure, RuntimeError)
+
+
+def test_a_plugin_throwing_while_stepping_raises_test_failure(tmp_path):
+    # In a process of its own: the plugins are loaded once per process, and this one is a test plugin.
+    folder = Path(_core.build_tree() or "/nonexistent") / "tests" / "test-plugins" / "crash"
+    if not folder.is_dir():
+        pytest.skip("the test plugins are built with the test suites (SALSA_BUILD_TESTS)")
+    code = """if True:
+        import salsa
+        s = salsa.Session({"name": "crashing", "behavior": {"name": "test_crash", "params": {"mode": 3, "at": 0.5}},
+                           "drones": 3, "time": 2})
+        try:
+            s.run_until()
+        except salsa.TestFailure as e:
+            print(s.time, e, sep="|")
+        """
+    env = {**os.environ, "SALSA_PLUGIN_PATH": str(folder)}
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    time, message = done.stdout.strip().split("|")
+    assert float(time) == pytest.approx(0.5, abs=0.02)  # stopped at the failing step
+    assert message.startswith(f"test 'crashing' (<dict>): behavior 'test_crash' ({folder}")
+    assert message.endswith("failed at t = 0.5 s: crash plugin threw as asked")
