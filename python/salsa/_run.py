@@ -1,0 +1,136 @@
+"""salsa.run: tests and queues run by the salsa program, the very engine of `salsa run`."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import warnings
+from pathlib import Path
+
+from . import _core
+from ._core import InputError, TestFailure
+from ._results import load
+
+
+def program():
+    """The salsa program: the one of the module's build tree, else `salsa` on PATH."""
+    root = _core.build_tree()
+    if root is not None:
+        built = Path(root) / "bin" / "salsa"
+        if built.is_file() and os.access(built, os.X_OK):
+            return str(built)
+    found = shutil.which("salsa")
+    if found is None:
+        raise FileNotFoundError("salsa.run: no salsa program: neither in the module's build tree (bin/salsa) nor on PATH")
+    return found
+
+
+def _absolute_paths(test):
+    """A test dict with its file paths absolute: they are relative to the working folder, as in a Session,
+    while the program reads the dict from a temporary file elsewhere."""
+    test = dict(test)
+
+    def absolute(value):
+        return os.path.abspath(value) if isinstance(value, str) and value else value
+
+    if isinstance(test.get("map"), str) and test["map"].endswith(".json"):
+        test["map"] = absolute(test["map"])
+    elif isinstance(test.get("map"), dict) and "file" in test["map"]:
+        test["map"] = {**test["map"], "file": absolute(test["map"]["file"])}
+    if "drone_configs" in test:
+        test["drone_configs"] = absolute(test["drone_configs"])
+    return test
+
+
+def _whole(name, value, allow_none=True):
+    if value is None and allow_none:
+        return None
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError(f"{name}: {type(value).__name__} (allowed: a whole number >= 0{', or None' if allow_none else ''})")
+    if value < 0:
+        raise ValueError(f"{name}: {value} is negative (allowed: a whole number >= 0; 0 means all cores)")
+    return value
+
+
+def _flag(name, value):
+    if not isinstance(value, bool):
+        raise TypeError(f"{name}: {type(value).__name__} (allowed: True or False)")
+    return value
+
+
+def run(tests, out, jobs=None, force=False, resume=False, time=None, plots=True, drones_csv=True, quiet=True, args=()):
+    """Runs tests with the salsa program (`salsa run`) into the folder `out` and returns salsa.load(out).
+
+    tests: a test or queue file's path, a dict holding a test, or a list of them. jobs: tests at once
+    (None: all cores). force, resume: as --force and --resume. time: simulated seconds per test (--time).
+    plots: draw the PNG plots. drones_csv: write drones.csv. quiet: no progress lines (else they go to
+    sys.stdout as the program prints them). args: more options of `salsa run`, as strings.
+
+    Raises salsa.InputError with the program's line when it refuses the input (exit status 2), and
+    salsa.TestFailure naming the first failed test when a test failed (exit status 1; the others ran).
+    """
+    items = list(tests) if isinstance(tests, (list, tuple)) else [tests]
+    if not items:
+        raise ValueError("tests: an empty list (allowed: a file's path, a dict holding a test, or a list of them)")
+    if not isinstance(out, (str, os.PathLike)):
+        raise TypeError(f"out: {type(out).__name__} (allowed: a folder's path as str or os.PathLike)")
+    jobs = _whole("jobs", jobs)
+    for name, value in (("force", force), ("resume", resume), ("plots", plots), ("drones_csv", drones_csv), ("quiet", quiet)):
+        _flag(name, value)
+    if time is not None and (isinstance(time, bool) or not isinstance(time, (int, float))):
+        raise TypeError(f"time: {type(time).__name__} (allowed: a number of seconds, or None for the tests' own)")
+    if isinstance(args, str) or not all(isinstance(a, str) for a in args):
+        raise TypeError("args: (allowed: a list of strings, each one option or value of salsa run)")
+
+    with tempfile.TemporaryDirectory(prefix="salsa-run-") as scratch:
+        files = []
+        for i, item in enumerate(items):
+            if isinstance(item, dict):
+                # Named as the test is (its name, else "test"), so its output folder is the same as a file's.
+                name = item.get("name") if isinstance(item.get("name"), str) and item.get("name") else "test"
+                folder = Path(scratch) / str(i)
+                folder.mkdir()
+                file = folder / f"{os.path.basename(name)}.json"
+                try:
+                    file.write_text(json.dumps(_absolute_paths(item)))
+                except (TypeError, ValueError) as e:
+                    raise TypeError(f"tests[{i}]: the dict holds a value JSON cannot hold: {e} "
+                                    "(allowed: dict, list, str, int, float, bool, None)") from None
+                files.append(str(file))
+            elif isinstance(item, (str, os.PathLike)):
+                files.append(os.fsdecode(item))
+            else:
+                raise TypeError(f"tests[{i}]: {type(item).__name__} (allowed: a file's path as str or os.PathLike, or a dict holding a test)")
+        command = [program(), "run", *files, "--out", os.fsdecode(out)]
+        if jobs is not None:
+            command += ["--jobs", str(jobs)]
+        if time is not None:
+            command += ["--time", repr(float(time))]
+        command += ["--force"] * force + ["--resume"] * resume + ["--no-plots"] * (not plots)
+        command += ["--no-drones-csv"] * (not drones_csv) + ["--quiet"] * quiet + list(args)
+        with tempfile.TemporaryFile(mode="w+", dir=scratch) as errors:
+            process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=errors, text=True)
+            with process:
+                for line in process.stdout:
+                    if not quiet:
+                        sys.stdout.write(line)
+                        sys.stdout.flush()
+            errors.seek(0)
+            lines = [line.rstrip("\n") for line in errors if line.strip()]
+    problems = []
+    for line in lines:
+        if line.startswith("salsa: warning: "):
+            warnings.warn(line[len("salsa: warning: "):], RuntimeWarning, stacklevel=2)
+        else:
+            problems.append(line[len("salsa: "):] if line.startswith("salsa: ") else line)
+    status = process.returncode
+    if status == 2:
+        raise InputError(problems[0] if problems else f"salsa run refused the input (exit status 2): {' '.join(command)}")
+    if status == 1:
+        more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
+        raise TestFailure((problems[0] if problems else "a test failed") + more + f"; the tests that ran are in {os.fsdecode(out)}")
+    if status != 0:
+        raise RuntimeError(f"salsa run ended with exit status {status}: {problems[0] if problems else ' '.join(command)}")
+    return load(out)

@@ -1,0 +1,31 @@
+#pragma once
+// What the two halves of the extension module salsa._core share: the process's plugin host and the
+// build tree the module sits in (docs/python.md).
+#include <pybind11/pybind11.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "salsa/core/plugins/plugin_host.hpp"
+
+namespace salsa::python {
+
+namespace py = pybind11;
+
+/// The plugins every Session of this process uses, loaded on first use as the CLI loads them:
+/// $SALSA_PLUGIN_PATH, the user folder, then the build tree's plugin folder when the module is in one.
+/// Each file refused is a RuntimeWarning, as the CLI's "salsa: warning: plugin ..." lines.
+std::shared_ptr<const PluginHost> shared_host();
+
+/// <build> when the module is <build>/python/salsa/_core*.so of a CMake build tree, else empty.
+std::filesystem::path build_tree();
+
+/// salsa::InputError raises salsa.InputError and salsa::TestFailure salsa.TestFailure (module.cpp), each
+/// with the message as the CLI prints it: on one line (line breaks a plugin passed on become spaces).
+std::string one_line(std::string text);
+
+/// salsa._core.Session (session.cpp).
+void bind_session(py::module_& m);
+
+}  // namespace salsa::python
