@@ -82,7 +82,8 @@ int cmd_bench(int argc, char** argv) {
       "cpu-time", "time runs and floor by this process's CPU clock, not the wall clock (with --threads 1 on a busy machine)")(
       "profile", "print the time spent in each step phase")(
       "fleet", "table1: two groups of half the swarm, batteries and failure rates on (the fleet model's cost)")(
-      "wind", "table1: a 3 m/s wind with gusts of 1 m/s (the wind model's cost)")("comm", po::value<double>(), "table1: every drone broadcasts its position and velocity every step to drones within RANGE m, line of sight on (the comm model's cost)")("json", po::value<std::string>(), "write all figures to this JSON file");
+      "wind", "table1: a 3 m/s wind with gusts of 1 m/s (the wind model's cost)")(
+      "pile", "the swarm, half of it twice the radius, starts packed around the spawn point and flies into it (the physics' densest work)")("comm", po::value<double>(), "table1: every drone broadcasts its position and velocity every step to drones within RANGE m, line of sight on (the comm model's cost)")("json", po::value<std::string>(), "write all figures to this JSON file");
   po::positional_options_description pos;
   pos.add("workload", 1).add("file", 1);
   po::variables_map vm;
@@ -149,7 +150,7 @@ int cmd_bench(int argc, char** argv) {
             << " cores (" << cpu_model() << "), " << used_threads << " decide thread(s), " << sim_time
             << " s simulated per run, seeds 1.." << seeds << ", decision lag " << lag << (cpu ? ", CPU clock" : "")
             << (comm_range > 0 ? ", comm range " + Parameter::format(comm_range) + " m" : "")
-            << (physics == "light" ? ", light physics" : "") << "\n";
+            << (physics == "light" ? ", light physics" : "") << (vm.count("pile") ? ", a pile" : "") << "\n";
   std::cout << std::left << std::setw(8) << "drones" << std::setw(9) << "targets" << std::right << std::setw(9) << "setup_s"
             << std::setw(9) << "wall_s" << std::setw(10) << "RTF" << std::setw(22) << "RTF min-max" << std::setw(13)
             << "steps/s" << std::setw(15) << "drone-steps/s" << std::setw(9) << "peak_MB" << std::setw(10) << "found";
@@ -168,6 +169,7 @@ int cmd_bench(int argc, char** argv) {
   report["clock"] = cpu ? "process CPU" : "wall";
   if (comm_range > 0) report["comm_range"] = comm_range;
   report["physics"] = physics;
+  if (vm.count("pile")) report["pile"] = true;
   report["cells"] = nlohmann::ordered_json::array();
 
   const std::size_t steps = static_cast<std::size_t>(std::llround(sim_time * 60));
@@ -185,6 +187,7 @@ int cmd_bench(int argc, char** argv) {
       w.fleet = vm.count("fleet") > 0;
       w.wind = vm.count("wind") > 0;
       w.comm_range = comm_range;
+      w.pile = vm.count("pile") > 0;
       w.physics = physics == "light" ? PhysicsMode::light : PhysicsMode::box2d;
       bench::reset_peak_rss();
       const auto t0 = std::chrono::steady_clock::now();

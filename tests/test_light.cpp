@@ -11,6 +11,7 @@
 
 #include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/core/model/simulation.hpp"
+#include "salsa/grid.hpp"
 
 using namespace salsa;
 using namespace salsa_test;
@@ -61,6 +62,13 @@ class Recorder final : public ContactHandler {
   void on_contact(const ContactEvent& e, ContactActions&) override {
     if (e.kind != ContactKind::target_in_view) events.push_back(e);
   }
+};
+
+/// Counts the contacts between drones that begin in each step.
+class DroneContacts final : public ContactHandler {
+ public:
+  std::size_t count = 0;
+  void on_contact(const ContactEvent& e, ContactActions&) override { count += e.kind == ContactKind::drone_drone; }
 };
 
 GroupSetup group_at(const char* name, Vec2 spawn, std::shared_ptr<Behavior> behavior, const DroneConfig& drone, std::size_t drones = 1) {
@@ -235,6 +243,37 @@ class TestLight : public QObject {
     setup.groups[1].drone = racer(big_radius, 10);
     setup.groups[1].drone.mass = big_mass;
     expect_packed_and_apart(setup, 50);
+  }
+
+  // 20,000 drones of radius 1 m in a 10 m map (the room check refuses such a test; a SimulationSetup
+  // skips it), pressed to the middle: each touches about 1,200 others, 24 million pairs. Each drone keeps
+  // its nearest neighbours up to the cap (about 120 for one size), so the contacts begun, the kept pairs
+  // still touching after the first step's pushes, stay within 130 per drone (without the cap the pushes
+  // went over every pair, and the pairs alone took gigabytes at 10^5 drones).
+  void an_overfull_pile_keeps_its_pairs_bounded() {
+    SimulationSetup setup;
+    setup.physics = PhysicsMode::light;
+    setup.map.bounds = {{0, 0}, {10, 10}};
+    setup.map.spawn = {5, 5};
+    setup.groups[0].drone = racer(1, 10);
+    setup.groups[0].drones = 20'000;
+    setup.groups[0].spawn_mode = SpawnMode::uniform;
+    setup.groups[0].behavior = std::make_shared<Towards>(Vec2{5, 5});
+    auto contacts = std::make_shared<DroneContacts>();
+    setup.contact_handlers = {contacts};
+    Simulation sim(setup);
+    sim.step();
+    const std::size_t n = setup.groups[0].drones;
+    // The pile as it is: the pairs closer than their radii's sum (2 m), by a grid.
+    PointGrid grid;
+    grid.build(sim.drone_positions(), 2);
+    std::size_t touching = 0;
+    for (std::uint32_t i = 0; i < n; ++i) grid.query(sim.drone_positions()[i], 2, [&](std::uint32_t j, Vec2, double) { touching += j > i; });
+    qInfo("%zu pairs touching, %zu contacts begun", touching, contacts->count);
+    QVERIFY2(touching > 500 * n, qPrintable(QString::number(touching)));  // the pile is far fuller than the cap
+    QVERIFY2(contacts->count > n && contacts->count <= 130 * n, qPrintable(QString::number(contacts->count)));
+    sim.step();  // and goes on
+    QCOMPARE(sim.drone_positions().size(), n);
   }
 
   // The same run on 1 and 2 threads (enough drones that the light physics splits them into tasks):

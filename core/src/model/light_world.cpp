@@ -86,6 +86,7 @@ void LightWorld::add_drone(std::uint32_t, Vec2 position, Vec2 velocity, const Dr
   mass_.push_back(config.mass);
   enabled_.push_back(enabled);
   on_wall_.push_back(0);
+  min_radius_ = positions_.size() == 1 ? config.radius : std::min(min_radius_, config.radius);
   max_radius_ = std::max(max_radius_, config.radius);
 }
 
@@ -97,6 +98,7 @@ void LightWorld::remove_drones_from(std::size_t n) {
   std::erase_if(touching_, [&](const Pair& p) { return p.second >= n; });
   std::erase_if(pairs_, [&](const Pair& p) { return p.second >= n; });
   max_radius_ = radius_.empty() ? 0 : *std::max_element(radius_.begin(), radius_.end());
+  min_radius_ = radius_.empty() ? 0 : *std::min_element(radius_.begin(), radius_.end());
 }
 
 void LightWorld::disable(std::uint32_t id) {
@@ -211,6 +213,56 @@ void LightWorld::stop_closing(double dt) {
   }
 }
 
+// The pairs within reach (radii + margin), sorted. A drone with more neighbours than neighbour_cap keeps
+// its nearest (ties by id), and a pair stays if either drone keeps the other: at most n × the cap pairs
+// however full the pile, and, below the cap, every pair as before. Drones report only higher ids; when
+// one is capped, it reports its kept neighbours of lower ids too, and a second pass adds the pairs of
+// uncapped drones with capped ones of lower id that did not keep them.
+void LightWorld::find_pairs(double margin) {
+  const std::size_t n = positions_.size(), cap = neighbour_cap(min_radius_, max_radius_);
+  grid_.build(positions_, 2 * max_radius_ + margin);
+  capped_.assign(n, 0);
+  auto neighbours = [&](std::size_t i, std::vector<Near>& out) {
+    out.clear();
+    const double ri = radius_[i];
+    grid_.query(positions_[i], ri + max_radius_ + margin, [&](std::uint32_t j, Vec2, double d2) {
+      const double near = ri + radius_[j] + margin;
+      if (j != i && enabled_[j] && d2 < near * near) out.push_back({d2, j});
+    });
+  };
+  for_each(n, [&](std::size_t i) {
+    if (!enabled_[i]) return;
+    auto& out = found_.local();
+    auto& close = near_.local();
+    neighbours(i, close);
+    const auto me = static_cast<std::uint32_t>(i);
+    if (close.size() <= cap) {
+      for (const auto& [d2, j] : close)
+        if (j > me) out.push_back({me, j});
+      return;
+    }
+    capped_[i] = 1;
+    std::nth_element(close.begin(), close.begin() + static_cast<std::ptrdiff_t>(cap), close.end());
+    for (std::size_t k = 0; k < cap; ++k) out.push_back({std::min(me, close[k].second), std::max(me, close[k].second)});
+  });
+  if (std::find(capped_.begin(), capped_.end(), 1) != capped_.end())
+    for_each(n, [&](std::size_t i) {
+      if (!enabled_[i] || capped_[i]) return;
+      auto& out = found_.local();
+      auto& close = near_.local();
+      neighbours(i, close);
+      for (const auto& [d2, j] : close)
+        if (j < i && capped_[j]) out.push_back({j, static_cast<std::uint32_t>(i)});
+    });
+  pairs_.clear();
+  for (auto& out : found_) {
+    pairs_.insert(pairs_.end(), out.begin(), out.end());
+    out.clear();
+  }
+  std::sort(pairs_.begin(), pairs_.end());
+  pairs_.erase(std::unique(pairs_.begin(), pairs_.end()), pairs_.end());  // pairs both drones reported
+}
+
 // After the move, drones closer than their radii are pushed apart along the line between them, each by
 // its share of the overlap (the other's mass over both), pair by pair in sorted order as above. A pile
 // of two sizes converges slower than one of one size: a light drone between heavy ones takes nearly all
@@ -220,24 +272,8 @@ void LightWorld::stop_closing(double dt) {
 // drone's whole push is then swept against the walls from where its own move left it, so a push never
 // crosses a wall however the pushes added up.
 void LightWorld::separate(const StaticGeometry& geometry) {
-  const std::size_t n = positions_.size();
   const double margin = slop(max_radius_) + max_radius_ / 2;  // pairs a push may bring into contact too
-  grid_.build(positions_, 2 * max_radius_ + margin);
-  for_each(n, [&](std::size_t i) {
-    if (!enabled_[i]) return;
-    auto& out = found_.local();
-    const double ri = radius_[i];
-    grid_.query(positions_[i], ri + max_radius_ + margin, [&](std::uint32_t j, Vec2, double d2) {
-      const double near = ri + radius_[j] + margin;
-      if (j > i && enabled_[j] && d2 < near * near) out.push_back({static_cast<std::uint32_t>(i), j});
-    });
-  });
-  pairs_.clear();
-  for (auto& out : found_) {
-    pairs_.insert(pairs_.end(), out.begin(), out.end());
-    out.clear();
-  }
-  std::sort(pairs_.begin(), pairs_.end());
+  find_pairs(margin);
 
   if (!pairs_.empty()) {
     moved_.clear();

@@ -39,6 +39,17 @@ class LightWorld final : public Physics {
   static constexpr double pile_tolerance = 0.01;
   /// How close counts as touching (m): a drone of radius r touches what lies within r + slop(r).
   static double slop(double radius) { return std::min(0.01, 0.1 * radius); }
+  /// The most neighbours a drone keeps in a step's pairs (its nearest, ties by id): as many drones as
+  /// fit, by area, within its reach (radii + margin, at most 2.6 × the largest radius) when no two
+  /// centres come closer than half the smallest radius. Apart, equal drones have 6 within reach (the
+  /// densest spawn about 6 on average); the cap (about 120 for one size) binds only where they overlap by
+  /// three quarters of their radii's sum (a swarm pressed into a corner at the step limit reached 61),
+  /// in a pile far fuller than its map, which it keeps at n × the cap pairs instead of n².
+  static std::size_t neighbour_cap(double smallest, double largest) {
+    const double apart = smallest / 4, reach = 2 * largest + slop(largest) + largest / 2;
+    const double fit = (reach + apart) / apart;  // discs of radius `apart` around each centre, disjoint
+    return static_cast<std::size_t>(fit * fit);
+  }
 
  private:
   using Pair = std::pair<std::uint32_t, std::uint32_t>;  // drone ids, first < second
@@ -49,6 +60,7 @@ class LightWorld final : public Physics {
   bool move(const StaticGeometry& geometry, std::uint32_t i, Vec2 d, Vec2& v);
   void stop_closing(double dt);
   void separate(const StaticGeometry& geometry);
+  void find_pairs(double margin);
 
   tbb::task_arena& arena_;
   std::vector<Vec2> positions_, velocities_;
@@ -56,7 +68,7 @@ class LightWorld final : public Physics {
   std::vector<std::uint8_t> enabled_;
   std::vector<std::uint8_t> on_wall_;  ///< touching a wall after the last step
   std::vector<Pair> touching_;         ///< drone pairs touching after the last step, sorted
-  double max_radius_ = 0;
+  double max_radius_ = 0, min_radius_ = 0;
   PointGrid grid_;
   std::vector<Pair> pairs_;            ///< this step's pairs near enough to touch, sorted
   std::vector<std::uint32_t> moved_;   ///< drones in this step's pairs, ascending
@@ -64,6 +76,9 @@ class LightWorld final : public Physics {
   std::vector<std::uint8_t> wall_now_; ///< touching a wall after this step
   std::vector<Pair> fresh_;            ///< pairs that began touching this step, sorted
   tbb::enumerable_thread_specific<std::vector<Pair>> found_;  ///< pairs found by each thread
+  using Near = std::pair<double, std::uint32_t>;               // distance², id: nearest first, ties by id
+  tbb::enumerable_thread_specific<std::vector<Near>> near_;   ///< one drone's neighbours, per thread
+  std::vector<std::uint8_t> capped_;   ///< this step: the drone had more neighbours than the cap
   std::vector<ContactEvent> begun_;
 };
 

@@ -33,6 +33,20 @@ class Broadcasting final : public Behavior {
  private:
   std::shared_ptr<Behavior> inner_;
 };
+
+/// Flies at max speed to `goal` (a pile's centre), sensing nothing.
+class ToPoint final : public Behavior {
+ public:
+  explicit ToPoint(Vec2 goal) : goal_(goal) {}
+  Vec2 decide(const Perception& me, Rng&) override {
+    const Vec2 to = goal_ - me.position;
+    return (to.length() > 1e-9 ? to.with_length(me.max_speed) : Vec2{}) - me.velocity;
+  }
+  Senses senses() const override { return {false, false}; }  // the pile's cost is the physics', not the sensing's
+
+ private:
+  Vec2 goal_;
+};
 }  // namespace
 
 SimulationSetup table1(const PluginHost& host, const Workload& w) {
@@ -73,6 +87,21 @@ SimulationSetup table1(const PluginHost& host, const Workload& w) {
     second.drones = w.drones - g.drones;
     second.behavior = PluginHost::create(behavior, params);
     s.groups.push_back(std::move(second));
+  }
+  if (w.pile) {
+    g.behavior = std::make_shared<ToPoint>(w.spawn);
+    g.spawn_mode = SpawnMode::disc;
+    GroupSetup large = g;
+    large.name = "large";
+    large.drone.radius *= 2;
+    large.drone.mass *= 4;
+    large.behavior = std::make_shared<ToPoint>(w.spawn);
+    g.drones = w.drones / 2;
+    large.drones = w.drones - g.drones;
+    const double bodies = pi * (static_cast<double>(g.drones) * g.drone.radius * g.drone.radius +
+                                static_cast<double>(large.drones) * large.drone.radius * large.drone.radius);
+    g.spawn_radius = large.spawn_radius = std::sqrt(bodies / (disc_packing * pi));
+    s.groups.push_back(std::move(large));
   }
   if (w.wind) s.wind = {Vec2::polar(3, pi / 6), 1, 10};  // act in wind, air velocities and gusts every step
   const auto& tree = host.target_kind("tree");

@@ -24,6 +24,11 @@ struct Workload {
   /// position and velocity every step (and summing what it receives): the comm model's cost.
   double comm_range = 0;
   PhysicsMode physics = PhysicsMode::box2d;  ///< light: salsa's own physics instead of Box2D
+  /// A pile: half the swarm twice the radius (four times the mass), all spawned packed in the smallest
+  /// disc around the spawn point that holds their bodies (the densest the room check lets through) and
+  /// flying at max speed to that point, instead of the behavior: the physics' densest work (in light
+  /// mode, the extra passes of a pile of two sizes).
+  bool pile = false;
 };
 
 /// Table I: flocking with the paper's parameters (or `w.behavior` with its defaults), "small" drones, trees of radius 5 m, summary every
