@@ -117,7 +117,7 @@ int cmd_describe(int argc, char** argv) {
     std::cout << "columns: each drone's state, one column per quantity, kept by the model named (the wind's once a test\n"
                  "has had wind). salsa run --drone-columns NAME,... adds them to drones.csv (a vector as NAME_x, NAME_y).\n\n";
     std::cout << "  " << std::left << std::setw(26) << "COLUMN" << std::setw(8) << "UNIT" << std::setw(10) << "MODEL" << std::setw(9) << "VALUES" << "MEANING\n";
-    for (const StateColumn& c : Simulation::declared_columns()) {
+    for (const StateColumn& c : declared_drone_columns()) {
       const char* type = c.type == StateColumn::Type::f64 ? (c.width == 2 ? "2 x f64" : "f64") : c.type == StateColumn::Type::u32 ? "u32" : "u8";
       std::cout << "  " << std::setw(26) << std::string(c.name) << std::setw(8) << std::string(c.unit) << std::setw(10) << std::string(c.model)
                 << std::setw(9) << type << c.meaning << "\n";

@@ -64,7 +64,16 @@ TestModel sway() {
           .meaning = "sway: a model declared by a test (\"sway\": {...}). Its numbers are\nset as sway.<name>.",
           .fields = {number("amplitude", 0, 10, "m"), number("drift.x", -10, 10, "m/s"), number("drift.y", -10, 10, "m/s"), pulse},
           .in_use = [](const TestSpec& t) { return !t.extra_numbers.empty(); },
-          .apply = [](Simulation&, const TestSpec&) { ++sway_applied; }};
+          .apply = [](Simulation&, const TestSpec&) { ++sway_applied; },
+          // Its own per-drone state: each flying drone's offset drifts at "drift" (m/s).
+          .simulate = [](const TestSpec& t) {
+            const auto it = t.extra_numbers.find("sway.drift.x");
+            const double drift = it == t.extra_numbers.end() ? 0.0 : it->second;
+            return DroneModel{"sway", {{"sway_offset", "m", "how far the sway carried it", ""}}, ModelPhase::moved,
+                              [drift](const Simulation& sim, ModelState& state) {
+                                for (double& x : state.f64("sway_offset")) x += drift * sim.dt();
+                              }};
+          }};
 }
 
 }  // namespace
@@ -271,6 +280,10 @@ class GuiEnvironment : public QObject {
     panel = sandbox().model_panel("sway");
     QCOMPARE(panel->value("drift.y"), -3.0);
     QCOMPARE(panel->value("pulse"), 1.0);
+    // The inspector shows its state under its name, as the core's models.
+    sandbox().engine().select(0);
+    steps(60);
+    QTRY_VERIFY2(sandbox().inspector_text().contains("\nsway:\n  sway offset 2 m"), qPrintable(sandbox().inspector_text()));
     sandbox().targets_box()->setValue(50);
     settle();
     QTRY_COMPARE(sandbox().engine().current_test()->targets, std::size_t(50));

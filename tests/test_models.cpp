@@ -20,7 +20,8 @@ namespace {
 
 int applied = 0;  // the simulation was told of a change of "sway"
 
-/// "sway": {"amplitude": m, "drift": [x, y] in m/s, "pulse": true}: a model of the files alone.
+/// "sway": {"amplitude": m, "drift": [x, y] in m/s, "pulse": true}. Its own per-drone state: each flying
+/// drone's offset drifts at "drift" (m/s), and counts the steps it drifted.
 TestModel sway() {
   auto number = [](const char* name) -> ModelField {
     return {{name, 0, -10, 10, "m", "test-only"}, false, [name](const TestSpec& t) {
@@ -43,6 +44,19 @@ TestModel sway() {
             return it != t.extra_numbers.end() && it->second > 5 ? "amplitude above 5 is refused by the model itself" : "";
           },
           .apply = [](Simulation&, const TestSpec&) { ++applied; },
+          .simulate = [](const TestSpec& t) {
+            const auto setting = [&](const char* key) { const auto it = t.extra_numbers.find(key); return it == t.extra_numbers.end() ? 0.0 : it->second; };
+            const Vec2 drift{setting("sway.drift.x"), setting("sway.drift.y")};
+            return DroneModel{"sway",
+                              {{"sway_offset", "m", "how far the sway carried it", "", StateColumn::Type::f64, 2}, {"sway_steps", "", "steps it swayed", "", StateColumn::Type::u32}},
+                              ModelPhase::moved,
+                              [drift](const Simulation& sim, ModelState& state) {
+                                const std::span<Vec2> offset = state.vec2("sway_offset");
+                                const std::span<std::uint32_t> steps = state.u32("sway_steps");
+                                for (std::size_t i = 0; i < offset.size(); ++i)
+                                  if (sim.drone_status()[i] == DroneStatus::flying) offset[i] += drift * sim.dt(), ++steps[i];
+                              }};
+          },
           // Two columns while it is on: its amplitude now, and the flying drones' mean x (m).
           .output_columns = [](const TestSpec& t) { return t.extra_numbers.empty() ? std::vector<std::string>{} : std::vector<std::string>{"sway_amplitude", "sway_mean_x"}; },
           .output_values = [](const Simulation& sim, const TestSpec& t) {
@@ -111,6 +125,8 @@ class TestModels : public QObject {
     apply_change(sim, t, {1, "sway.amplitude", 3}, *host_);
     QCOMPARE(applied, 1);
     QCOMPARE(t.extra_numbers.at("sway.amplitude"), 3.0);
+    // Off at the start, its state joins the simulation with the change.
+    QVERIFY(sim.column("sway_offset").data != nullptr);
   }
 
   void the_data_files_carry_its_columns() {
@@ -134,6 +150,34 @@ class TestModels : public QObject {
     QVERIFY(std::find(columns.outcome.begin(), columns.outcome.end(), "sway_mean_x") != columns.outcome.end());
     const DataColumns plain = data_columns(parse_test("{" + base + "}", "t.json", *host_), *host_);
     QVERIFY(std::find(plain.summary.begin(), plain.summary.end(), "sway_amplitude") == plain.summary.end());
+  }
+
+  // Its own per-drone state: kept as columns beside the core's (drones.csv by name, the inspector's and
+  // Python's columns()), stepped at its phase, made again from a timed change's settings.
+  void its_drone_state_is_kept_stepped_and_written() {
+    const TestSpec t = parse_test("{\"name\": \"drifting\", " + base + R"(, "sway": {"amplitude": 1, "drift": [1, 0]}, "changes": [{"time": 1, "set": {"sway.drift.y": 2}}]})", "t.json", *host_);
+    Simulation sim(make_setup(t, *host_, 1));
+    QVERIFY(sim.column("sway_offset").data != nullptr);
+    QCOMPARE(sim.column("sway_offset").model, std::string_view("sway"));
+    QCOMPARE(sim.column("sway_offset").rows, std::size_t(3));
+    // Declared for checks before a run and `salsa describe columns`; absent from a test without it.
+    const std::vector<StateColumn> declared = declared_drone_columns();
+    QVERIFY(std::any_of(declared.begin(), declared.end(), [](const StateColumn& c) { return c.name == "sway_steps" && c.model == "sway"; }));
+    QVERIFY(Simulation(make_setup(parse_test("{" + base + "}", "t.json", *host_), *host_, 1)).column("sway_offset").data == nullptr);
+
+    QTemporaryDir out;
+    RunOptions options;
+    options.out = out.path().toStdString();
+    options.drone_columns = {"sway_offset", "sway_steps"};
+    run_test(t, *host_, options);
+    const QStringList rows = non_empty_lines(read_file(out.path() + "/drifting/drones.csv"));
+    const QStringList header = rows[0].split(',');
+    const auto at = [&](const QString& row, const char* name) { return row.split(',')[header.indexOf(name)].toDouble(); };
+    QVERIFY2(header.contains("sway_offset_x") && header.contains("sway_steps"), qPrintable(rows[0]));
+    // The last row: 2 s at 1 m/s east, and 1 s at 2 m/s north after the change at 1 s.
+    QVERIFY(std::abs(at(rows.last(), "sway_offset_x") - 2.0) < 1e-9);
+    QVERIFY(std::abs(at(rows.last(), "sway_offset_y") - 2.0) < 1e-9);
+    QCOMPARE(at(rows.last(), "sway_steps"), 120.0);
   }
 
   void sweeps_conditions_and_tune_keys_reach_it() {

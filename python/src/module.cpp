@@ -107,7 +107,7 @@ PYBIND11_MODULE(_core, m) {
       "declared_columns",
       [] {
         py::dict out;
-        for (const salsa::StateColumn& c : salsa::Simulation::declared_columns())
+        for (const salsa::StateColumn& c : salsa::declared_drone_columns())
           out[py::str(std::string(c.name))] = py::make_tuple(std::string(c.unit), c.width);
         return out;
       },

@@ -250,7 +250,7 @@ class PySession {
       if (c.name == name) return c;
       kept += (kept.empty() ? "" : ", ") + std::string(c.name);
     }
-    for (const StateColumn& c : Simulation::declared_columns())
+    for (const StateColumn& c : declared_drone_columns())
       if (c.name == name)
         throw py::value_error("name: '" + name + "' is the " + std::string(c.model) +
                               " model's, which this session keeps no state for yet (allowed now: " + kept + ")");

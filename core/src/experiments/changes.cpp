@@ -207,6 +207,7 @@ void apply_change(Simulation& sim, TestSpec& test, const Change& c, const Plugin
     }
   } else if (const TestModel* m = model_of_key(key)) {
     if (m->apply) m->apply(sim, changed);
+    if (m->simulate) sim.set_model(m->simulate(changed));
   } else if (key == "fail.drone" || key == "fail.camera") {
     try {
       sim.fail(static_cast<std::uint32_t>(c.value), key == "fail.camera");

@@ -4,6 +4,7 @@
 #include "models/models.hpp"
 
 #include "salsa/core/experiments/test_spec.hpp"
+#include "salsa/core/model/simulation.hpp"
 
 namespace salsa {
 
@@ -54,5 +55,15 @@ const TestModel* model_of_key(std::string_view key) {
 }
 
 void add_test_model(TestModel model) { registry().push_back(std::move(model)); }
+
+std::vector<StateColumn> declared_drone_columns() {
+  std::vector<StateColumn> out = Simulation::declared_columns();
+  for (const TestModel& m : registry())
+    if (m.simulate) {
+      const DroneModel d = m.simulate(TestSpec{});
+      for (StateColumn c : d.columns) out.push_back((c.model = d.name, c));
+    }
+  return out;
+}
 
 }  // namespace salsa

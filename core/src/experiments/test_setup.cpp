@@ -1,5 +1,6 @@
 // From a test to a simulation's setup: plugins created, the map made and checked, spawns and targets placed; map files.
 #include "salsa/core/experiments/test_spec.hpp"
+#include "salsa/core/experiments/test_models.hpp"
 
 #include "experiments/test_reader.hpp"
 #include "salsa/core/model/map_check.hpp"
@@ -41,6 +42,8 @@ SimulationSetup make_setup(const TestSpec& t, const PluginHost& host, int thread
   s.failures = t.failures;
   s.wind = t.wind;
   s.comm = t.comm;
+  for (const TestModel& m : test_models())
+    if (m.simulate && m.in_use && m.in_use(t)) s.models.push_back(m.simulate(t));
   s.targets = t.targets;
   s.dt = t.dt;
   s.velocity_iterations = t.velocity_iterations;

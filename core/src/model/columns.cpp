@@ -20,6 +20,7 @@ std::vector<StateColumn> columns_of(const Drones& d, bool wind) {
   d.fleet.columns(out);
   d.sensing.columns(out);
   if (wind) d.air.columns(out);
+  for (const ModelState& m : d.models) m.columns(out);
   return out;
 }
 

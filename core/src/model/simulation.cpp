@@ -88,6 +88,7 @@ void Simulation::timed(Phase phase, const auto& fn) {
 }
 
 void Simulation::step() {
+  run_models(ModelPhase::start);
   if (wind_active_) timed(Phase::act, [this] { sample_wind(); });
   // The drones' side of a step: sense, decide and report what they saw, all on the snapshot of
   // positions the step started from.
@@ -111,6 +112,7 @@ void Simulation::step() {
   ++steps_;
   read_back();
   timed(Phase::fleet, [this] { fleet(); });
+  run_models(ModelPhase::moved);
   timed(Phase::detect, [this] { dispatch_contacts(); });
   timed(Phase::observe, [this] { observe(); });
 }

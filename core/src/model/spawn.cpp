@@ -118,6 +118,7 @@ Simulation::World Simulation::build_world(const SimulationSetup& s, Parallel& pa
   if (s.physics == PhysicsMode::light) w.physics = std::make_unique<LightWorld>(parallel.arena);
   else w.physics = std::make_unique<PhysicsWorld>(w.geometry);
   w.spawn_rng = Rng(s.seed, spawn_stream);
+  for (const DroneModel& m : s.models) w.drones.models.emplace_back(m.name, m.columns);
   for (std::uint32_t g = 0; g < s.groups.size(); ++g)
     w.drones = grown(std::move(w.drones), g, s.groups[g].drones, s, w.geometry, w.groups[g].base, w.spawn_rng, 0);
   w.drones.sensing.hits.assign(w.drones.positions.size() * ray_slots(w.groups), {});
@@ -154,6 +155,7 @@ Simulation::Drones Simulation::grown(Drones d, std::uint32_t group, std::size_t 
   d.fleet.exposure.resize(n, 0.0);
   d.fleet.camera_exposure.resize(n, 0.0);
   d.sensing.hit_counts.resize(n, 0);
+  for (ModelState& m : d.models) m.grow(n);
   return d;
 }
 

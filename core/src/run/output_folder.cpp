@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "salsa/core/files/names.hpp"
+#include "salsa/core/experiments/test_models.hpp"
 #include "salsa/core/model/simulation.hpp"
 
 namespace salsa {
@@ -493,10 +494,10 @@ void write_manifest(const fs::path& work, const std::string& config) {
 }
 
 std::vector<std::string> drone_column_headers(const std::vector<std::string>& names) {
-  const std::vector<StateColumn> declared = Simulation::declared_columns();
+  const std::vector<StateColumn> declared = declared_drone_columns();
   std::vector<std::string> out;
   for (const std::string& name : names) {
-    const auto c = std::find_if(declared.begin(), declared.end(), [&](const StateColumn& c) { return c.name == name; });
+    const auto c = std::find_if(declared.begin(), declared.end(), [&](const StateColumn& d) { return d.name == name; });
     if (c != declared.end() && c->width == 2) out.insert(out.end(), {name + "_x", name + "_y"});
     else out.push_back(name);
   }

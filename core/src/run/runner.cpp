@@ -100,7 +100,7 @@ class DroneObserver final : public Observer {
 
  private:
   static std::size_t width(const std::string& name) {
-    for (const StateColumn& c : Simulation::declared_columns())
+    for (const StateColumn& c : declared_drone_columns())
       if (c.name == name) return c.width;
     return 1;
   }
@@ -167,7 +167,7 @@ void write_targets(const fs::path& file, const Simulation& sim) {
 // ---- Public
 
 std::string drone_columns_problem(const std::vector<std::string>& names) {
-  const std::vector<StateColumn> declared = Simulation::declared_columns();
+  const std::vector<StateColumn> declared = declared_drone_columns();
   auto written = [](std::string_view name) { return name == "position" || name == "velocity" || name == "group" || name == "status"; };
   for (std::size_t k = 0; k < names.size(); ++k) {
     const std::string& name = names[k];

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "salsa/core/model/drone_model.hpp"
 #include "salsa/core/model/schema.hpp"
 #include "salsa/parameters.hpp"
 
@@ -46,6 +47,11 @@ struct TestModel {
   /// A running simulation takes the test's new settings (a timed change). Empty: nothing runs (a
   /// model of the files alone).
   std::function<void(Simulation&, const TestSpec&)> apply{};
+  /// Its own per-drone columns and work in the step (drone_model.hpp), made from the test's settings
+  /// when it is in use as the test starts, and made again after a timed change of its keys (a model
+  /// off until then joins the simulation, its columns at 0). Empty: a model written into the
+  /// simulation's phases, or of the files alone.
+  std::function<DroneModel(const TestSpec&)> simulate{};
   /// Keys of its section read elsewhere (the wind's "field", a plugin choice), and their dotted forms.
   std::vector<std::string> other_keys{};
   std::string other_forms{}; ///< "wind.field.params.<name>": for messages listing the keys
@@ -73,6 +79,9 @@ class ModelOutputs {
   std::vector<const TestModel*> models_;
   std::vector<std::string> columns_;
 };
+/// Every drone state column a test may keep (no data): the simulation's own (Simulation::declared_columns)
+/// and those of the models' DroneModels. For checking a name before a run and `salsa describe columns`.
+std::vector<StateColumn> declared_drone_columns();
 /// The model with a section whose keys `key` starts with ("comm.range" → comm), or nullptr.
 const TestModel* model_of_key(std::string_view key);
 /// Adds a model declared outside the core (before any test is read); its numbers live where its own

@@ -17,6 +17,7 @@
 #include "salsa/core/model/columns.hpp"
 #include "salsa/core/model/comm.hpp"
 #include "salsa/core/model/drone_config.hpp"
+#include "salsa/core/model/drone_model.hpp"
 #include "salsa/core/model/limits.hpp"
 #include "salsa/core/model/static_geometry.hpp"
 #include "salsa/core/model/wind.hpp"
@@ -83,6 +84,8 @@ struct SimulationSetup {
   Wind wind;
   std::shared_ptr<WindField> wind_field;  ///< may be null: no field
   CommSetup comm;                     ///< messages between drones (off by default)
+  /// Models with their own per-drone columns and step function (drone_model.hpp), in this order.
+  std::vector<DroneModel> models;
   std::shared_ptr<TargetKind> target_kind;  ///< may be null: no targets
   std::size_t targets = 0;
   std::vector<std::shared_ptr<ContactHandler>> contact_handlers;
@@ -144,6 +147,9 @@ class Simulation final : public WorldView {
   /// (std::invalid_argument) when a drone could pass through a wall in one step (check_drone,
   /// check_resolution). Time goes on from where it is.
   void set_dt(double dt);
+  /// The step function of the DroneModel of that name, from the next step on (its settings changed);
+  /// its columns keep their values. A model the simulation lacks joins it, its columns at 0.
+  void set_model(DroneModel model);
   void add_observer(Observer* observer) { observers_.push_back(observer); }
 
   // ---- State ----
@@ -235,6 +241,7 @@ class Simulation final : public WorldView {
   void dispatch_sightings();  // detect, part 1
   void dispatch_contacts();   // detect, part 2
   void observe();
+  void run_models(ModelPhase phase);  // the DroneModels of that phase, in setup order
   void comm_changed();  // drones, sizes or the model changed: resize before the next decide, forget inbox()'s grid
 
   // Drones, structure of arrays indexed by id (columns(): their names and units): the drone's own
@@ -266,6 +273,8 @@ class Simulation final : public WorldView {
       std::vector<std::uint8_t> hit_counts;
       void columns(std::vector<StateColumn>& out) const;
     } sensing;
+    /// The columns of SimulationSetup::models, in their order (drone_model.cpp).
+    std::vector<ModelState> models;
   };
   /// What the simulation derives for each group from its GroupSetup.
   struct Group {
