@@ -13,7 +13,7 @@ packages=(
   libpagmo-dev libnlopt-cxx-dev  # salsa tune's algorithms (pagmo2, NLopt)
   libbenchmark-dev
   clang libclang-rt-14-dev
-  python3-dev pybind11-dev python3-numpy python3-pandas python3-pytest  # the Python package (docs/python.md)
+  python3-dev pybind11-dev python3-numpy python3-pandas python3-pytest python3-matplotlib python3-scipy  # the Python package and its examples (docs/python.md)
 )
 missing=()
 for p in "${packages[@]}"; do
