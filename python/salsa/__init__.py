@@ -9,7 +9,6 @@
 
 from ._core import InputError, Session, TestFailure
 from ._core import version as _version
-from ._results import QueueResult, TestResult, load
 from ._run import run
 
 __version__ = _version()
@@ -18,3 +17,13 @@ __all__ = ["InputError", "QueueResult", "Session", "TestFailure", "TestResult", 
 for _name in ("InputError", "Session", "TestFailure"):
     globals()[_name].__module__ = __name__  # salsa.InputError in messages and tracebacks, not salsa._core
 del _name
+
+
+def __getattr__(name):
+    # load and its results need pandas (a quarter of a second to import): imported at their first use,
+    # so a script that only steps Sessions starts without it.
+    if name in ("QueueResult", "TestResult", "load"):
+        from . import _results
+
+        return getattr(_results, name)
+    raise AttributeError(f"module 'salsa' has no attribute {name!r}")

@@ -11,7 +11,6 @@ from pathlib import Path
 
 from . import _core
 from ._core import InputError, TestFailure
-from ._results import load
 
 
 def program():
@@ -133,4 +132,6 @@ def run(tests, out, jobs=None, force=False, resume=False, time=None, plots=True,
         raise TestFailure((problems[0] if problems else "a test failed") + more + f"; the tests that ran are in {os.fsdecode(out)}")
     if status != 0:
         raise RuntimeError(f"salsa run ended with exit status {status}: {problems[0] if problems else ' '.join(command)}")
+    from ._results import load  # pandas, imported when first needed
+
     return load(out)
