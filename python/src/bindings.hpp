@@ -27,5 +27,7 @@ std::string one_line(std::string text);
 
 /// salsa._core.Session (session.cpp).
 void bind_session(py::module_& m);
+/// salsa._core.validate_file and validate_json, salsa.validate's checks (validate.cpp).
+void bind_validate(py::module_& m);
 
 }  // namespace salsa::python

@@ -139,4 +139,5 @@ PYBIND11_MODULE(_core, m) {
       "The units of a test's numbers as declared (drone.*, the models' fields, the plugins' parameters).");
   m.def("version", [] { return std::string(salsa::salsa_version()); }, "libsalsa's version, e.g. '0.1.0'.");
   bind_session(m);
+  bind_validate(m);
 }
