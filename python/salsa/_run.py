@@ -15,15 +15,16 @@ from ._results import load
 
 
 def program():
-    """The salsa program: the one of the module's build tree, else `salsa` on PATH."""
-    root = _core.build_tree()
-    if root is not None:
-        built = Path(root) / "bin" / "salsa"
-        if built.is_file() and os.access(built, os.X_OK):
-            return str(built)
+    """The salsa program: the one of the module's build tree or install prefix, else `salsa` on PATH."""
+    for root in (_core.build_tree(), _core.install_prefix()):
+        if root is not None:
+            built = Path(root) / "bin" / "salsa"
+            if built.is_file() and os.access(built, os.X_OK):
+                return str(built)
     found = shutil.which("salsa")
     if found is None:
-        raise FileNotFoundError("salsa.run: no salsa program: neither in the module's build tree (bin/salsa) nor on PATH")
+        raise FileNotFoundError("salsa.run: no salsa program: neither beside the module (its build tree's or "
+                                "install prefix's bin/salsa) nor on PATH")
     return found
 
 

@@ -143,6 +143,16 @@ class PySession {
     return py::module_::import("json").attr("loads")(resolved_json(t, *host_));
   }
 
+  py::array render(int width, int height) {
+    idle("render");
+#ifdef SALSA_PYTHON_RENDER
+    return render_session(*session_, width, height);
+#else
+    (void)width, (void)height;
+    throw py::value_error("render: this salsa was built without the desktop's drawing (SALSA_BUILD_GUI off, or no Qt 6)");
+#endif
+  }
+
   py::dict summary() {
     idle("summary");
     const Simulation& sim = session_->simulation();
@@ -298,6 +308,10 @@ CLI's line. `threads`: decide threads, 0 for all cores. Nothing is written to di
            "The session as a test dict: its test, every change made through change() as a timed change at "
            "the time it was made, and the test's own timed changes; its time the test's, or the time reached "
            "when past it. `salsa run` of it (or a Session of it stepped as far) replays this session byte for byte.")
+      .def("render", &PySession::render, py::arg("width") = 800, py::arg("height") = 800,
+           "The session now drawn as the desktop's sandbox draws it (the map fitted in, obstacles, targets found "
+           "and not, bases, drones in their groups' colours, wind arrows, the legend): a (height, width, 3) uint8 "
+           "RGB array. Without a QGuiApplication in the process one on Qt's offscreen platform is made.")
       .def("summary", &PySession::summary,
            "summary.csv's row now as a dict: column -> number (NaN: empty). The metrics' columns (coverage, "
            "mean_distance, ...) are those of the latest logged row (every log_interval s, and time 0): a "
