@@ -10,8 +10,8 @@ import time
 import salsa
 from conftest import SMALL, SOURCE
 
-# About a second of stepping: 300 drones for 15 s.
-LONG = {**SMALL, "name": "long", "drones": 300, "time": 15, "seed": 3}
+# A second or more of stepping: 300 drones for 20 s.
+LONG = {**SMALL, "name": "long", "drones": 300, "time": 20, "seed": 3}
 
 
 class Recorder:
@@ -41,7 +41,7 @@ def test_lines_come_as_tests_finish(tmp_path):
     recorder = Recorder(out)
     with_stdout(recorder, lambda: salsa.run([{**SMALL, "time": 1}, LONG], out=out, jobs=1, plots=False, quiet=False))
     text = "".join(t for t, _ in recorder.writes)
-    assert text.startswith("[1/2] small: 1.00 s simulated") and "[2/2] long: 15.00 s simulated" in text
+    assert text.startswith("[1/2] small: 1.00 s simulated") and "[2/2] long: 20.00 s simulated" in text
     assert text.endswith(f"results in {out}\n")
     # The first test's line was passed on while the second still ran, not when the program ended.
     assert recorder.writes[0][0].startswith("[1/2] small") and not recorder.writes[0][1]
