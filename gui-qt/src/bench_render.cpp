@@ -18,6 +18,7 @@
 
 #include "salsa/core/model/simulation.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
+#include "engine.hpp"
 #include "frame_renderer.hpp"
 
 namespace salsa::gui {

@@ -173,12 +173,7 @@ std::string Engine::Worker::load(TestSpec test) {
   reloaded_at.reset();
   pacing.dt_factor = 1;
   selected.reset();
-  auto s = std::make_shared<Scene>();
-  s->map = sim->map();
-  for (std::uint32_t g = 0; g < sim->group_count(); ++g) s->bases.push_back(sim->base(g));
-  for (const auto& t : sim->targets()) s->targets.push_back(t.position);
-  s->target_radius = sim->setup().target_kind ? sim->setup().target_kind->radius() : 0;
-  scene = std::move(s);
+  scene = scene_of(*sim);
   found.assign(sim->targets().size(), 0);
   found_count = 0;
   ++found_version;

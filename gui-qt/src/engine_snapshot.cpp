@@ -7,12 +7,6 @@
 
 namespace salsa::gui {
 
-const DroneConfig& Snapshot::drone_of(std::uint32_t id) const {
-  static const DroneConfig none;
-  const std::uint32_t g = group_of(id);
-  return g < groups.size() ? groups[g].drone : none;
-}
-
 void Engine::Worker::publish_empty() {
   auto snap = std::make_shared<Snapshot>();
   snap->scene = std::make_shared<Scene>();
@@ -30,21 +24,9 @@ std::shared_ptr<const Snapshot> Engine::Worker::make_snapshot() {
   snap->error = error;
   snap->test_name = start.name;
   if (!sim) return snap;
-  snap->step = sim->step_count();
+  fill_snapshot(*snap, *sim, session->current().has_wind());
   snap->changes_applied = session->changes_applied();
-  snap->time = sim->time();
-  snap->dt = sim->dt();
   snap->inexact = sim->dt() != start.dt;
-  for (std::uint32_t g = 0; g < sim->group_count(); ++g) snap->groups.push_back({sim->setup().groups[g].name, sim->drone_config(g)});
-  const auto p = sim->drone_positions(), v = sim->drone_velocities();
-  snap->positions.assign(p.begin(), p.end());
-  snap->velocities.assign(v.begin(), v.end());
-  const auto groups = sim->drone_groups();
-  const auto status = sim->drone_status();
-  snap->drone_groups.assign(groups.begin(), groups.end());
-  snap->status.assign(status.begin(), status.end());
-  snap->camera.resize(p.size());
-  for (std::uint32_t id = 0; id < p.size(); ++id) snap->camera[id] = sim->camera_works(id) ? 1 : 0;
   snap->found = found;
   snap->targets_found = found_count;
   snap->found_version = found_version;
@@ -62,24 +44,7 @@ std::shared_ptr<const Snapshot> Engine::Worker::make_snapshot() {
     snap->trails = trails_published;
   }
   snap->heat = heat;
-  if (session->current().has_wind()) {
-    const Rect b = sim->bounds();
-    const double t = sim->time();
-    try {  // a field plugin: its failure stops the run at the next step, which says why
-      for (int y = 0; y < Snapshot::wind_grid; ++y)
-        for (int x = 0; x < Snapshot::wind_grid; ++x) {
-          const Vec2 at{b.min.x + (x + 0.5) * b.width() / Snapshot::wind_grid, b.min.y + (y + 0.5) * b.height() / Snapshot::wind_grid};
-          snap->wind.emplace_back(at, sim->wind_at(at, t));
-        }
-    } catch (const std::exception&) {
-      snap->wind.clear();
-    }
-  }
-  if (sim->setup().comm.on)
-    for (std::uint32_t id = 0; id < p.size() && snap->links.size() < Snapshot::max_links; ++id)
-      for (const Message& m : sim->inbox(id)) snap->links.emplace_back(id, m.sender);
-  std::sort(snap->links.begin(), snap->links.end());  // inboxes come in grid order; the view looks pairs up
-  if (selected && *selected < p.size() && status[*selected] != DroneStatus::removed) snap->selected = inspect(*selected);
+  if (selected && *selected < snap->positions.size() && snap->status[*selected] != DroneStatus::removed) snap->selected = inspect(*selected);
   if (speed_samples.size() >= 2) {
     const auto& [w0, t0] = speed_samples.front();
     const auto& [w1, t1] = speed_samples.back();
@@ -95,12 +60,6 @@ bool Engine::Worker::fleet_on() const {
   const auto& timeline = session->timeline();
   return std::any_of(timeline.begin(), timeline.begin() + static_cast<std::ptrdiff_t>(session->changes_applied()),
                      [](const Change& c) { return c.key.starts_with("fail."); });
-}
-
-const StateLine* Inspection::line(std::string_view name) const {
-  for (const StateLine& l : state)
-    if (l.name == name) return &l;
-  return nullptr;
 }
 
 Inspection Engine::Worker::inspect(std::uint32_t id) const {

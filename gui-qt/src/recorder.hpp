@@ -9,6 +9,7 @@
 #include <atomic>
 #include <optional>
 
+#include "engine.hpp"
 #include "frame_renderer.hpp"
 
 namespace salsa::gui {

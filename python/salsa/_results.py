@@ -1,4 +1,4 @@
-"""salsa.load: a test's or a queue's output folder (docs/output-format.md) as typed pandas DataFrames."""
+"""salsa.load: a test's, a queue's or a tune's output folder (docs/output-format.md) as typed pandas DataFrames."""
 
 import json
 import os
@@ -12,7 +12,11 @@ from ._core import InputError
 
 STATUSES = ["flying", "camera_failed", "landed", "failed", "removed"]  # drones.csv, fleet.csv
 QUEUE_STATUSES = ["ok", "incomplete", "failed", "missing"]  # a queue's summary.csv
-ALLOWED = "allowed: a test's output folder OUT/<name> or a queue's output folder OUT"
+# Each file's status categories (else a drone's: STATUSES), and a tune's phases.
+_STATUSES = {"queue": QUEUE_STATUSES, "tune.csv": ["ok", "failed", "no value"],
+             "candidates.csv": ["complete", "dropped", "failed", "cut"]}
+_PHASES = ["tuning", "validation"]
+ALLOWED = "allowed: a test's output folder OUT/<name>, a queue's output folder OUT or a tune's"
 
 # Whole-number columns (counts and ids): int64, or pandas' nullable Int64 where a value may be empty.
 _WHOLE = {"targets", "targets_found", "collisions", "alive", "false_detections", "messages_sent",
@@ -21,12 +25,18 @@ _WHOLE = {"targets", "targets_found", "collisions", "alive", "false_detections",
           "position_iterations", "decision_lag"}
 # Names: pandas categoricals.
 _CATEGORIES = {"group", "status", "behavior", "condition", "variant", "target", "map", "metric",
-               "variant_a", "variant_b", "baseline", "physics"}
+               "variant_a", "variant_b", "baseline", "physics", "phase"}
 # Text, never read as a number ("001" stays "001"; a cell's 12 hex digits may be all digits).
-_TEXT = {"name", "cell", "error", "condition_label"}
+_TEXT = {"name", "cell", "error", "condition_label", "test"}
+# A tune's files: only these are whole numbers; the other columns are the parameters' values and the
+# objectives' (an aggregate over worlds in candidates.csv: 13.5 targets found), whatever their names.
+_TUNE_WHOLE = {"tune.csv": {"evaluation", "candidate", "world", "seed"},
+               "candidates.csv": {"candidate", "generation", "worlds", "evaluations"}}
 
 
-def _is_whole(column):
+def _is_whole(column, kind=None):
+    if kind in _TUNE_WHOLE:
+        return column in _TUNE_WHOLE[kind]
     name = column[len("outcome."):] if column.startswith("outcome.") else column
     return name in _WHOLE or name.endswith((".found", ".alive")) or (name.startswith("groups.") and name.endswith(".drones"))
 
@@ -38,12 +48,16 @@ def _read_csv(file, kind, groups=None):
                             dtype={c: str for c in _CATEGORIES | _TEXT})
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as e:
         raise InputError(f"{file}: not a CSV file salsa wrote ({' '.join(str(e).split())})") from None
+    if frame.empty:  # a header alone (a comparison with nothing to pair): numbers, as rows would make them
+        frame = frame.astype({c: "float64" for c in frame.columns if c not in _CATEGORIES | _TEXT})
     for column in frame.columns:
         values = frame[column]
         if column in _CATEGORIES:
             categories = None
             if column == "status":
-                categories = QUEUE_STATUSES if kind == "queue" else STATUSES
+                categories = _STATUSES.get(kind, STATUSES)
+            elif column == "phase":
+                categories = _PHASES
             elif column == "group" and groups:
                 categories = groups
             if categories is not None:  # a value outside the known ones is kept, never made NaN
@@ -51,8 +65,12 @@ def _read_csv(file, kind, groups=None):
             frame[column] = pd.Categorical(values, categories=categories)
         elif column in _TEXT:
             frame[column] = values.astype("string")
-        elif _is_whole(column) and pd.api.types.is_numeric_dtype(values):
+        elif _is_whole(column, kind) and pd.api.types.is_numeric_dtype(values):
             frame[column] = values.astype("int64" if not values.isna().any() else "Int64")
+        elif kind in _TUNE_WHOLE and pd.api.types.is_numeric_dtype(values):
+            frame[column] = values.astype("float64")  # a value or a score, whichever numbers this tune drew
+        elif values.dtype == object:  # any other text (drone.name, versions.*, metrics): strings, as names are
+            frame[column] = values.astype("string")
     frame.attrs["units"] = _units.units(kind, frame.columns)
     return frame
 
@@ -218,7 +236,8 @@ def _queue_order(folder):
 
 
 def load(folder):
-    """A salsa output folder: a test's (OUT/<name>: TestResult) or a queue's (OUT: QueueResult).
+    """A salsa output folder: a test's (OUT/<name>: TestResult), a queue's (OUT: QueueResult) or a
+    tune's (OUT of salsa tune: TuneResult).
 
     Raises salsa.InputError in one line for anything else."""
     if not isinstance(folder, (str, os.PathLike)):
@@ -235,7 +254,9 @@ def load(folder):
             raise InputError(f"{path}: a test salsa has not finished (no config.json){why} ({ALLOWED}, of a finished test)")
         return TestResult(path)
     if (path / "tune.json").is_file():
-        raise InputError(f"{path}: holds a tune's results (tune.json), which salsa.load does not read ({ALLOWED})")
+        from ._tune import TuneResult  # it builds on this file's readers
+
+        return TuneResult(path)
     if _queue_order(path) or any(_finished_test(p) for p in path.iterdir()):
         return QueueResult(path)
     raise InputError(f"{path}: not a salsa output folder (no .salsa-test marker, no queue.json salsa wrote, "

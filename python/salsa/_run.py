@@ -14,15 +14,16 @@ from ._core import InputError, TestFailure
 
 
 def program():
-    """The salsa program: the one of the module's build tree, else `salsa` on PATH."""
-    root = _core.build_tree()
-    if root is not None:
-        built = Path(root) / "bin" / "salsa"
-        if built.is_file() and os.access(built, os.X_OK):
-            return str(built)
+    """The salsa program: the one of the module's build tree or install prefix, else `salsa` on PATH."""
+    for root in (_core.build_tree(), _core.install_prefix()):
+        if root is not None:
+            built = Path(root) / "bin" / "salsa"
+            if built.is_file() and os.access(built, os.X_OK):
+                return str(built)
     found = shutil.which("salsa")
     if found is None:
-        raise FileNotFoundError("salsa.run: no salsa program: neither in the module's build tree (bin/salsa) nor on PATH")
+        raise FileNotFoundError("salsa.run: no salsa program: neither beside the module (its build tree's or "
+                                "install prefix's bin/salsa) nor on PATH")
     return found
 
 
@@ -59,13 +60,68 @@ def _flag(name, value):
     return value
 
 
+def _terminal(stream):
+    """The terminal's file descriptor when `stream` writes straight to one, else None."""
+    try:
+        return stream.fileno() if stream.isatty() else None
+    except (AttributeError, OSError, ValueError):  # a notebook's or a test's stream
+        return None
+
+
+def _progress(command, errors, quiet):
+    """Runs the program, its progress passed on to sys.stdout as it comes; its errors into `errors`.
+
+    When sys.stdout is a terminal the program gets one of its own (a pseudo-terminal of the same
+    width), so it draws its live bar as in a shell; anywhere else (a notebook, a file) it writes a line
+    per finished test, each passed on when written. quiet: nothing written (the program has --quiet)."""
+    fd = None if quiet else _terminal(sys.stdout)
+    if fd is None:
+        process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=errors, text=True)
+        with process:
+            for line in process.stdout:  # each line as the program flushes it
+                if not quiet:
+                    sys.stdout.write(line)
+                    sys.stdout.flush()
+        return process
+    import codecs
+    import fcntl
+    import pty
+    import termios
+
+    leader, follower = pty.openpty()
+    try:
+        fcntl.ioctl(follower, termios.TIOCSWINSZ, fcntl.ioctl(fd, termios.TIOCGWINSZ, b"\0" * 8))
+    except OSError:
+        pass  # no size to copy: the bar is not cut to the width
+    try:
+        process = subprocess.Popen(command, stdout=follower, stderr=errors)
+    finally:
+        os.close(follower)
+    decoder = codecs.getincrementaldecoder("utf-8")(errors="replace")
+    with process:
+        try:
+            while True:
+                try:
+                    chunk = os.read(leader, 4096)
+                except OSError:  # EIO: the program closed its terminal
+                    break
+                if not chunk:
+                    break
+                sys.stdout.write(decoder.decode(chunk))
+                sys.stdout.flush()
+        finally:
+            os.close(leader)
+    return process
+
+
 def run(tests, out, jobs=None, force=False, resume=False, time=None, plots=True, drones_csv=True, quiet=True, args=()):
     """Runs tests with the salsa program (`salsa run`) into the folder `out` and returns salsa.load(out).
 
     tests: a test or queue file's path, a dict holding a test, or a list of them. jobs: tests at once
     (None: all cores). force, resume: as --force and --resume. time: simulated seconds per test (--time).
-    plots: draw the PNG plots. drones_csv: write drones.csv. quiet: no progress lines (else they go to
-    sys.stdout as the program prints them). args: more options of `salsa run`, as strings.
+    plots: draw the PNG plots. drones_csv: write drones.csv. quiet: nothing printed; False: the
+    program's progress on sys.stdout as it prints it (in a terminal its live bar, elsewhere a line per
+    finished test). args: more options of `salsa run`, as strings.
 
     Raises salsa.InputError with the program's line when it refuses the input (exit status 2), and
     salsa.TestFailure naming the first failed test when a test failed (exit status 1; the others ran).
@@ -110,12 +166,7 @@ def run(tests, out, jobs=None, force=False, resume=False, time=None, plots=True,
         command += ["--force"] * force + ["--resume"] * resume + ["--no-plots"] * (not plots)
         command += ["--no-drones-csv"] * (not drones_csv) + ["--quiet"] * quiet + list(args)
         with tempfile.TemporaryFile(mode="w+", dir=scratch) as errors:
-            process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=errors, text=True)
-            with process:
-                for line in process.stdout:
-                    if not quiet:
-                        sys.stdout.write(line)
-                        sys.stdout.flush()
+            process = _progress(command, errors, quiet)
             errors.seek(0)
             lines = [line.rstrip("\n") for line in errors if line.strip()]
     problems = []

@@ -43,10 +43,21 @@ FILES = {
     },
     # comparison.csv, did.csv and condition_effects.csv: the means and differences are in the unit of
     # the row's metric, which varies by row, so only the fixed columns have one.
-    "comparison.csv": {"drones": "", "targets": "", "time": "s", "n": "", "win_rate_a": ""},
-    "did.csv": {"drones": "", "targets": "", "time": "s", "n": ""},
-    "condition_effects.csv": {"drones": "", "targets": "", "time": "s", "n": "", "win_rate": ""},
+    "comparison.csv": {"cell": "", "condition": "", "drones": "", "targets": "", "target": "", "map": "", "time": "s",
+                       "metric": "", "variant_a": "", "variant_b": "", "n": "", "win_rate_a": ""},
+    "did.csv": {"cell": "", "drones": "", "targets": "", "target": "", "map": "", "time": "s", "metric": "",
+                "variant_a": "", "variant_b": "", "baseline": "", "condition": "", "n": ""},
+    "condition_effects.csv": {"cell": "", "drones": "", "targets": "", "target": "", "map": "", "time": "s", "metric": "",
+                              "variant": "", "baseline": "", "condition": "", "n": "", "win_rate": ""},
+    # A tune's files: their other columns are the parameters (test keys) and the objectives (columns
+    # of outcome.csv or summary.csv).
+    "tune.csv": {"evaluation": "", "candidate": "", "phase": "", "world": "", "seed": "", "status": "", "test": ""},
+    "candidates.csv": {"candidate": "", "generation": "", "status": "", "worlds": "", "evaluations": ""},
 }
+
+# A tune parameter's key (a test key, as timed changes write it) -> the key its unit is declared under.
+_PARAMETER = [(re.compile(r"^groups\.[^.]+\."), ""), (re.compile(r"^(behavior|map)\.params\."), r"\1."),
+              (re.compile(r"^targets\.params\."), "target.")]
 
 _GROUP = re.compile(r"^groups\.[^.]+\.(.*)$")
 
@@ -69,10 +80,10 @@ def units(file, columns):
         if file == "queue" and name in _OUTCOME:
             out[column] = _OUTCOME[name]
             continue
-        if file in ("summary.csv", "outcome.csv") and name.endswith(".energy_used_Wh"):
+        if file in ("summary.csv", "outcome.csv", "queue") and name.endswith(".energy_used_Wh"):
             out[column] = "Wh"  # <group>.energy_used_Wh
             continue
-        if file in ("summary.csv", "outcome.csv") and (name.endswith(".found") or name.endswith(".alive")):
+        if file in ("summary.csv", "outcome.csv", "queue") and (name.endswith(".found") or name.endswith(".alive")):
             out[column] = ""
             continue
         if file == "drones.csv":  # --drone-columns: a state column, or <name>_x / <name>_y of a vector
@@ -82,6 +93,22 @@ def units(file, columns):
                 if key in declared_columns and (key == name) == (declared_columns[key][1] == 1):
                     out[column] = declared_columns[key][0]
                     break
+            continue
+        if file in ("tune.csv", "candidates.csv"):
+            column_name = name.split("@")[0]  # an objective read at a time: coverage@60
+            objective = FILES["summary.csv"].get(column_name, _OUTCOME.get(column_name))
+            if objective is not None:
+                out[column] = objective
+                continue
+            if declared is None:
+                declared = _core.input_units()
+            key = name
+            for pattern, replacement in _PARAMETER:
+                key = pattern.sub(replacement, key)
+            if key in declared:
+                out[column] = declared[key]
+            elif key == "drones":
+                out[column] = ""
             continue
         if file == "queue":
             if declared is None:

@@ -1,6 +1,7 @@
 #pragma once
 // What the two halves of the extension module salsa._core share: the process's plugin host and the
 // build tree the module sits in (docs/python.md).
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include <filesystem>
@@ -8,6 +9,7 @@
 #include <string>
 
 #include "salsa/core/plugins/plugin_host.hpp"
+#include "salsa/core/run/session.hpp"
 
 namespace salsa::python {
 
@@ -20,6 +22,9 @@ std::shared_ptr<const PluginHost> shared_host();
 
 /// <build> when the module is <build>/python/salsa/_core*.so of a CMake build tree, else empty.
 std::filesystem::path build_tree();
+/// The install prefix when the module is installed (<prefix>/lib/python3/dist-packages/salsa/_core*.so
+/// beside <prefix>/bin/salsa, as the .deb puts them), else empty.
+std::filesystem::path install_prefix();
 
 /// salsa::InputError raises salsa.InputError and salsa::TestFailure salsa.TestFailure (module.cpp), each
 /// with the message as the CLI prints it: on one line (line breaks a plugin passed on become spaces).
@@ -27,5 +32,11 @@ std::string one_line(std::string text);
 
 /// salsa._core.Session (session.cpp).
 void bind_session(py::module_& m);
+/// The session now as the desktop draws it: an (height, width, 3) uint8 RGB array (render.cpp; built with
+/// the desktop's drawing, salsa_frame).
+py::array render_session(const Session& session, int width, int height);
+
+/// salsa._core.validate_file and validate_json, salsa.validate's checks (validate.cpp).
+void bind_validate(py::module_& m);
 
 }  // namespace salsa::python

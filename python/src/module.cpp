@@ -33,6 +33,8 @@ std::vector<SearchDir> search_path() {
   std::erase_if(dirs, [](const SearchDir& d) { return d.origin == "install" || d.origin == "build tree"; });
   if (const fs::path root = build_tree(); !root.empty())
     dirs.push_back({(root / SALSA_LIBDIR / "salsa/plugins").lexically_normal(), "build tree"});
+  else if (const fs::path prefix = install_prefix(); !prefix.empty())
+    dirs.push_back({(prefix / SALSA_LIBDIR / "salsa/plugins").lexically_normal(), "install"});
   return dirs;
 }
 
@@ -44,6 +46,15 @@ fs::path build_tree() {
   const fs::path root = file.parent_path().parent_path().parent_path();  // <build>/python/salsa/_core.so
   std::error_code ec;
   return fs::exists(root / "CMakeCache.txt", ec) ? root : fs::path{};
+}
+
+fs::path install_prefix() {
+  const fs::path file = module_file();
+  if (file.empty()) return {};
+  fs::path prefix = (file.parent_path() / SALSA_PYTHON_PREFIX).lexically_normal();
+  if (!prefix.has_filename()) prefix = prefix.parent_path();  // "/usr/", as "../.." normalises, is "/usr"
+  std::error_code ec;
+  return fs::is_directory(prefix / SALSA_LIBDIR / "salsa/plugins", ec) ? prefix : fs::path{};
 }
 
 std::shared_ptr<const PluginHost> shared_host() {
@@ -96,6 +107,13 @@ PYBIND11_MODULE(_core, m) {
       },
       "The CMake build tree this module was built in (it holds bin/salsa and the plugins), or None.");
   m.def(
+      "install_prefix",
+      []() -> py::object {
+        const std::filesystem::path prefix = install_prefix();
+        return prefix.empty() ? py::object(py::none()) : py::object(py::str(prefix.string()));
+      },
+      "The install prefix (it holds bin/salsa and the plugins) when the module is installed, or None.");
+  m.def(
       "plugin_folders",
       []() {
         py::list out;
@@ -139,4 +157,5 @@ PYBIND11_MODULE(_core, m) {
       "The units of a test's numbers as declared (drone.*, the models' fields, the plugins' parameters).");
   m.def("version", [] { return std::string(salsa::salsa_version()); }, "libsalsa's version, e.g. '0.1.0'.");
   bind_session(m);
+  bind_validate(m);
 }

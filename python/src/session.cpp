@@ -3,6 +3,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -129,6 +130,27 @@ class PySession {
   void change(const std::string& key, double value) {
     idle("change");
     session_->change(key, value);  // std::invalid_argument "key: why" becomes ValueError
+  }
+
+  /// The session as a test: its start state and every change so far, the live ones at the times they
+  /// were made (the timeline the desktop's "Save as test" writes), through the writer of config.json.
+  py::dict as_test() {
+    idle("test");
+    TestSpec t = session_->test();
+    t.changes = session_->timeline();
+    // Past the test's time (step may go on): the time reached, so that its replay holds every change.
+    t.time = std::max(t.time, session_->simulation().time());
+    return py::module_::import("json").attr("loads")(resolved_json(t, *host_));
+  }
+
+  py::array render(int width, int height) {
+    idle("render");
+#ifdef SALSA_PYTHON_RENDER
+    return render_session(*session_, width, height);
+#else
+    (void)width, (void)height;
+    throw py::value_error("render: this salsa was built without the desktop's drawing (SALSA_BUILD_GUI off, or no Qt 6)");
+#endif
   }
 
   py::dict summary() {
@@ -282,6 +304,14 @@ CLI's line. `threads`: decide threads, 0 for all cores. Nothing is written to di
            "A live change now, as a test's timed change (key: 'drones', 'behavior.params.<name>', "
            "'drone.<field>', 'fail.drone', 'wind.velocity.x', ...; docs/test-format.md). ValueError "
            "when refused; nothing changed then. Column views taken before are invalid after it.")
+      .def("test", &PySession::as_test,
+           "The session as a test dict: its test, every change made through change() as a timed change at "
+           "the time it was made, and the test's own timed changes; its time the test's, or the time reached "
+           "when past it. `salsa run` of it (or a Session of it stepped as far) replays this session byte for byte.")
+      .def("render", &PySession::render, py::arg("width") = 800, py::arg("height") = 800,
+           "The session now drawn as the desktop's sandbox draws it (the map fitted in, obstacles, targets found "
+           "and not, bases, drones in their groups' colours, wind arrows, the legend): a (height, width, 3) uint8 "
+           "RGB array. Without a QGuiApplication in the process one on Qt's offscreen platform is made.")
       .def("summary", &PySession::summary,
            "summary.csv's row now as a dict: column -> number (NaN: empty). The metrics' columns (coverage, "
            "mean_distance, ...) are those of the latest logged row (every log_interval s, and time 0): a "

@@ -91,7 +91,10 @@ def test_not_salsa_output(tmp_path):
         salsa.load(tmp_path / "file.csv")
     (tmp_path / "tune").mkdir()
     (tmp_path / "tune" / "tune.json").write_text("{}")
-    with pytest.raises(salsa.InputError, match=r"holds a tune's results"):
+    with pytest.raises(salsa.InputError, match=r"tune.json: not the tune file salsa tune writes"):
+        salsa.load(tmp_path / "tune")
+    (tmp_path / "tune" / "tune.json").write_text("{")
+    with pytest.raises(salsa.InputError, match=r"tune.json: cannot be read as JSON"):
         salsa.load(tmp_path / "tune")
     with pytest.raises(TypeError, match=r"^folder: int"):
         salsa.load(3)

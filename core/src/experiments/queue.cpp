@@ -113,11 +113,13 @@ void multiply(const Sweep& sweep, const Reader& r, Visit visit) {
 
 }  // namespace
 
-Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOptions& options) {
-  const json j = detail::read_json_file(file, "a test, a list of tests, or a queue {\"tests\": [...], \"sweep\": {...}}");
-  const std::string shown_file = strict_json::printable(file.string(), 200);
-  const Reader r(shown_file, file.parent_path());
-  const std::string stem = file.stem().string();
+namespace {
+
+/// The queue `j` read from `shown_file` (as messages name it), its relative paths from `dir`, a test
+/// without a name named after `stem`.
+Queue read_queue(const json& j, const std::string& shown_file, const fs::path& dir, const std::string& stem,
+                 const PluginHost& host, const QueueOptions& options) {
+  const Reader r(shown_file, dir);
   Queue queue;
   queue.source = shown_file;
 
@@ -165,7 +167,7 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
         r.fail(at + ".condition", "set by the queue's conditions (allowed: leave it out)");
       for (const Condition& condition : shared.conditions) {
         const std::string where = shown_file + ": " + at + (condition.name.empty() ? "" : " (" + condition.at + ")");
-        const Reader reader(where, file.parent_path());
+        const Reader reader(where, dir);
         json test = j.contains("base") ? merged(shared.base, own, true) : own;
         if (!condition.name.empty()) {
           condition.check_apart(own_paths, r);
@@ -195,10 +197,10 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
   // ---- The sweep multiplied out, each test read: with sweep.set, a test's messages name the values it was made of.
   if (sweep) {
     const std::string base_where = shown_file + ": sweep.test";
-    const Reader base_reader(base_where, file.parent_path());
+    const Reader base_reader(base_where, dir);
     multiply(*sweep, r, [&](Swept&& s) {
       const Reader reader = s.at.empty() || (sweep->set.empty() && !shared.named()) ? base_reader
-                                                                                 : Reader(shown_file + ": sweep (" + s.at + ")", file.parent_path());
+                                                                                 : Reader(shown_file + ": sweep (" + s.at + ")", dir);
       Config c{detail::parse_test(s.test, reader, host), base_where, std::move(s.name), s.at};
       c.test.source = shown_file + ": sweep" + (s.at.empty() ? "" : " (" + s.at + ")");
       configs.push_back(std::move(c));
@@ -297,6 +299,24 @@ Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOption
                        " (each test writes to a folder of its name)");
   }
   return queue;
+}
+
+}  // namespace
+
+Queue load_queue(const fs::path& file, const PluginHost& host, const QueueOptions& options) {
+  const json j = detail::read_json_file(file, "a test, a list of tests, or a queue {\"tests\": [...], \"sweep\": {...}}");
+  return read_queue(j, strict_json::printable(file.string(), 200), file.parent_path(), file.stem().string(), host, options);
+}
+
+Queue parse_queue(const std::string& json_text, const std::string& where, const PluginHost& host, const QueueOptions& options,
+                  const fs::path& base_dir, const std::string& stem) {
+  json j;
+  try {
+    j = strict_json::parse<json>(json_text, where);
+  } catch (const strict_json::Error& e) {
+    throw InputError(e.what());
+  }
+  return read_queue(j, where, base_dir, stem, host, options);
 }
 
 std::vector<SweptTest> expand_sweep(const fs::path& file, const PluginHost& host) {

@@ -36,6 +36,10 @@ struct Queue {
 /// count is checked before the sweep is expanded. Throws InputError (one line: file, position, key,
 /// value, what is allowed).
 Queue load_queue(const std::filesystem::path& file, const PluginHost& host, const QueueOptions& options);
+/// load_queue of JSON text rather than a file (the Python package's dicts): `where` names it in messages
+/// as the file would be, relative paths are from `base_dir`, and a test without a "name" is named `stem`.
+Queue parse_queue(const std::string& json_text, const std::string& where, const PluginHost& host, const QueueOptions& options,
+                  const std::filesystem::path& base_dir = {}, const std::string& stem = "test");
 
 /// One test of a sweep before the test reader sees it.
 struct SweptTest {

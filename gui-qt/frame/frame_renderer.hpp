@@ -7,7 +7,7 @@
 #include <memory>
 #include <optional>
 
-#include "engine.hpp"
+#include "snapshot.hpp"
 
 class QPainter;
 
