@@ -3,6 +3,7 @@
 // build tree the module sits in (docs/python.md).
 #include <pybind11/pybind11.h>
 
+#include <atomic>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -17,6 +18,11 @@ namespace py = pybind11;
 /// $SALSA_PLUGIN_PATH, the user folder, then the build tree's plugin folder when the module is in one.
 /// Each file refused is a RuntimeWarning, as the CLI's "salsa: warning: plugin ..." lines.
 std::shared_ptr<const PluginHost> shared_host();
+/// The same host, to register Python behaviors in (behavior.cpp): only while no Session steps, as a
+/// stepping Session reads it without the GIL.
+PluginHost& plugin_host();
+/// How many Sessions are stepping now (the GIL released), in any thread.
+std::atomic<int>& sessions_stepping();
 
 /// <build> when the module is <build>/python/salsa/_core*.so of a CMake build tree, else empty.
 std::filesystem::path build_tree();
@@ -27,5 +33,7 @@ std::string one_line(std::string text);
 
 /// salsa._core.Session (session.cpp).
 void bind_session(py::module_& m);
+/// salsa._core.BatchRng, register_behavior and _behaviors: behaviors written in Python (behavior.cpp).
+void bind_behavior(py::module_& m);
 
 }  // namespace salsa::python

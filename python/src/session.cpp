@@ -227,9 +227,10 @@ class PySession {
   void stepping(More more) {
     idle("step");
     busy_ = true;
+    ++sessions_stepping();  // Python behaviors are not registered meanwhile (behavior.cpp)
     struct Done {
       std::atomic<bool>& flag;
-      ~Done() { flag = false; }
+      ~Done() { flag = false, --sessions_stepping(); }
     } done{busy_};
     for (bool left = true; left;) {
       {
