@@ -5,6 +5,8 @@
     run(tests, out) tests run by the salsa program into `out`, then load(out)
     Behavior        base of a behavior written in Python (numpy, one call per group per step);
                     register(cls) makes tests find it by its name; behaviors() lists them all
+    Env             one group of a test as a batched reinforcement-learning environment (numpy arrays,
+                    agents on the first axis); ParallelEnv the same as a PettingZoo ParallelEnv
     InputError      bad input, with the CLI's one line
     TestFailure     a test failed while it ran
 """
@@ -13,11 +15,13 @@ from ._behavior import Behavior, Param, Senses
 from ._core import BatchRng, InputError, Session, TestFailure
 from ._core import register_behavior as _register_behavior
 from ._core import version as _version
+from ._env import Env
+from ._parallel_env import ParallelEnv
 from ._results import QueueResult, TestResult, load
 from ._run import run
 
 __version__ = _version()
-__all__ = ["BatchRng", "Behavior", "InputError", "Param", "QueueResult", "Senses", "Session", "TestFailure", "TestResult",
+__all__ = ["BatchRng", "Behavior", "Env", "InputError", "ParallelEnv", "Param", "QueueResult", "Senses", "Session", "TestFailure", "TestResult",
            "behaviors", "load", "register", "run"]
 
 
