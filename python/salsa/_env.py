@@ -14,6 +14,7 @@ import json
 import math
 import os
 import threading
+import weakref
 
 import numpy as np
 
@@ -48,10 +49,19 @@ def _agent_class(neighbours, targets):
 
     Agent.name = name
     Agent.__qualname__ = Agent.__name__ = "Agent_" + name
-    if name not in _registered:
-        register_behavior(Agent)
-        _registered.add(name)
+    register_behavior(Agent)
+    _registered.add(name)
     return name
+
+
+def _agent_behavior(neighbours, targets):
+    """The internal behavior's name; all four are registered at once, at the first Env, as registering
+    is refused while a Session steps (and an Env's session is mid-step between two env steps)."""
+    if not _registered:
+        for n in (False, True):
+            for t in (False, True):
+                _agent_class(n, t)
+    return "rl_agent" + ("_neighbours" if neighbours else "") + ("_targets" if targets else "")
 
 
 class _Channel:
@@ -59,7 +69,7 @@ class _Channel:
     released by one side and taken by the other, so exactly one side runs at a time."""
 
     def __init__(self, env, session):
-        self.env, self.session = env, session
+        self._env, self.session = weakref.ref(env), session  # weak: a dropped Env closes its episode
         self.to_main, self.to_worker = threading.Lock(), threading.Lock()
         self.to_main.acquire()
         self.to_worker.acquire()
@@ -75,10 +85,14 @@ class _Channel:
         if self.abort:
             raise _Aborted("salsa.Env: episode closed")
         self.decisions += 1
-        if self.held > 0 and group.time < self.env.end_time - group.dt / 2:
+        env = self._env()
+        if env is None:
+            raise _Aborted("salsa.Env: dropped")
+        if self.held > 0 and group.time < env.end_time - group.dt / 2:
             # the same action held over another step, steered from this step's velocity
             self.held -= 1
-            return self.env._steer(group)
+            return env._steer(group)
+        del env
         self.group = group
         self.session._park(True)
         self.to_main.release()
@@ -170,7 +184,7 @@ class Env:
     def __init__(self, test, observation=("position", "velocity"), reward="found", group=None, action="velocity",
                  action_repeat=1, bounds=None, threads=0, dtype=np.float32):
         self.test = _read_test(test)
-        self.features = _features.parse(list(observation) if isinstance(observation, list) else observation)
+        self.features = _features.parse(observation)
         self.reward_weights = self._parse_reward(reward)
         if action not in ACTIONS:
             raise ValueError(f"action: {action!r} (allowed: {', '.join(repr(a) for a in ACTIONS)})")
@@ -207,7 +221,7 @@ class Env:
 
         neighbours = any("neighbours" in f.senses for f in self.features)
         targets = any("targets" in f.senses for f in self.features)
-        self._behavior = _agent_class(neighbours, targets)
+        self._behavior = _agent_behavior(neighbours, targets)
         self.observation_size = sum(f.width for f in self.features)
         self.columns = [c for f in self.features for c in f.columns]
 
@@ -238,6 +252,12 @@ class Env:
         return out
 
     # ---- episodes ----
+
+    def group_drones(self):
+        """The group's drone ids at the start (a Session made for it, not stepped): the agents of every
+        episode, unless a group's size depends on the seed."""
+        session = Session(self.test, threads=1)
+        return np.flatnonzero(session.column("group") == self.group_index).astype(np.uint32)
 
     @property
     def num_agents(self):
@@ -340,7 +360,7 @@ class Env:
         g = channel.group
         if channel.ended or g is None:
             alive = np.zeros(n, dtype=bool)
-            time = self.session.time
+            time = self.session.time - self.session.dt  # the step whose decide found no drone to ask
         else:
             self._index(g)
             agent = self._agent_of[g.id]

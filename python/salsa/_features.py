@@ -144,8 +144,9 @@ ALLOWED = ("position, velocity, battery, time, messages, neighbours, targets, ob
 
 def parse(observation):
     """The `observation` argument as a list of Features, or ValueError/TypeError naming what is allowed."""
-    if isinstance(observation, (str, tuple)):
-        observation = [observation]
+    if isinstance(observation, str) or (isinstance(observation, tuple) and len(observation) == 2
+                                        and isinstance(observation[1], (int, np.integer))):
+        observation = [observation]  # one feature
     if not isinstance(observation, (list, tuple)) or not observation:
         raise TypeError(f"observation: {type(observation).__name__} (allowed: a non-empty list of {ALLOWED})")
     features, seen = [], set()
