@@ -10,6 +10,7 @@ next observation. Nothing of the core changes: the same seed and the same action
 episode, and a test run by `salsa run` with a behavior deciding as the actions did gives the same data.
 """
 
+import atexit
 import json
 import math
 import os
@@ -26,6 +27,15 @@ ACTIONS = ("velocity", "steering")
 _channels = {}  # channel number -> _Channel: how a behavior instance finds its Env
 _next_channel = [1]
 _registered = set()
+_open = weakref.WeakSet()  # the Envs with an episode's thread, closed at exit before Python finalises
+
+
+@atexit.register
+def _close_all():
+    # A stepping thread still parked at exit would be stopped inside C++ frames by the finalising
+    # interpreter (std::terminate): end the episodes first.
+    for env in list(_open):
+        env.close()
 
 
 class _Aborted(Exception):
@@ -298,6 +308,7 @@ class Env:
         self._actions = np.zeros((len(self.agents), 2))
         self._thread = threading.Thread(target=channel.run, name="salsa.Env", daemon=True)
         self._over = False
+        _open.add(self)
         self._thread.start()
         obs, _, _, _, _, _ = self._advance()
         return obs
@@ -425,6 +436,7 @@ class Env:
         channel.abort = True
         channel.go()
         thread.join()
+        _open.discard(self)
         _channels.pop(self._channel_number, None)
 
     def __del__(self):
