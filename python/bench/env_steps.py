@@ -1,6 +1,6 @@
 """Agent-steps per second of salsa.Env with a numpy policy (docs/python.md, "Reinforcement learning").
 
-    PYTHONPATH=build/release/python /usr/bin/python3 examples/python/bench_env.py --drones 1000 --steps 600
+    PYTHONPATH=build/release/python /usr/bin/python3 python/bench/env_steps.py --drones 1000 --steps 600
 
 The test: `drones` drones on an empty square map with light physics, 2,000 trees, observations of own
 state, the 4 nearest neighbours and 8 obstacle sectors; the policy a random linear map with tanh.
