@@ -427,12 +427,14 @@ class Env:
         return rewards
 
     def close(self):
-        """Ends the episode's stepping thread (reset calls it)."""
+        """Ends the episode: its thread abandons the step it is parked in, and `session` is dropped (a
+        step cut short is no state to go on from). reset calls it."""
         channel, thread = self._channel, self._thread
         self._channel = self._thread = None
         self._over = True
         if channel is None:
             return
+        self.session = None
         channel.abort = True
         channel.go()
         thread.join()

@@ -215,3 +215,18 @@ def test_action_repeat_holds_the_action():
         env.step(np.zeros((6, 2)))
         steps += 1
     assert steps == round(SMALL["time"] / env.session.dt / 4)
+
+
+def test_the_session_is_read_only_between_steps():
+    env = salsa.Env(SMALL, threads=1)
+    env.reset(seed=1)
+    s = env.session
+    assert s.summary()["time"] == 0 and len(s.targets()["found"]) == 150  # reads: allowed while parked
+    with pytest.raises(ValueError, match=r"^step: the session is inside a step \(allowed: once step or run_until returns\)"):
+        s.step()
+    with pytest.raises(ValueError, match=r"^change: the session is inside a step"):
+        s.change("drones", 3)
+    with pytest.raises(ValueError, match=r"^_park: only the thread stepping the session parks it"):
+        s._park(False)
+    env.close()  # the episode's step is abandoned: its session goes with it
+    assert env.session is None
