@@ -4,6 +4,8 @@ the drone perceives when it decides), scaled to about [-1, 1]. Lists are padded 
 
 import numpy as np
 
+from ._core import _nearest  # a partial sort per row, in C++
+
 
 class Feature:
     """One declared feature: `name`, `count` (items kept, for the lists), `width` (columns) and
@@ -16,24 +18,6 @@ class Feature:
 
     def __repr__(self):
         return f"Feature({self.name!r}, count={self.count}, width={self.width})"
-
-
-def _nearest(rows, offsets, distance, n, k):
-    """Per row, the indices of its k nearest items: (n, k), nearest first, -1 where the row has fewer.
-    Items are in row order (offsets: each row's first item)."""
-    out = np.full((n, k), -1, dtype=np.intp)
-    m = len(distance)
-    if m == 0:
-        return out
-    # One sort of row + distance scaled into [0, 1): rows stay in order, distances order within a row.
-    top = float(distance.max())
-    key = rows + (distance / (top * 1.000001) if top > 0 else 0.0)
-    order = np.argsort(key)
-    sorted_rows = rows[order]
-    rank = np.arange(m) - offsets[:-1][sorted_rows]
-    keep = rank < k
-    out[sorted_rows[keep], rank[keep]] = order[keep]
-    return out
 
 
 def _gather(index, width, fill):
@@ -67,7 +51,7 @@ def _time(g, ctx):
 def _neighbours(k):
     def compute(g, ctx):
         nb = g.neighbours
-        index = _nearest(nb.row, nb.offsets, nb.distance, len(g), k)
+        index = _nearest(nb.offsets, nb.distance, k)  # (n, k), nearest first, -1 past the row's items
         reach = g.detection_range if g.detection_range > 0 else 1.0
 
         def fill(items, rows):
@@ -80,7 +64,7 @@ def _neighbours(k):
 def _targets(k):
     def compute(g, ctx):
         t = g.targets
-        index = _nearest(t.row, t.offsets, t.distance, len(g), k)
+        index = _nearest(t.offsets, t.distance, k)
         reach = g.camera_range if g.camera_range > 0 else 1.0
 
         def fill(items, rows):

@@ -35,5 +35,7 @@ std::string one_line(std::string text);
 void bind_session(py::module_& m);
 /// salsa._core.BatchRng, register_behavior and _behaviors: behaviors written in Python (behavior.cpp).
 void bind_behavior(py::module_& m);
+/// salsa._core._nearest: each row's k nearest items, for salsa.Env's features (features.cpp).
+void bind_features(py::module_& m);
 
 }  // namespace salsa::python

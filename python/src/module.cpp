@@ -153,4 +153,5 @@ PYBIND11_MODULE(_core, m) {
   m.def("version", [] { return std::string(salsa::salsa_version()); }, "libsalsa's version, e.g. '0.1.0'.");
   bind_session(m);
   bind_behavior(m);
+  bind_features(m);
 }

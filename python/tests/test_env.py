@@ -230,3 +230,12 @@ def test_the_session_is_read_only_between_steps():
         s._park(False)
     env.close()  # the episode's step is abandoned: its session goes with it
     assert env.session is None
+
+
+def test_nearest_items_per_row():
+    from salsa._core import _nearest
+    offsets = np.array([0, 3, 3, 5], dtype=np.int64)
+    distance = np.array([5.0, 1.0, 3.0, 2.0, 2.0])
+    np.testing.assert_array_equal(_nearest(offsets, distance, 2), [[1, 2], [-1, -1], [3, 4]])  # ties: item order
+    with pytest.raises(ValueError, match=r"^_nearest: offsets run from 0 to 5 \(allowed: 0 to the 4 items\)"):
+        _nearest(offsets, distance[:4], 2)
