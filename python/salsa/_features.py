@@ -101,7 +101,7 @@ def _messages(g, ctx):
     reach = g.detection_range if g.detection_range > 0 else 1.0
     sums = np.stack([np.bincount(rows, m.offset[:, 0], minlength=n), np.bincount(rows, m.offset[:, 1], minlength=n)], axis=1)
     mean = sums / np.maximum(count, 1)[:, None] / reach
-    return np.concatenate([np.log1p(count)[:, None], mean], axis=1)
+    return np.concatenate([(count / (count + 4))[:, None], mean], axis=1)  # 0 none, 0.5 at 4, towards 1
 
 
 def _xy(prefix, count, fields):
@@ -114,7 +114,7 @@ OPTIONS = {
     "velocity": (None, lambda k: Feature("velocity", 1, ["vx", "vy"], _velocity)),
     "battery": (None, lambda k: Feature("battery", 1, ["battery"], _battery)),
     "time": (None, lambda k: Feature("time", 1, ["time"], _time)),
-    "messages": (None, lambda k: Feature("messages", 1, ["log_count", "mean_dx", "mean_dy"], _messages)),
+    "messages": (None, lambda k: Feature("messages", 1, ["received", "mean_dx", "mean_dy"], _messages)),
     "neighbours": (4, lambda k: Feature("neighbours", k, _xy("neighbour", k, ("dx", "dy", "dvx", "dvy", "present")),
                                         _neighbours(k), senses=("neighbours",))),
     "targets": (3, lambda k: Feature("targets", k, _xy("target", k, ("dx", "dy", "found", "present")), _targets(k),

@@ -239,3 +239,26 @@ def test_nearest_items_per_row():
     np.testing.assert_array_equal(_nearest(offsets, distance, 2), [[1, 2], [-1, -1], [3, 4]])  # ties: item order
     with pytest.raises(ValueError, match=r"^_nearest: offsets run from 0 to 5 \(allowed: 0 to the 4 items\)"):
         _nearest(offsets, distance[:4], 2)
+
+
+def test_every_feature():
+    test = {k: v for k, v in SMALL.items() if k not in ("behavior", "drones", "spawn")}
+    test["groups"] = [{"name": "senders", "behavior": "pheromone_avoidance", "drones": 4},
+                      {"name": "learners", "behavior": "random_walk", "drones": 3,
+                       "drone": {"base": "small", "battery_capacity": 7}}]
+    test["comm"] = {"range": 150}
+    env = salsa.Env(test, group="learners", observation=["position", "velocity", ("neighbours", 2), ("targets", 2),
+                                                         ("obstacles", 4), "battery", "messages", "time"], threads=1)
+    assert env.columns[:4] == ["x", "y", "vx", "vy"] and env.columns[-5:] == ["battery", "received", "mean_dx", "mean_dy", "time"]
+    obs = env.reset(seed=1)
+    assert obs.shape == (3, 4 + 10 + 8 + 4 + 1 + 3 + 1) == (3, env.observation_size) and obs.dtype == np.float32
+    received = 0.0
+    for _ in range(60):
+        obs, _, _, _, alive, info = env.step(np.tile([0.5, 0.5], (3, 1)))
+        assert np.isfinite(obs).all() and (np.abs(obs) <= 2.01).all()  # relative velocities reach ±2
+        battery = obs[:, env.columns.index("battery")]
+        assert ((0 < battery) & (battery < 1)).all()  # drawn from a 7 Wh battery
+        assert obs[0, -1] == pytest.approx(info["time"] / 3, abs=1e-6)
+        received += obs[:, env.columns.index("received")].sum()
+    assert received > 0  # the pheromone drones broadcast
+    env.close()
