@@ -262,3 +262,19 @@ def test_every_feature():
         received += obs[:, env.columns.index("received")].sum()
     assert received == 0  # no built-in behavior broadcasts: the radio stays silent
     env.close()
+
+
+class Still(salsa.Behavior):
+    name = "test_env_still"
+
+    def decide(self, g, rng):
+        return np.zeros((len(g), 2))
+
+
+def test_a_dropped_env_ends_its_episode():
+    env = salsa.Env(SMALL, threads=1)
+    env.reset(seed=1)
+    with pytest.raises(ValueError, match=r"a Session is stepping in another thread"):
+        salsa.register(Still)  # refused while the episode's thread is inside a step
+    del env  # closes the episode: nothing steps any more
+    salsa.register(Still)
