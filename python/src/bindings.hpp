@@ -4,6 +4,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <atomic>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -19,6 +20,11 @@ namespace py = pybind11;
 /// $SALSA_PLUGIN_PATH, the user folder, then the build tree's plugin folder when the module is in one.
 /// Each file refused is a RuntimeWarning, as the CLI's "salsa: warning: plugin ..." lines.
 std::shared_ptr<const PluginHost> shared_host();
+/// The same host, to register Python behaviors in (behavior.cpp): only while no Session steps, as a
+/// stepping Session reads it without the GIL.
+PluginHost& plugin_host();
+/// How many Sessions are stepping now (the GIL released), in any thread.
+std::atomic<int>& sessions_stepping();
 
 /// <build> when the module is <build>/python/salsa/_core*.so of a CMake build tree, else empty.
 std::filesystem::path build_tree();
@@ -38,5 +44,9 @@ py::array render_session(const Session& session, int width, int height);
 
 /// salsa._core.validate_file and validate_json, salsa.validate's checks (validate.cpp).
 void bind_validate(py::module_& m);
+/// salsa._core.BatchRng, register_behavior and _behaviors: behaviors written in Python (behavior.cpp).
+void bind_behavior(py::module_& m);
+/// salsa._core._nearest: each row's k nearest items, for salsa.Env's features (features.cpp).
+void bind_features(py::module_& m);
 
 }  // namespace salsa::python

@@ -57,8 +57,21 @@ fs::path install_prefix() {
   return fs::is_directory(prefix / SALSA_LIBDIR / "salsa/plugins", ec) ? prefix : fs::path{};
 }
 
+namespace {
+std::shared_ptr<PluginHost> host;  // guarded by the GIL: every caller holds it
+}  // namespace
+
+PluginHost& plugin_host() {
+  shared_host();
+  return *host;
+}
+
+std::atomic<int>& sessions_stepping() {
+  static std::atomic<int> count{0};
+  return count;
+}
+
 std::shared_ptr<const PluginHost> shared_host() {
-  static std::shared_ptr<const PluginHost> host;  // guarded by the GIL: every caller holds it
   if (host) return host;
   auto loaded = std::make_shared<PluginHost>();
   loaded->load(search_path());
@@ -158,4 +171,6 @@ PYBIND11_MODULE(_core, m) {
   m.def("version", [] { return std::string(salsa::salsa_version()); }, "libsalsa's version, e.g. '0.1.0'.");
   bind_session(m);
   bind_validate(m);
+  bind_behavior(m);
+  bind_features(m);
 }

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <optional>
 #include <string_view>
+#include <thread>
 
 #include "bindings.hpp"
 #include "salsa/core/experiments/test_models.hpp"
@@ -129,6 +130,7 @@ class PySession {
 
   void change(const std::string& key, double value) {
     idle("change");
+    writable("change");
     session_->change(key, value);  // std::invalid_argument "key: why" becomes ValueError
   }
 
@@ -238,21 +240,43 @@ class PySession {
   bool busy() const { return busy_; }
 
  private:
-  /// Refuses a call while another thread steps this session (the GIL is released then).
+  /// Refuses a call while another thread steps this session (the GIL is released then). The stepping
+  /// thread itself may read (a Python behavior's decide runs there, between two phases of a step, while
+  /// nothing else writes the simulation), and so may any thread while the stepping thread is parked.
   void idle(const char* what) const {
-    if (busy_) throw py::value_error(std::string(what) + ": the session is stepping in another thread (allowed: once step or run_until returns)");
+    if (busy_ && !parked_ && std::this_thread::get_id() != stepper_)
+      throw py::value_error(std::string(what) + ": the session is stepping in another thread (allowed: once step or run_until returns)");
+  }
+  /// What writes: refused during any step, parked or not.
+  void writable(const char* what) const {
+    if (busy_)
+      throw py::value_error(std::string(what) + ": the session is inside a step (allowed: once step or run_until returns)");
   }
 
+ public:
+  /// The stepping thread, inside a Python behavior's decide, waits for another thread (salsa.Env): the
+  /// session's reads are allowed there meanwhile, as nothing writes the simulation until it goes on.
+  void park(bool on) {
+    if (!busy_ || std::this_thread::get_id() != stepper_)
+      throw py::value_error("_park: only the thread stepping the session parks it (allowed: inside a behavior's decide)");
+    parked_ = on;
+  }
+
+ private:
   /// Steps while `more()` says so, without the GIL, taking it back about every 50 ms to let Ctrl-C
   /// (KeyboardInterrupt) stop between two steps.
   template <class More>
   void stepping(More more) {
     idle("step");
+    writable("step");
+    stepper_ = std::this_thread::get_id();
     busy_ = true;
+    ++sessions_stepping();  // Python behaviors are not registered meanwhile (behavior.cpp)
     struct Done {
       std::atomic<bool>& flag;
-      ~Done() { flag = false; }
-    } done{busy_};
+      std::atomic<bool>& parked;
+      ~Done() { parked = false, flag = false, --sessions_stepping(); }
+    } done{busy_, parked_};
     for (bool left = true; left;) {
       {
         py::gil_scoped_release nogil;
@@ -284,6 +308,8 @@ class PySession {
   std::unique_ptr<Session> session_;
   std::optional<ModelOutputs> outputs_;
   std::atomic<bool> busy_{false};
+  std::atomic<bool> parked_{false};
+  std::thread::id stepper_;  // the thread stepping while busy_
 };
 
 }  // namespace
@@ -333,6 +359,9 @@ CLI's line. `threads`: decide threads, 0 for all cores. Nothing is written to di
       .def_property_readonly("name", [](const PySession& s) { return s.session("name").test().name; }, "The test's name.")
       .def_property_readonly("drones", [](const PySession& s) { return s.session("drones").simulation().drone_count(); },
                              "Drone ids so far, removed ones included (the columns' rows).")
+      .def("_park", &PySession::park, py::arg("on"),
+           "From inside a Python behavior's decide: other threads may read the session (not step or "
+           "change it) until _park(False) (salsa.Env's stepping thread waits there for the actions).")
       .def("__repr__", [](const PySession& s) {
         if (s.busy()) return std::string("<salsa.Session, stepping>");
         const Session& session = s.session("repr");

@@ -29,6 +29,15 @@ def cli_line(program, command, file):
     return lines[0][len("salsa: "):]
 
 
+def in_process(line):
+    """A Session's line as the program prints it: a Session also knows the Python behaviors registered in
+    this process (other tests' and salsa.Env's), listed after the plugins' in an unknown name's line."""
+    for name, b in salsa.behaviors().items():
+        if b["origin"].startswith("Python class "):
+            line = line.replace(", " + name + ",", ",").replace(", " + name + ")", ")")
+    return line
+
+
 @pytest.mark.parametrize("case", sorted(BAD))
 def test_a_bad_test_gets_the_clis_line(tmp_path, program, case):
     file = tmp_path / "bad.json"
@@ -37,10 +46,10 @@ def test_a_bad_test_gets_the_clis_line(tmp_path, program, case):
     assert line == cli_line(program, "run", file)
     with pytest.raises(salsa.InputError) as raised:
         salsa.Session(str(file))
-    assert str(raised.value) == line
+    assert in_process(str(raised.value)) == line
     with pytest.raises(salsa.InputError) as raised:  # as a dict: the same line, naming <dict>
         salsa.Session(BAD[case])
-    assert str(raised.value) == line.replace(str(file), "<dict>")
+    assert in_process(str(raised.value)) == line.replace(str(file), "<dict>")
     with pytest.raises(salsa.InputError) as raised:  # salsa.run passes the program's line on
         salsa.run(str(file), out=tmp_path / "out")
     assert str(raised.value) == line

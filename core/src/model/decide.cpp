@@ -1,6 +1,8 @@
 // Decide: what each drone perceives (its Perception) and its behavior's decision.
 #include "salsa/core/model/simulation.hpp"
 
+#include "salsa/core/model/batch_behavior.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -77,16 +79,27 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
 
 // Decide: each group's behavior's shared state first (serial, in group order), then every flying drone
 // in parallel, each perceiving only what its behavior senses. Each drone writes only its own steering
-// slot and uses its own Rng stream, so any thread count gives the same result.
+// slot and uses its own Rng stream, so any thread count gives the same result. A group whose behavior
+// decides in batches (batch_behavior.hpp) is left out of the parallel part and decided after it, once
+// for the whole group (decide_batch.cpp).
 void Simulation::decide() {
   std::array<Senses, 1> one{};
+  std::array<BatchBehavior*, 1> one_batch{};
   std::vector<Senses> many;
+  std::vector<BatchBehavior*> many_batch;
   std::span<Senses> senses = one;
-  if (setup_.groups.size() > 1) many.resize(setup_.groups.size()), senses = many;
+  std::span<BatchBehavior*> batch = one_batch;
+  if (setup_.groups.size() > 1) {
+    many.resize(setup_.groups.size()), senses = many;
+    many_batch.resize(setup_.groups.size()), batch = many_batch;
+  }
+  bool batches = false;
   for (std::uint32_t g = 0; g < setup_.groups.size(); ++g) {
     Behavior& behavior = *setup_.groups[g].behavior;
     plugin_call(behavior_kind, g, [&] { behavior.prepare(*this); });
     senses[g] = plugin_call(behavior_kind, g, [&] { return behavior.senses(); });
+    batch[g] = dynamic_cast<BatchBehavior*>(&behavior);
+    batches = batches || batch[g];
   }
   // Asked once per step, so that without noise a drone's perception costs one test of a local more.
   bool noise = false;
@@ -102,11 +115,15 @@ void Simulation::decide() {
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
     if (drones_.status[i] != DroneStatus::flying) return;
     const std::uint32_t g = drones_.groups[i];
+    if (batches && batch[g]) return;
     Behavior& behavior = *setup_.groups[g].behavior;
     Perception me = perceive(i, senses[g], s);
     if (noise) add_noise(me, senses[g], s);
     drones_.steering[i] = plugin_call(behavior_kind, g, [&] { return behavior.decide(me, drones_.rngs[i]); });
   });
+  if (batches)
+    for (std::uint32_t g = 0; g < setup_.groups.size(); ++g)
+      if (batch[g]) decide_batch(g, *batch[g], senses[g], noise);
 }
 
 }  // namespace salsa

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "model/physics.hpp"
+#include "salsa/core/model/batch_behavior.hpp"
 #include "salsa/core/model/simulation.hpp"
 
 namespace salsa {
@@ -110,6 +111,41 @@ struct Simulation::Parallel {
     }
     if (failure.error) std::rethrow_exception(failure.error);
   }
+
+  /// fn(k, scratch) for every k in [0, count), one task each (as for_each, the lowest k's throw is
+  /// rethrown once all are done).
+  template <class Fn>
+  void for_tasks(std::size_t count, Fn&& fn) {
+    FirstFailure failure;
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        Scratch& s = scratch.local();
+        for (std::size_t k = r.begin(); k != r.end(); ++k) {
+          const auto i = static_cast<std::uint32_t>(k);
+          if (failure.skip(i)) continue;
+          try {
+            fn(k, s);
+          } catch (const abi::__forced_unwind&) {
+            throw;
+          } catch (...) {
+            failure.note(i);
+          }
+        }
+      });
+    });
+    if (failure.error) std::rethrow_exception(failure.error);
+  }
+};
+
+/// What decide_batch keeps between steps, so that its buffers keep their capacity.
+struct Simulation::Batches {
+  /// Drones per gathering task: fixed, so that what a task gathers, and so the batch, never depends
+  /// on the thread count.
+  static constexpr std::size_t chunk = 128;
+  std::vector<std::uint32_t> ids;      ///< the group's flying drones, in id order: the batch's rows
+  std::vector<PerceptionBatch> parts;  ///< one per chunk
+  std::shared_ptr<PerceptionBatch> batch;  ///< replaced when the behavior still holds the last one
+  std::vector<Vec2> steering;
 };
 
 struct Simulation::World {

@@ -255,6 +255,25 @@ void PluginHost::admit(std::vector<Entry<Base>>& registry, std::vector<Factory<B
   }
 }
 
+void PluginHost::add_behavior(Factory<Behavior> f, const std::string& origin) {
+  const std::string label = "behavior" + (identifier_like(f.name) ? " '" + f.name + "'" : " " + shown(f.name));
+  std::string why;
+  if (!identifier_like(f.name)) why = "not a valid name: " + name_rule();
+  else if (!f.create) why = "has no factory function";
+  else if (std::string p = parameters_problem(f.parameters); !p.empty()) why = p;
+  if (!why.empty()) throw std::invalid_argument(label + " not registered: " + why);
+  auto lib = std::make_shared<Library>();  // no file: its handle stays empty
+  lib->info = {origin, one_line(f.name.c_str()), "", "", one_line(f.brief.c_str()), ""};
+  for (auto& e : behaviors_) {
+    if (e.factory.name != f.name) continue;
+    if (e.library->handle.is_loaded())
+      throw std::invalid_argument(label + " not registered: the name is taken by " + e.plugin().file.string());
+    e = {lib, std::move(f)};
+    return;
+  }
+  behaviors_.push_back({lib, std::move(f)});
+}
+
 std::vector<const PluginInfo*> PluginHost::plugins() const {
   std::vector<const PluginInfo*> out;
   for (const auto& l : libraries_) out.push_back(&l->info);

@@ -30,6 +30,7 @@
 namespace salsa {
 
 class Simulation;
+class BatchBehavior;  // batch_behavior.hpp
 class Physics;  // Box2D's or the light physics, internal to libsalsa
 
 /// Told about the simulation every log interval (and once at time 0). Runs on the stepping thread.
@@ -228,6 +229,7 @@ class Simulation final : public WorldView {
  private:
   struct Scratch;
   struct Parallel;
+  struct Batches;  // the gathered perceptions of the groups that decide in batches
 
   // The phases of one step.
   void sense();
@@ -314,6 +316,8 @@ class Simulation final : public WorldView {
   Perception perceive(std::uint32_t id, Senses senses, Scratch& scratch) const;
   /// `me` (built from the truth) as the drone's noisy sensors perceive it (Group::Noise).
   void add_noise(Perception& me, Senses senses, Scratch& scratch) const;
+  /// Group g's flying drones perceived into one batch and decided by its batch behavior (decide_batch.cpp).
+  void decide_batch(std::uint32_t g, BatchBehavior& behavior, Senses senses, bool noise);
   void read_back();
   /// The wind has been on at some time: from then on air velocities are kept (drones_.air).
   void track_air();  ///< starts air velocities for drones that have none yet (their velocity now)
@@ -328,6 +332,7 @@ class Simulation final : public WorldView {
   StaticGeometry geometry_;
   std::unique_ptr<Physics> physics_;
   std::unique_ptr<Parallel> parallel_;
+  std::unique_ptr<Batches> batches_;  ///< made at the first batch decide
 
   Drones drones_;
   std::size_t flying_ = 0;     ///< drones with status flying

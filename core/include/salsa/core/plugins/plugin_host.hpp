@@ -65,6 +65,13 @@ class PluginHost {
   /// Loads one file; false (and a recorded failure) when the whole file is refused.
   bool load_file(const fs::path& file);
 
+  /// Registers a behavior made in this process rather than loaded from a file (a Python class,
+  /// docs/python.md); `origin` stands where a plugin's file does in messages ("Python class
+  /// behaviors.PyFlocking"). Refused with std::invalid_argument (one line) for what refuses a plugin's
+  /// registration, and for a name a plugin file registered; one added here before under the same name
+  /// is replaced (objects it made live on).
+  void add_behavior(Factory<Behavior> factory, const std::string& origin);
+
   const std::vector<SearchDir>& searched() const { return searched_; }
   const std::vector<LoadFailure>& failures() const { return failures_; }
   std::vector<const PluginInfo*> plugins() const;

@@ -1,0 +1,199 @@
+"""numpy ports of two built-in behaviors, written as salsa.Behavior classes (docs/python.md, "Behaviors
+in Python"): PyRandomWalk (random_walk) and PyFlocking (flocking), with the same parameters, the same
+formulas and, for the random walk, the same draws in the same order from each drone's own stream, so a
+test run with either follows its C++ original to rounding.
+
+    import salsa, behaviors
+    salsa.register(behaviors.PyFlocking)
+    salsa.Session({..., "behavior": {"name": "py_flocking", "params": {"separation_distance": 60}}})
+"""
+
+import numpy as np
+
+import salsa
+
+
+# ---- The SDK's steering helpers (salsa/behavior.hpp) over whole groups: rows of vectors ----
+
+def length(v):
+    """Vec2::length: sqrt(x² + y²) (not hypot, which rounds differently)."""
+    return np.sqrt(v[:, 0] * v[:, 0] + v[:, 1] * v[:, 1])
+
+
+def normalized(v):
+    """Vec2::normalized: unit vectors, zero stays zero."""
+    n = length(v)
+    safe = np.where(n > 0, n, 1.0)
+    return np.where((n > 0)[:, None], v / safe[:, None], 0.0)
+
+
+def clamped(v, max_length):
+    """Vec2::clamped: longer than max_length scaled down to it."""
+    l2 = v[:, 0] * v[:, 0] + v[:, 1] * v[:, 1]
+    over = l2 > max_length * max_length
+    scale = np.where(over, max_length / np.sqrt(np.where(over, l2, 1.0)), 1.0)
+    return np.where(over[:, None], v * scale[:, None], v)
+
+
+def ground_speed_along(g, d):
+    """ground_speed_along: the fastest ground speed along unit vectors d in each drone's wind."""
+    w = g.wind
+    across = d[:, 0] * w[:, 1] - d[:, 1] * w[:, 0]
+    room = g.max_speed * g.max_speed - across * across
+    along = d[:, 0] * w[:, 0] + d[:, 1] * w[:, 1]
+    return np.where(room > 0, np.maximum(0.0, along + np.sqrt(np.maximum(room, 0.0))), 0.0)
+
+
+def full_speed_heading(g, heading):
+    """full_speed(me, heading): polar(max_speed, heading) without wind."""
+    d = np.stack([np.cos(heading), np.sin(heading)], axis=1)
+    calm = (g.wind == 0).all(axis=1)
+    return np.where(calm[:, None], g.max_speed * d, d * ground_speed_along(g, d)[:, None])
+
+
+def full_speed_direction(g, direction):
+    """full_speed(me, direction): direction.with_length(max_speed) without wind."""
+    d = normalized(direction)
+    calm = (g.wind == 0).all(axis=1)
+    return np.where(calm[:, None], d * g.max_speed, d * ground_speed_along(g, d)[:, None])
+
+
+def steer_towards(g, desired):
+    return clamped(desired - g.velocity, g.max_force)
+
+
+def steer_along(g, direction):
+    """Full speed along direction; zero where the direction is zero."""
+    zero = (direction == 0).all(axis=1)
+    return np.where(zero[:, None], 0.0, steer_towards(g, full_speed_direction(g, direction)))
+
+
+def row_sums(rows, values, n):
+    """Per row, the sum of its items' vectors, added in item order (as the C++ loops add them)."""
+    return np.stack([np.bincount(rows, values[:, 0], minlength=n), np.bincount(rows, values[:, 1], minlength=n)], axis=1)
+
+
+def avoid_obstacles(g):
+    """Away from the ray hits, each weighted by 1/d: (p − q) / d²."""
+    hits = g.obstacles
+    rows = hits.row
+    d = hits.distance
+    keep = d > 0
+    safe = np.where(keep, d * d, 1.0)
+    away = np.where(keep[:, None], (g.position[rows] - hits.point) / safe[:, None], 0.0)
+    return steer_along(g, row_sums(rows, away, len(g)))
+
+
+def avoid_near_obstacles(g, fade=0.5):
+    """avoid_obstacles faded in as the nearest hit gets closer."""
+    nearest = np.full(len(g), g.obstacle_range)
+    np.minimum.at(nearest, g.obstacles.row, g.obstacles.distance)
+    reach = fade * g.obstacle_range
+    closeness = np.maximum(0.0, 1 - nearest / reach) if reach > 0 else np.zeros(len(g))
+    return (closeness * closeness)[:, None] * avoid_obstacles(g)
+
+
+# ---- The behaviors ----
+
+class PyRandomWalk(salsa.Behavior):
+    """random_walk in numpy: full speed along a random heading for a random time, then a new one;
+    obstacle hits close ahead make the drone turn away."""
+
+    name = "py_random_walk"
+    brief = "Random headings for random times, no communication (numpy port of random_walk)"
+    parameters = [
+        salsa.Param("min_duration", 2.0, (0.1, 600.0), "s", "shortest time a heading is kept"),
+        salsa.Param("max_duration", 10.0, (0.1, 600.0), "s", "longest time a heading is kept"),
+        salsa.Param("turn_distance", 0.33, (0.0, 1.0), "",
+                    "obstacle hits closer than this fraction of obstacle range make the drone turn away"),
+        salsa.Param("obstacle_avoidance_weight", 4.0, (0.0, 10.0), "", "weight of flying away from obstacle hits"),
+    ]
+    senses = salsa.Senses(neighbours=False, targets=False)  # obstacles only
+
+    def reset(self, drones):
+        self.heading = np.zeros(drones)
+        self.time_left = np.zeros(drones)
+        self.started = np.zeros(drones, dtype=bool)
+
+    def resize(self, drones):
+        old = len(self.heading)
+        for name in ("heading", "time_left", "started"):
+            a = getattr(self, name)
+            grown = np.zeros(drones, dtype=a.dtype)
+            grown[: min(old, drones)] = a[: min(old, drones)]
+            setattr(self, name, grown)
+
+    def duration(self, g, rng, where):
+        """Uniform in [min_duration, max(min, max)] (Rng::uniform(lo, hi)), drawn where asked."""
+        return rng.uniform(g.min_duration, max(g.min_duration, g.max_duration), where=where)
+
+    def decide(self, g, rng):
+        ids = g.id
+        heading, time_left = self.heading[ids], self.time_left[ids]
+
+        # The first step keeps the spawn velocity's heading (a random one from rest): angle, then duration.
+        new = ~self.started[ids]
+        if new.any():
+            still = new & (g.velocity == 0).all(axis=1)
+            drawn = rng.angle(where=still)
+            heading = np.where(new, np.where(still, drawn, np.arctan2(g.velocity[:, 1], g.velocity[:, 0])), heading)
+            time_left = np.where(new, self.duration(g, rng, new), time_left)
+            self.started[ids] = True
+
+        time_left = time_left - g.dt
+        turn = time_left <= 0
+        if turn.any():
+            heading = np.where(turn, rng.angle(where=turn), heading)
+            time_left = np.where(turn, self.duration(g, rng, turn), time_left)
+
+        # Close hits ahead: a new heading within ±60° of straight away.
+        hits = g.obstacles
+        close = hits.distance < g.turn_distance * g.obstacle_range
+        rows = hits.row
+        away = row_sums(rows[close], normalized(g.position[rows[close]] - hits.point[close]), len(g))
+        ahead = np.cos(heading) * away[:, 0] + np.sin(heading) * away[:, 1]
+        flee = ~(away == 0).all(axis=1) & (ahead < 0)
+        if flee.any():
+            offset = rng.uniform(-np.pi / 3, np.pi / 3, where=flee)
+            heading = np.where(flee, np.arctan2(away[:, 1], away[:, 0]) + offset, heading)
+            time_left = np.where(flee, self.duration(g, rng, flee), time_left)
+
+        self.heading[ids], self.time_left[ids] = heading, time_left
+        return steer_towards(g, full_speed_heading(g, heading)) + g.obstacle_avoidance_weight * avoid_near_obstacles(g)
+
+
+class PyFlocking(salsa.Behavior):
+    """flocking in numpy: alignment, separation, cohesion and obstacle avoidance, each a steering term
+    of at most max force, summed with weights."""
+
+    name = "py_flocking"
+    brief = "Reynolds boids: alignment, separation, cohesion, obstacle avoidance (numpy port of flocking)"
+    parameters = [
+        salsa.Param("separation_distance", 250.0, (0.0, 1000.0), "m", "neighbours closer than this push the drone away"),
+        salsa.Param("alignment_weight", 1.6, (0.0, 10.0), "", "weight of matching the neighbours' mean velocity"),
+        salsa.Param("cohesion_weight", 1.0, (0.0, 10.0), "", "weight of flying towards the neighbours' centre"),
+        salsa.Param("separation_weight", 3.0, (0.0, 10.0), "", "weight of keeping the separation distance"),
+        salsa.Param("obstacle_avoidance_weight", 4.0, (0.0, 10.0), "", "weight of flying away from obstacle hits"),
+    ]
+    senses = salsa.Senses(neighbours=True, targets=False)
+
+    def decide(self, g, rng):
+        n = len(g)
+        nb = g.neighbours
+        rows = nb.row
+        count = nb.counts
+        d = nb.distance
+        near = (d > 0) & (d < g.separation_distance)
+        safe = np.where(near, d * d, 1.0)
+        push = np.where(near[:, None], (g.position[rows] - nb.position) / safe[:, None], 0.0)
+        velocities = row_sums(rows, nb.velocity, n)
+        positions = row_sums(rows, nb.position, n)
+        away = row_sums(rows, push, n)
+        alone = count == 0
+        centre = positions / np.where(alone, 1, count)[:, None] - g.position
+        alignment = steer_along(g, velocities)
+        cohesion = steer_along(g, centre)
+        separation = steer_along(g, away)
+        boids = (g.alignment_weight * alignment + g.separation_weight * separation) + g.cohesion_weight * cohesion
+        boids = np.where(alone[:, None], 0.0, boids)
+        return boids + g.obstacle_avoidance_weight * avoid_obstacles(g)

@@ -1,0 +1,386 @@
+// Behaviors written in Python (docs/python.md, "Behaviors in Python"): a salsa.Behavior subclass
+// registered in the process's PluginHost as a Factory<Behavior>, each instance wrapped in a core
+// BatchBehavior that hands decide() its group's perceptions as numpy views and the drones' own Rng
+// streams, once per group per step, with the GIL taken back for the call (stepping released it).
+#include <pybind11/numpy.h>
+
+#include <cmath>
+#include <cstddef>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bindings.hpp"
+#include "salsa/core/model/batch_behavior.hpp"
+
+namespace salsa::python {
+
+namespace {
+
+static_assert(sizeof(Vec2) == 2 * sizeof(double), "a Vec2 array is viewed as (n, 2) doubles");
+
+/// A Python reference that may outlive the interpreter (a factory in the static plugin host): released
+/// with the GIL while Python runs, left alone after it finalised.
+class PyRef {
+ public:
+  explicit PyRef(py::object o) : o_(o.release().ptr()) {}
+  PyRef(const PyRef&) = delete;
+  PyRef& operator=(const PyRef&) = delete;
+  ~PyRef() {
+    if (!Py_IsInitialized()) return;
+    py::gil_scoped_acquire gil;
+    Py_XDECREF(o_);
+  }
+  py::handle get() const { return o_; }
+
+ private:
+  PyObject* o_;
+};
+
+/// "ValueError: why (file.py:12)": a Python exception on one line, with where it was raised.
+std::string describe(py::error_already_set& e) {
+  std::string out = py::str(e.type().attr("__name__")).cast<std::string>();
+  const std::string what = py::str(e.value()).cast<std::string>();
+  if (!what.empty()) out += ": " + what;
+  try {
+    if (e.trace()) {
+      py::list frames = py::module_::import("traceback").attr("extract_tb")(e.trace());
+      if (!frames.empty()) {
+        py::handle last = frames[frames.size() - 1];
+        out += " (" + py::str(last.attr("filename")).cast<std::string>() + ":" +
+               py::str(last.attr("lineno")).cast<std::string>() + ")";
+      }
+    }
+  } catch (py::error_already_set&) {  // no location, then
+  }
+  return one_line(out);
+}
+
+/// The drones' random streams as decide sees them: one draw per row (or per row of `where`), from that
+/// drone's own Rng, in row order. Usable during the decide call it came with only.
+class PyBatchRng {
+ public:
+  explicit PyBatchRng(BatchRng* rngs) : rngs_(rngs) {}
+  void close() { rngs_ = nullptr; }
+
+  std::size_t size() const { return live().size(); }
+
+  template <class T, class Draw>
+  py::array_t<T> draw(const py::object& where, T skipped, Draw one) {
+    BatchRng& rngs = live();
+    const std::size_t n = rngs.size();
+    py::array_t<T> out(static_cast<py::ssize_t>(n));
+    T* o = out.mutable_data();
+    if (where.is_none()) {
+      for (std::size_t r = 0; r < n; ++r) o[r] = one(rngs[r]);
+      return out;
+    }
+    const py::array mask = where;
+    if (!py::isinstance<py::array_t<bool>>(where) || mask.ndim() != 1 || static_cast<std::size_t>(mask.shape(0)) != n)
+      throw py::value_error("where: " + shape_of(where) + " (allowed: a numpy bool array of shape (" + std::to_string(n) +
+                            ",), one entry per row)");
+    const auto m = py::array_t<bool>(where).unchecked<1>();
+    for (std::size_t r = 0; r < n; ++r) o[r] = m(static_cast<py::ssize_t>(r)) ? one(rngs[r]) : skipped;
+    return out;
+  }
+
+  static std::string shape_of(const py::handle& o) {
+    if (!py::isinstance<py::array>(o)) return py::str(py::type::of(o).attr("__name__")).cast<std::string>();
+    const py::array a = py::reinterpret_borrow<py::array>(o);
+    std::string s = py::str(a.dtype()).cast<std::string>() + " of shape (";
+    for (py::ssize_t d = 0; d < a.ndim(); ++d) s += (d ? ", " : "") + std::to_string(a.shape(d));
+    return s + (a.ndim() == 1 ? ",)" : ")");
+  }
+
+ private:
+  BatchRng& live() const {
+    if (!rngs_) throw py::value_error("rng: used outside the decide call it was handed to (allowed: during that call)");
+    return *rngs_;
+  }
+  BatchRng* rngs_;
+};
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+/// A read-only view of `count` items of type T laid out `stride` bytes apart from `data` (+ `offset`
+/// bytes), with `width` doubles per item when width > 1: (count,) or (count, width).
+template <class T>
+py::array view(const void* data, std::size_t count, std::size_t stride, std::size_t offset, const py::object& base, int width = 1) {
+  std::vector<py::ssize_t> shape{static_cast<py::ssize_t>(count)}, strides{static_cast<py::ssize_t>(stride)};
+  if (width > 1) shape.push_back(width), strides.push_back(sizeof(T));
+  py::array a = count ? py::array(py::dtype::of<T>(), shape, strides, static_cast<const char*>(data) + offset, base)
+                      : py::array(py::dtype::of<T>(), shape, strides);
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+template <class T>
+py::array column(const std::vector<T>& v, const py::object& base) {
+  return view<T>(v.data(), v.size(), sizeof(T), 0, base);
+}
+py::array vectors(const std::vector<Vec2>& v, const py::object& base) {
+  return view<double>(v.data(), v.size(), sizeof(Vec2), 0, base, 2);
+}
+/// Field `offset` of each item (type F, `width` F's) of rows' items.
+template <class F, class Item>
+py::array field(const PerceptionBatch::Rows<Item>& rows, std::size_t offset, const py::object& base, int width = 1) {
+  return view<F>(rows.items.data(), rows.items.size(), sizeof(Item), offset, base, width);
+}
+
+class PyBatchBehavior final : public BatchBehavior {
+ public:
+  PyBatchBehavior(py::object instance, std::string name, Senses senses, py::handle group_type, py::handle rows_type)
+      : instance_(std::move(instance)), name_(std::move(name)), senses_(senses),
+        group_type_(py::reinterpret_borrow<py::object>(group_type)), rows_type_(py::reinterpret_borrow<py::object>(rows_type)) {}
+  ~PyBatchBehavior() override {
+    if (!Py_IsInitialized()) {  // at exit, after Python: leave its objects be
+      instance_.release(), group_type_.release(), rows_type_.release(), params_.release();
+      return;
+    }
+    py::gil_scoped_acquire gil;
+    instance_ = py::object(), group_type_ = py::object(), rows_type_ = py::object(), params_ = py::object();
+  }
+
+  Senses senses() const override { return senses_; }
+
+  void reset(std::size_t drones) override { call("reset", drones); }
+  void resize(std::size_t drones) override { call("resize", drones); }
+
+  void decide_batch(const std::shared_ptr<const PerceptionBatch>& batch, BatchRng& rngs, std::span<Vec2> steering) override {
+    py::gil_scoped_acquire gil;
+    auto fail = [&](const std::string& why) { return std::runtime_error("Python behavior '" + name_ + "': " + why); };
+    try {
+      // Owned by Python (decide may keep it), closed when the call returns: the streams are the core's.
+      py::object rng_object = py::cast(std::make_unique<PyBatchRng>(&rngs));
+      struct Close {
+        PyBatchRng& r;
+        ~Close() { r.close(); }
+      } close{rng_object.cast<PyBatchRng&>()};
+      py::object result = instance_.attr("decide")(group(batch), rng_object);
+      take(result, steering, fail);
+    } catch (py::error_already_set& e) {
+      throw fail("decide raised " + describe(e));
+    }
+  }
+
+ protected:
+  void configure() override {
+    py::gil_scoped_acquire gil;
+    try {
+      py::object values = group_type_.attr("__new__")(group_type_);
+      py::dict d = values.attr("__dict__");
+      for (const auto& [key, value] : parameters().items()) d[py::str(key)] = value;
+      params_ = values;
+      instance_.attr("params") = values;
+    } catch (py::error_already_set& e) {
+      throw std::runtime_error("Python behavior '" + name_ + "': " + describe(e));
+    }
+  }
+
+ private:
+  void call(const char* method, std::size_t drones) {
+    py::gil_scoped_acquire gil;
+    try {
+      instance_.attr(method)(drones);
+    } catch (py::error_already_set& e) {
+      throw std::runtime_error("Python behavior '" + name_ + "': " + method + " raised " + describe(e));
+    }
+  }
+
+  py::object rows(const std::vector<std::int64_t>& offsets, const py::object& base) const {
+    py::object r = rows_type_.attr("__new__")(rows_type_);
+    r.attr("__dict__")["offsets"] = column(offsets, base);
+    return r;
+  }
+
+  /// The salsa.Group decide gets: views of the batch, which the capsule keeps alive as long as any is.
+  py::object group(const std::shared_ptr<const PerceptionBatch>& shared) const {
+    const PerceptionBatch& b = *shared;
+    const py::object base = py::capsule(new std::shared_ptr<const PerceptionBatch>(shared),
+                                        [](void* p) { delete static_cast<std::shared_ptr<const PerceptionBatch>*>(p); });
+    py::object g = group_type_.attr("__new__")(group_type_);
+    py::dict d = g.attr("__dict__");
+    d["id"] = column(b.id, base);
+    d["position"] = vectors(b.position, base);
+    d["velocity"] = vectors(b.velocity, base);
+    d["air_velocity"] = vectors(b.air_velocity, base);
+    d["wind"] = vectors(b.wind, base);
+    d["battery"] = column(b.battery, base);
+    d["time"] = b.time, d["dt"] = b.dt, d["group"] = b.group;
+    d["max_speed"] = b.drone.max_speed, d["max_force"] = b.drone.max_force, d["radius"] = b.drone.radius;
+    d["mass"] = b.drone.mass, d["camera_range"] = b.drone.camera_range, d["obstacle_range"] = b.drone.obstacle_range;
+    d["detection_range"] = b.drone.detection_range, d["battery_capacity"] = b.battery_capacity;
+    d["base"] = py::make_tuple(b.base.x, b.base.y);
+
+    py::object n = rows(b.neighbours.offsets, base);
+    py::dict nd = n.attr("__dict__");
+    nd["id"] = field<std::uint32_t>(b.neighbours, offsetof(Neighbour, id), base);
+    nd["group"] = field<std::uint32_t>(b.neighbours, offsetof(Neighbour, group), base);
+    nd["position"] = field<double>(b.neighbours, offsetof(Neighbour, position), base, 2);
+    nd["velocity"] = field<double>(b.neighbours, offsetof(Neighbour, velocity), base, 2);
+    nd["distance"] = field<double>(b.neighbours, offsetof(Neighbour, distance), base);
+    d["neighbours"] = n;
+
+    py::object t = rows(b.targets.offsets, base);
+    py::dict td = t.attr("__dict__");
+    td["id"] = field<std::uint32_t>(b.targets, offsetof(TargetSeen, id), base);
+    td["position"] = field<double>(b.targets, offsetof(TargetSeen, position), base, 2);
+    td["distance"] = field<double>(b.targets, offsetof(TargetSeen, distance), base);
+    td["found"] = field<bool>(b.targets, offsetof(TargetSeen, found), base);
+    d["targets"] = t;
+
+    py::object o = rows(b.obstacles.offsets, base);
+    py::dict od = o.attr("__dict__");
+    od["point"] = field<double>(b.obstacles, offsetof(ObstacleHit, point), base, 2);
+    od["distance"] = field<double>(b.obstacles, offsetof(ObstacleHit, distance), base);
+    d["obstacles"] = o;
+
+    py::object m = rows(b.messages.offsets, base);
+    py::dict md = m.attr("__dict__");
+    md["sender"] = field<std::uint32_t>(b.messages, offsetof(Message, sender), base);
+    md["group"] = field<std::uint32_t>(b.messages, offsetof(Message, group), base);
+    md["offset"] = field<double>(b.messages, offsetof(Message, offset), base, 2);
+    md["time"] = field<double>(b.messages, offsetof(Message, time), base);
+    md["payload"] = column(b.payloads, base);
+    md["payload_offsets"] = column(b.payload_offsets, base);
+    d["messages"] = m;
+
+    for (const auto& [key, value] : parameters().items()) d[py::str(key)] = value;
+    return g;
+  }
+
+  /// decide's return value into `steering`, or why it cannot be (shape, dtype, a value not finite).
+  template <class Fail>
+  void take(const py::object& result, std::span<Vec2> steering, Fail fail) const {
+    const std::string allowed = " (allowed: a numpy float64 array of shape (" + std::to_string(steering.size()) +
+                                ", 2), m/s, one row per drone of group.id)";
+    if (!py::isinstance<py::array>(result)) throw fail("decide returned " + PyBatchRng::shape_of(result) + allowed);
+    const py::array a = result;
+    if (!a.dtype().is(py::dtype::of<double>()) || a.ndim() != 2 || a.shape(0) != static_cast<py::ssize_t>(steering.size()) ||
+        a.shape(1) != 2)
+      throw fail("decide returned " + PyBatchRng::shape_of(result) + allowed);
+    const auto s = py::array_t<double>(result).unchecked<2>();
+    for (py::ssize_t r = 0; r < s.shape(0); ++r) {
+      const Vec2 v{s(r, 0), s(r, 1)};
+      if (!v.finite())
+        throw fail("decide returned a steering that is not finite, (" + Parameter::format(v.x) + ", " + Parameter::format(v.y) +
+                   ") at row " + std::to_string(r) + allowed);
+      steering[static_cast<std::size_t>(r)] = v;
+    }
+  }
+
+  py::object instance_;
+  std::string name_;
+  Senses senses_;
+  py::object group_type_, rows_type_, params_;
+};
+
+/// The class's declarations checked, then registered in the plugin host.
+void register_behavior(const py::object& cls) {
+  const py::module_ declared = py::module_::import("salsa._behavior");
+  const py::object base = declared.attr("Behavior");
+  if (!py::isinstance<py::type>(cls) || !PyObject_IsSubclass(cls.ptr(), base.ptr()))
+    throw py::type_error("register: " + py::repr(cls).cast<std::string>() + " (allowed: a subclass of salsa.Behavior)");
+  const std::string label = py::str(cls.attr("__module__")).cast<std::string>() + "." + py::str(cls.attr("__qualname__")).cast<std::string>();
+  auto refuse = [&](const std::string& why) { return py::value_error("register: " + label + ": " + why); };
+  if (!py::isinstance<py::str>(cls.attr("name")))
+    throw refuse("name: " + py::repr(cls.attr("name")).cast<std::string>() + " (allowed: a str, the name tests use)");
+  Factory<Behavior> f;
+  f.name = cls.attr("name").cast<std::string>();
+  if (!py::isinstance<py::str>(cls.attr("brief"))) throw refuse("brief: not a str");
+  f.brief = cls.attr("brief").cast<std::string>();
+  const py::object senses = cls.attr("senses");
+  if (!py::isinstance(senses, declared.attr("Senses")))
+    throw refuse("senses: " + py::repr(senses).cast<std::string>() + " (allowed: a salsa.Senses)");
+  const Senses sensed{senses.attr("neighbours").cast<bool>(), senses.attr("targets").cast<bool>()};
+  // Group's own fields: a parameter of one of these names would hide it.
+  static const char* taken[] = {"id", "position", "velocity", "air_velocity", "wind", "battery", "time", "dt", "group",
+                                "max_speed", "max_force", "radius", "mass", "camera_range", "obstacle_range",
+                                "detection_range", "battery_capacity", "base", "neighbours", "targets", "obstacles", "messages"};
+  for (const py::handle p : py::iter(cls.attr("parameters"))) {
+    if (!py::isinstance(p, declared.attr("Param")))
+      throw refuse("parameters: " + py::repr(p).cast<std::string>() + " (allowed: a list of salsa.Param)");
+    Parameter q;
+    q.name = p.attr("name").cast<std::string>();
+    for (const char* t : taken)
+      if (q.name == t) throw refuse("parameter '" + q.name + "' has the name of a field of the group decide gets (choose another)");
+    q.value = p.attr("default").cast<double>();
+    const auto range = p.attr("range").cast<std::pair<double, double>>();
+    q.min = range.first, q.max = range.second;
+    q.unit = p.attr("unit").cast<std::string>();
+    q.description = p.attr("meaning").cast<std::string>();
+    q.step = p.attr("step").cast<double>();
+    f.parameters.push_back(std::move(q));
+  }
+  auto type = std::make_shared<PyRef>(cls);
+  auto group_type = std::make_shared<PyRef>(declared.attr("Group"));
+  auto rows_type = std::make_shared<PyRef>(declared.attr("Rows"));
+  f.create = [type, group_type, rows_type, name = f.name, sensed, label]() -> std::unique_ptr<Behavior> {
+    // The core makes behaviors while stepping or starting a Session, without the GIL.
+    py::gil_scoped_acquire gil;
+    try {
+      return std::make_unique<PyBatchBehavior>(type->get()(), name, sensed, group_type->get(), rows_type->get());
+    } catch (py::error_already_set& e) {
+      throw std::runtime_error(label + "() raised " + describe(e));
+    }
+  };
+  if (sessions_stepping() > 0)
+    throw refuse("a Session is stepping in another thread (allowed: once no Session steps)");
+  try {
+    plugin_host().add_behavior(std::move(f), "Python class " + label);
+  } catch (const std::invalid_argument& e) {
+    throw refuse(e.what());
+  }
+}
+
+}  // namespace
+
+void bind_behavior(py::module_& m) {
+  py::class_<PyBatchRng>(m, "BatchRng", R"(The drones' own random streams, handed to Behavior.decide.
+
+Each draw gives one number per row of the group (an array of shape (N,)), each from that drone's own
+stream: the Rng a C++ behavior draws from, so drawing in the order a C++ behavior does gives its
+numbers. `where` (a bool array of shape (N,)) draws only for its True rows; the others are NaN
+(False for chance, -1 for index) and their streams do not move. Usable during that decide call only.)")
+      .def("__len__", &PyBatchRng::size)
+      .def(
+          "uniform",
+          [](PyBatchRng& r, double low, double high, const py::object& where) {
+            return r.draw<double>(where, nan, [&](Rng& g) { return g.uniform(low, high); });
+          },
+          py::arg("low") = 0.0, py::arg("high") = 1.0, py::arg("where") = py::none(), "Uniform in [low, high) (Rng::uniform).")
+      .def(
+          "angle", [](PyBatchRng& r, const py::object& where) { return r.draw<double>(where, nan, [](Rng& g) { return g.angle(); }); },
+          py::arg("where") = py::none(), "Uniform angle in [0, 2π) rad (Rng::angle).")
+      .def(
+          "normal",
+          [](PyBatchRng& r, double mean, double stddev, const py::object& where) {
+            return r.draw<double>(where, nan, [&](Rng& g) { return g.normal(mean, stddev); });
+          },
+          py::arg("mean") = 0.0, py::arg("stddev") = 1.0, py::arg("where") = py::none(), "Normal (Rng::normal, Box–Muller).")
+      .def(
+          "chance",
+          [](PyBatchRng& r, double p, const py::object& where) { return r.draw<bool>(where, false, [&](Rng& g) { return g.chance(p); }); },
+          py::arg("p"), py::arg("where") = py::none(), "True with probability p (Rng::chance).")
+      .def(
+          "index",
+          [](PyBatchRng& r, std::uint64_t n, const py::object& where) {
+            if (n == 0) throw py::value_error("n: 0 (allowed: a whole number >= 1)");
+            return r.draw<std::int64_t>(where, -1, [&](Rng& g) { return static_cast<std::int64_t>(g.index(n)); });
+          },
+          py::arg("n"), py::arg("where") = py::none(), "Uniform whole number in [0, n) (Rng::index).");
+  m.def("register_behavior", &register_behavior, py::arg("cls"), "salsa.register's work: the class checked and registered.");
+  m.def("_behaviors", [] {
+    py::list out;
+    for (const auto& e : shared_host()->behaviors()) {
+      py::list params;
+      for (const Parameter& p : e.factory.parameters)
+        params.append(py::make_tuple(p.name, p.value, py::make_tuple(p.min, p.max), p.unit, p.description, p.step));
+      out.append(py::make_tuple(e.factory.name, e.factory.brief, e.plugin().file.string(), params));
+    }
+    return out;
+  });
+}
+
+}  // namespace salsa::python

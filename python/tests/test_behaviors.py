@@ -1,0 +1,324 @@
+"""Behaviors written in Python: the numpy ports of examples/python/behaviors.py follow their C++
+originals, the batch the core hands decide, the drones' own random streams, and every bad return,
+declaration and parameter refused with its line."""
+
+import json
+import math
+import sys
+
+import numpy as np
+import pytest
+
+import salsa
+from conftest import SOURCE
+
+sys.path.insert(0, str(SOURCE / "examples" / "python"))
+import behaviors  # noqa: E402  (examples/python/behaviors.py)
+
+salsa.register(behaviors.PyRandomWalk)
+salsa.register(behaviors.PyFlocking)
+
+FOREST = json.loads((SOURCE / "examples" / "random-walk-forest.json").read_text())  # 30 drones, 500 trees
+FLOCKING = {"separation_distance": 60}
+PORTS = [("random_walk", "py_random_walk", {}), ("flocking", "py_flocking", FLOCKING)]
+
+
+def spec_of(behavior, params=None, **fields):
+    return {**FOREST, "behavior": {"name": behavior, "params": params or {}}, **fields}
+
+
+def tracks(a, b, steps):
+    """The largest distance (m) between the two sessions' drones, per drone per step, over `steps` steps."""
+    worst = 0.0
+    for _ in range(steps):
+        a.step()
+        b.step()
+        assert a.column("status").tolist() == b.column("status").tolist()
+        worst = max(worst, float(np.abs(a.column("position") - b.column("position")).max()))
+    return worst
+
+
+@pytest.mark.parametrize("cpp, py, params", PORTS)
+def test_a_port_tracks_its_cpp_original_over_the_first_second(cpp, py, params):
+    a = salsa.Session(spec_of(cpp, params))
+    b = salsa.Session(spec_of(py, params), threads=1)
+    assert tracks(a, b, round(1 / a.dt)) < 1e-9
+    assert a.steps == b.steps == 60 and a.drones == 30
+
+
+@pytest.mark.parametrize("cpp, py, params", PORTS)
+def test_a_port_tracks_its_original_with_sensor_noise(cpp, py, params):
+    drone = {"base": "small", "position_noise": 2, "neighbour_noise": 1, "obstacle_noise": 0.5}
+    a = salsa.Session(spec_of(cpp, params, drone=drone))
+    b = salsa.Session(spec_of(py, params, drone=drone))
+    assert tracks(a, b, 60) < 1e-9
+
+
+def test_groups_mix_python_and_cpp_behaviors():
+    # Batteries, failures, two groups: the Python group decides after the C++ one, drones land and fail.
+    spec = json.loads((SOURCE / "examples" / "groups-forest.json").read_text())
+    spec["failures"] = {"drone_mtbf": 20, "camera_mtbf": 20}
+    ported = json.loads(json.dumps(spec))
+    ported["groups"][1]["behavior"]["name"] = "py_random_walk"
+    a, b = salsa.Session(spec), salsa.Session(ported)
+    assert tracks(a, b, 600) < 1e-9
+    assert (a.column("status") == 2).any()  # some failed meanwhile: the batch holds flying drones only
+
+
+def test_the_batch_gathers_in_chunks_whatever_the_threads():
+    # 300 drones: several chunks gathered in parallel, one batch in id order.
+    spec = spec_of("py_flocking", FLOCKING, drones=300, time=2)
+    one, two = salsa.Session(spec, threads=1), salsa.Session(spec, threads=2)
+    one.run_until(1)
+    two.run_until(1)
+    assert np.array_equal(one.column("position"), two.column("position"))
+
+
+def paired_interval(differences, t=2.262):  # Student's t, 9 degrees of freedom, 95 %
+    d = np.asarray(differences, dtype=float)
+    half = t * d.std(ddof=1) / math.sqrt(len(d))
+    return d.mean() - half, d.mean() + half
+
+
+@pytest.mark.parametrize("cpp, py, params", PORTS)
+def test_a_port_finds_as_many_targets_as_its_original(cpp, py, params):
+    differences = []
+    for seed in range(1, 11):
+        found = []
+        for name in (cpp, py):
+            s = salsa.Session(spec_of(name, params, seed=seed, time=60))
+            s.run_until()
+            found.append(s.summary()["targets_found"])
+        differences.append(found[1] - found[0])
+    low, high = paired_interval(differences)
+    assert low <= 0 <= high, differences
+
+
+# ---- What decide gets ----
+
+class Recorder(salsa.Behavior):
+    name = "py_recorder"
+    brief = "keeps what decide got"
+    parameters = [salsa.Param("gain", 0.5, (0.0, 2.0), "", "a parameter decide reads")]
+    senses = salsa.Senses(neighbours=True, targets=True)
+    seen = []
+
+    def reset(self, drones):
+        type(self).resets = drones
+
+    def decide(self, group, rng):
+        type(self).seen.append(group)
+        return np.zeros((len(group), 2))
+
+
+salsa.register(Recorder)
+
+
+def test_decide_gets_the_groups_perceptions_as_flat_arrays():
+    Recorder.seen.clear()
+    s = salsa.Session(spec_of("py_recorder", {"gain": 1.5}, drones=20))
+    s.step(30)
+    g = Recorder.seen[-1]
+    assert Recorder.resets == 20 and len(Recorder.seen) == 30
+    assert g.id.tolist() == list(range(20)) and g.id.dtype == np.uint32
+    assert g.position.shape == (20, 2) and g.position.dtype == np.float64 and not g.position.flags.writeable
+    assert g.gain == 1.5 and g.dt == pytest.approx(1 / 60) and g.time == pytest.approx(29 / 60)
+    assert g.max_speed > 0 and g.detection_range > 0 and g.battery.tolist() == [1.0] * 20
+    # Before the step the group saw, the positions were what this step's decide perceived.
+    for rows in (g.neighbours, g.targets, g.obstacles, g.messages):
+        assert rows.offsets.shape == (21,) and rows.offsets[0] == 0 and (np.diff(rows.offsets) >= 0).all()
+    nb = g.neighbours
+    assert nb.offsets[-1] > 0 and len(nb.id) == nb.offsets[-1]
+    me = nb.row
+    np.testing.assert_allclose(nb.distance, np.sqrt(((g.position[me] - nb.position) ** 2).sum(axis=1)), rtol=1e-12)
+    assert (nb.distance < g.detection_range).all() and (nb.id != g.id[me]).all()
+    assert len(g.targets.id) == g.targets.offsets[-1] and g.targets.found.dtype == np.bool_
+    assert len(g.messages.sender) == 0  # no comm in this test
+    # Views of each step's own memory: what an earlier step's decide got is still there, unchanged.
+    first = Recorder.seen[0]
+    assert first.time == 0 and not np.array_equal(first.position, g.position)
+    assert not np.shares_memory(first.position, g.position)
+
+
+def test_only_what_senses_declares_is_gathered():
+    class Blind(Recorder):
+        name = "py_blind"
+        senses = salsa.Senses(neighbours=False, targets=False)
+        seen = []
+
+    salsa.register(Blind)
+    s = salsa.Session(spec_of("py_blind", drones=20))
+    s.step(5)
+    g = Blind.seen[-1]
+    assert g.neighbours.offsets[-1] == 0 and g.targets.offsets[-1] == 0 and g.neighbours.position.shape == (0, 2)
+
+
+def test_the_rng_draws_from_each_drones_stream_where_asked():
+    draws = {}
+
+    class Draws(salsa.Behavior):
+        name = "py_draws"
+        senses = salsa.Senses(neighbours=False, targets=False)
+        masked = False
+
+        def decide(self, group, rng):
+            if group.time == 0:
+                odd = group.id % 2 == 1
+                first = rng.uniform(where=odd) if self.masked else None
+                draws[self.masked] = (first, rng.uniform(), rng.angle(), rng.normal(), rng.chance(0.5), rng.index(7))
+            return np.zeros((len(group), 2))
+
+    class Masked(Draws):
+        name = "py_draws_masked"
+        masked = True
+
+    salsa.register(Draws)
+    salsa.register(Masked)
+    salsa.Session(spec_of("py_draws", drones=10)).step()
+    salsa.Session(spec_of("py_draws_masked", drones=10)).step()
+    plain, masked = draws[False], draws[True]
+    odd = np.arange(10) % 2 == 1
+    assert np.isnan(masked[0][~odd]).all() and (masked[0][odd] >= 0).all()
+    # Rows the mask left out drew nothing: their next draw is the plain run's first.
+    assert np.array_equal(masked[1][~odd], plain[1][~odd])
+    # Rows it drew for are one draw on: their first is the plain run's first.
+    assert np.array_equal(masked[0][odd], plain[1][odd])
+    assert len(set(plain[1].tolist())) == 10  # a stream per drone
+    assert ((plain[2] >= 0) & (plain[2] < 2 * np.pi)).all()
+    assert plain[4].dtype == np.bool_ and plain[5].dtype == np.int64 and ((plain[5] >= 0) & (plain[5] < 7)).all()
+
+
+def test_the_rng_refuses_use_outside_its_call_and_a_bad_mask():
+    kept = []
+
+    class Keeper(salsa.Behavior):
+        name = "py_keeper"
+
+        def decide(self, group, rng):
+            kept.append(rng)
+            if group.time > 0:
+                rng.uniform(where=np.ones(3, dtype=bool))
+            return np.zeros((len(group), 2))
+
+    salsa.register(Keeper)
+    s = salsa.Session(spec_of("py_keeper", drones=5))
+    s.step()
+    with pytest.raises(ValueError, match="outside the decide call"):
+        kept[0].uniform()
+    with pytest.raises(salsa.TestFailure, match=r"where: bool of shape \(3,\) \(allowed: a numpy bool array of shape \(5,\)"):
+        s.step()
+
+
+# ---- Bad returns stop the test with one line ----
+
+def bad(name, result):
+    class Bad(salsa.Behavior):
+        def decide(self, group, rng):
+            if group.time > 0.04:
+                return result(len(group))
+            return np.zeros((len(group), 2))
+
+    Bad.name = name
+    salsa.register(Bad)
+    return Bad
+
+
+def fail_line(name, steps=10):
+    s = salsa.Session(spec_of(name, drones=4))
+    with pytest.raises(salsa.TestFailure) as e:
+        s.step(steps)
+    assert "\n" not in str(e.value)
+    return s, str(e.value)
+
+
+@pytest.mark.parametrize("name, result, why", [
+    ("py_bad_shape", lambda n: np.zeros((n, 3)), r"decide returned float64 of shape \(4, 3\) \(allowed: a numpy float64 array of shape \(4, 2\)"),
+    ("py_bad_rows", lambda n: np.zeros((n + 1, 2)), r"decide returned float64 of shape \(5, 2\)"),
+    ("py_bad_dtype", lambda n: np.zeros((n, 2), dtype=np.float32), r"decide returned float32 of shape \(4, 2\)"),
+    ("py_bad_type", lambda n: [[0.0, 0.0]] * n, r"decide returned list \(allowed"),
+    ("py_bad_nan", lambda n: np.full((n, 2), np.nan), r"decide returned a steering that is not finite, \(nan, nan\) at row 0"),
+    ("py_bad_inf", lambda n: np.array([[0.0, 0.0]] * (n - 1) + [[np.inf, 0.0]]), r"not finite, \(inf, 0\) at row 3"),
+])
+def test_a_bad_return_stops_the_test_with_one_line(name, result, why):
+    bad(name, result)
+    s, line = fail_line(name)
+    assert line.startswith(f"test 'random-walk-forest' (<dict>): behavior '{name}' (Python class test_behaviors.bad.<locals>.Bad) failed at t = ")
+    assert f"Python behavior '{name}': " in line
+    import re
+    assert re.search(why, line), line
+    assert s.steps == 3  # what was stepped before stays; the session can still be read
+    assert s.column("position").shape == (4, 2)
+
+
+def test_an_exception_in_decide_is_named_with_where_it_was_raised():
+    def boom(n):
+        raise ZeroDivisionError("the drones divided by zero")
+
+    bad("py_raises", boom)
+    _, line = fail_line("py_raises")
+    assert "Python behavior 'py_raises': decide raised ZeroDivisionError: the drones divided by zero (" in line
+    assert "test_behaviors.py:" in line
+
+
+def test_params_out_of_range_are_refused_with_the_cores_line():
+    with pytest.raises(salsa.InputError, match=r"behavior.params.min_duration: 0.01 is out of range \(allowed: \[0.1, 600\] s\)"):
+        salsa.Session(spec_of("py_random_walk", {"min_duration": 0.01}))
+    with pytest.raises(salsa.InputError, match="unknown"):
+        salsa.Session(spec_of("py_random_walk", {"nope": 1}))
+
+
+def test_registration_refuses_what_it_cannot_use():
+    class NoName(salsa.Behavior):
+        pass
+
+    with pytest.raises(ValueError, match=r"name: None \(allowed: a str"):
+        salsa.register(NoName)
+    with pytest.raises(TypeError, match="allowed: a subclass of salsa.Behavior"):
+        salsa.register(object)
+
+    class Taken(salsa.Behavior):
+        name = "random_walk"
+
+    with pytest.raises(ValueError, match="the name is taken by .*random_walk"):
+        salsa.register(Taken)
+
+    class Clash(salsa.Behavior):
+        name = "py_clash"
+        parameters = [salsa.Param("position", 1.0, (0.0, 2.0))]
+
+    with pytest.raises(ValueError, match="parameter 'position' has the name of a field"):
+        salsa.register(Clash)
+
+    class Wrong(salsa.Behavior):
+        name = "py_wrong"
+        parameters = [salsa.Param("gain", 5.0, (0.0, 2.0))]
+
+    with pytest.raises(ValueError, match="py_wrong"):
+        salsa.register(Wrong)
+    with pytest.raises(TypeError, match="range"):
+        salsa.Param("gain", 1.0, 2.0)
+
+
+def test_registered_classes_are_listed_beside_the_plugins():
+    listed = salsa.behaviors()
+    assert "flocking" in listed and listed["flocking"]["origin"].endswith(".so")
+    walk = listed["py_random_walk"]
+    assert walk["origin"] == "Python class behaviors.PyRandomWalk"
+    assert [p.name for p in walk["parameters"]] == ["min_duration", "max_duration", "turn_distance", "obstacle_avoidance_weight"]
+    assert walk["parameters"][0].range == (0.1, 600.0) and walk["parameters"][0].unit == "s"
+    # The same parameters as the C++ original.
+    assert [(p.name, p.default, p.range) for p in listed["random_walk"]["parameters"]] == \
+        [(p.name, p.default, p.range) for p in walk["parameters"]]
+    assert [(p.name, p.default, p.range) for p in listed["flocking"]["parameters"]] == \
+        [(p.name, p.default, p.range) for p in listed["py_flocking"]["parameters"]]
+
+
+def test_a_live_change_of_a_param_reaches_decide():
+    Recorder.seen.clear()
+    s = salsa.Session(spec_of("py_recorder", drones=3))
+    s.step()
+    s.change("behavior.params.gain", 2.0)
+    s.step()
+    assert Recorder.seen[0].gain == 0.5 and Recorder.seen[-1].gain == 2.0
+    with pytest.raises(ValueError, match="out of range"):
+        s.change("behavior.params.gain", 3.0)
