@@ -2,6 +2,7 @@
 
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -29,6 +30,15 @@ def cli_line(program, command, file):
     return lines[0][len("salsa: "):]
 
 
+def without_python_behaviors(line):
+    """The line as the program prints it: it lists no behavior registered from Python (test_behaviors.py
+    registers some in this process), which a Session lists among the known ones."""
+    for name, b in salsa.behaviors().items():
+        if b["origin"].startswith("Python class"):
+            line = re.sub(rf", {name}(?=[,)])", "", line)
+    return line
+
+
 @pytest.mark.parametrize("case", sorted(BAD))
 def test_a_bad_test_gets_the_clis_line(tmp_path, program, case):
     file = tmp_path / "bad.json"
@@ -37,10 +47,10 @@ def test_a_bad_test_gets_the_clis_line(tmp_path, program, case):
     assert line == cli_line(program, "run", file)
     with pytest.raises(salsa.InputError) as raised:
         salsa.Session(str(file))
-    assert str(raised.value) == line
+    assert without_python_behaviors(str(raised.value)) == line
     with pytest.raises(salsa.InputError) as raised:  # as a dict: the same line, naming <dict>
         salsa.Session(BAD[case])
-    assert str(raised.value) == line.replace(str(file), "<dict>")
+    assert without_python_behaviors(str(raised.value)) == line.replace(str(file), "<dict>")
     with pytest.raises(salsa.InputError) as raised:  # salsa.run passes the program's line on
         salsa.run(str(file), out=tmp_path / "out")
     assert str(raised.value) == line
