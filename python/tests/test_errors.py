@@ -10,7 +10,7 @@ import pytest
 
 import salsa
 from salsa import _core
-from conftest import SMALL, cli
+from conftest import SMALL, cli, in_process
 
 BAD = {
     "out of range": {"behavior": "random_walk", "drones": -1},
@@ -27,15 +27,6 @@ def cli_line(program, command, file):
     lines = err.splitlines()
     assert len(lines) == 1 and lines[0].startswith("salsa: ")
     return lines[0][len("salsa: "):]
-
-
-def in_process(line):
-    """A Session's line as the program prints it: a Session also knows the Python behaviors registered in
-    this process (other tests' and salsa.Env's), listed after the plugins' in an unknown name's line."""
-    for name, b in salsa.behaviors().items():
-        if b["origin"].startswith("Python class "):
-            line = line.replace(", " + name + ",", ",").replace(", " + name + ")", ")")
-    return line
 
 
 @pytest.mark.parametrize("case", sorted(BAD))

@@ -5,7 +5,7 @@ import json
 import pytest
 
 import salsa
-from conftest import SMALL, SOURCE, cli
+from conftest import SMALL, SOURCE, cli, in_process
 
 # A million drones on a 2 km forest for an hour: `salsa validate` warns it would take days.
 HUGE = {**SMALL, "name": "huge", "drones": 1000000, "time": 3600, "map": {"name": "forest", "params": {"size": 2000}}}
@@ -48,11 +48,11 @@ def test_bad_input_is_the_clis_line(tmp_path, program, content):
     line = err.strip()[len("salsa: "):]
     with pytest.raises(salsa.InputError) as e:
         salsa.validate(file)
-    assert str(e.value) == line
+    assert in_process(str(e.value)) == line
     if "bounds" not in content:  # a dict is a test or a queue, named <dict>
         with pytest.raises(salsa.InputError) as e:
             salsa.validate(content)
-        assert str(e.value) == line.replace(str(file), "<dict>")
+        assert in_process(str(e.value)) == line.replace(str(file), "<dict>")
 
 
 def test_bad_arguments(tmp_path):
