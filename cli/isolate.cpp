@@ -12,13 +12,17 @@
 #include <stdexcept>
 #include <vector>
 
+#include "embed.hpp"
 #include "salsa/core/run/runner.hpp"
 
 namespace salsa::cli {
 
 std::pair<int, std::string> run_isolated(const TestSpec& test, const PluginHost& host, int argc, char** argv,
                                          const std::string& threads) {
-  std::vector<std::string> args{"salsa", "run"};
+  // The program again, or the embedding program's command that is it (embed.hpp).
+  const std::vector<std::string>& again = embedding().command;
+  std::vector<std::string> args = again.empty() ? std::vector<std::string>{"salsa"} : again;
+  args.emplace_back("run");
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) != "--isolate") args.emplace_back(argv[i]);
   args.insert(args.end(), {"--only", test.name});
@@ -38,7 +42,7 @@ std::pair<int, std::string> run_isolated(const TestSpec& test, const PluginHost&
   posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
   posix_spawnattr_setpgroup(&attributes, 0);
   pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, "/proc/self/exe", &actions, &attributes, cargs.data(), environ);
+  const int spawned = posix_spawn(&pid, again.empty() ? "/proc/self/exe" : again[0].c_str(), &actions, &attributes, cargs.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attributes);
   ::close(pipe_fds[1]);

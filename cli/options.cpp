@@ -1,4 +1,5 @@
 #include "options.hpp"
+#include "embed.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -56,7 +57,8 @@ std::vector<fs::path> plugin_dirs(const po::variables_map& vm) {
 }
 
 void load_plugins(PluginHost& host, const po::variables_map& vm, bool report_failures) {
-  host.load(PluginHost::default_search_path(plugin_dirs(vm)));
+  if (const auto& load = cli::embedding().load) load(host, plugin_dirs(vm));
+  else host.load(PluginHost::default_search_path(plugin_dirs(vm)));
   if (report_failures && !vm.count("quiet"))
     for (const auto& f : host.failures())  // a whole file skipped, or one registration of a file that loaded
       std::cerr << "salsa: warning: plugin " << f.file.string() << (f.registration.empty() ? " skipped: " : ": ") << f.reason

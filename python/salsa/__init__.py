@@ -26,11 +26,15 @@ __all__ = ["BatchRng", "Behavior", "Env", "InputError", "ParallelEnv", "Param", 
            "TestResult", "TuneResult", "behaviors", "load", "register", "run", "validate"]
 
 
+_classes = {}  # name -> the class registered with salsa.register (salsa.run's processes import them again)
+
+
 def register(cls):
     """Registers a salsa.Behavior subclass under its `name`: tests name it as a plugin's behavior, its
     params checked against its declared Params. Registering a name again replaces the earlier class
     (Sessions made before keep theirs); a C++ plugin's name is refused. Returns cls (a decorator)."""
     _register_behavior(cls)
+    _classes[cls.name] = cls
     return cls
 
 

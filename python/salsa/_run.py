@@ -27,6 +27,28 @@ def program():
     return found
 
 
+def _runner(args):
+    """The command that is `salsa` for this run, and its environment. With behaviors registered from
+    Python, the salsa program cannot know them: this package's _program is the program with them
+    (python -m salsa._program), each test in a process of its own (--isolate), the processes finding
+    the classes through this process's sys.path."""
+    from . import _classes
+    from ._program import command, spec_of
+
+    specs, hidden = [], {}
+    for name, cls in _classes.items():
+        try:
+            specs.append(spec_of(cls))
+        except ValueError as e:  # said if a test names it (_unknown)
+            hidden[name] = str(e)
+    if not specs:
+        return [program()], None, [], hidden
+    head = command(specs)
+    path = [os.path.abspath(p) if p else os.getcwd() for p in sys.path]
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(dict.fromkeys(path))}
+    return head, env, [] if "--isolate" in args else ["--isolate"], hidden
+
+
 def _absolute_paths(test):
     """A test dict with its file paths absolute: they are relative to the working folder, as in a Session,
     while the program reads the dict from a temporary file elsewhere."""
@@ -68,7 +90,7 @@ def _terminal(stream):
         return None
 
 
-def _progress(command, errors, quiet):
+def _progress(command, errors, quiet, env=None):
     """Runs the program, its progress passed on to sys.stdout as it comes; its errors into `errors`.
 
     When sys.stdout is a terminal the program gets one of its own (a pseudo-terminal of the same
@@ -76,7 +98,7 @@ def _progress(command, errors, quiet):
     per finished test, each passed on when written. quiet: nothing written (the program has --quiet)."""
     fd = None if quiet else _terminal(sys.stdout)
     if fd is None:
-        process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=errors, text=True)
+        process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=errors, text=True, env=env)
         with process:
             for line in process.stdout:  # each line as the program flushes it
                 if not quiet:
@@ -94,7 +116,7 @@ def _progress(command, errors, quiet):
     except OSError:
         pass  # no size to copy: the bar is not cut to the width
     try:
-        process = subprocess.Popen(command, stdout=follower, stderr=errors)
+        process = subprocess.Popen(command, stdout=follower, stderr=errors, env=env)
     finally:
         os.close(follower)
     decoder = codecs.getincrementaldecoder("utf-8")(errors="replace")
@@ -158,15 +180,16 @@ def run(tests, out, jobs=None, force=False, resume=False, time=None, plots=True,
                 files.append(os.fsdecode(item))
             else:
                 raise TypeError(f"tests[{i}]: {type(item).__name__} (allowed: a file's path as str or os.PathLike, or a dict holding a test)")
-        command = [program(), "run", *files, "--out", os.fsdecode(out)]
+        head, env, isolate, hidden = _runner(args)
+        command = [*head, "run", *files, "--out", os.fsdecode(out)]
         if jobs is not None:
             command += ["--jobs", str(jobs)]
         if time is not None:
             command += ["--time", repr(float(time))]
         command += ["--force"] * force + ["--resume"] * resume + ["--no-plots"] * (not plots)
-        command += ["--no-drones-csv"] * (not drones_csv) + ["--quiet"] * quiet + list(args)
+        command += ["--no-drones-csv"] * (not drones_csv) + ["--quiet"] * quiet + isolate + list(args)
         with tempfile.TemporaryFile(mode="w+", dir=scratch) as errors:
-            process = _progress(command, errors, quiet)
+            process = _progress(command, errors, quiet, env)
             errors.seek(0)
             lines = [line.rstrip("\n") for line in errors if line.strip()]
     problems = []
@@ -177,6 +200,9 @@ def run(tests, out, jobs=None, force=False, resume=False, time=None, plots=True,
             problems.append(line[len("salsa: "):] if line.startswith("salsa: ") else line)
     status = process.returncode
     if status == 2:
+        for name, why in hidden.items():
+            if problems and f"unknown behavior '{name}'" in problems[0]:
+                raise ValueError(f"tests: behavior '{name}' is a Python class salsa.run's processes cannot import: {why}")
         raise InputError(problems[0] if problems else f"salsa run refused the input (exit status 2): {' '.join(command)}")
     if status == 1:
         more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""

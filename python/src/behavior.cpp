@@ -277,6 +277,12 @@ class PyBatchBehavior final : public BatchBehavior {
   py::object group_type_, rows_type_, params_;
 };
 
+/// Every behavior registered from Python, with its origin, for hosts made later (add_python_behaviors).
+std::vector<std::pair<Factory<Behavior>, std::string>>& registered() {
+  static std::vector<std::pair<Factory<Behavior>, std::string>> list;
+  return list;
+}
+
 /// The class's declarations checked, then registered in the plugin host.
 void register_behavior(const py::object& cls) {
   const py::module_ declared = py::module_::import("salsa._behavior");
@@ -329,13 +335,19 @@ void register_behavior(const py::object& cls) {
   if (sessions_stepping() > 0)
     throw refuse("a Session is stepping in another thread (allowed: once no Session steps)");
   try {
-    plugin_host().add_behavior(std::move(f), "Python class " + label);
+    plugin_host().add_behavior(f, "Python class " + label);
   } catch (const std::invalid_argument& e) {
     throw refuse(e.what());
   }
+  std::erase_if(registered(), [&](const auto& r) { return r.first.name == f.name; });
+  registered().emplace_back(std::move(f), "Python class " + label);
 }
 
 }  // namespace
+
+void add_python_behaviors(PluginHost& host) {
+  for (const auto& [factory, origin] : registered()) host.add_behavior(factory, origin);
+}
 
 void bind_behavior(py::module_& m) {
   py::class_<PyBatchRng>(m, "BatchRng", R"(The drones' own random streams, handed to Behavior.decide.

@@ -23,6 +23,11 @@ std::shared_ptr<const PluginHost> shared_host();
 /// The same host, to register Python behaviors in (behavior.cpp): only while no Session steps, as a
 /// stepping Session reads it without the GIL.
 PluginHost& plugin_host();
+/// The plugin folders the module searches, as the CLI's order has them, `extra` first (--plugin-dir).
+std::vector<SearchDir> plugin_search_path(const std::vector<std::filesystem::path>& extra = {});
+/// Adds every behavior registered from Python in this process to `host` (behavior.cpp): the salsa
+/// command run in this process (cli.cpp) knows them as a Session does.
+void add_python_behaviors(PluginHost& host);
 /// How many Sessions are stepping now (the GIL released), in any thread.
 std::atomic<int>& sessions_stepping();
 
@@ -46,6 +51,8 @@ py::array render_session(const Session& session, int width, int height);
 void bind_validate(py::module_& m);
 /// salsa._core.BatchRng, register_behavior and _behaviors: behaviors written in Python (behavior.cpp).
 void bind_behavior(py::module_& m);
+/// salsa._core._cli: the salsa command in this process, with the Python behaviors (cli.cpp).
+void bind_cli(py::module_& m);
 /// salsa._core._nearest: each row's k nearest items, for salsa.Env's features (features.cpp).
 void bind_features(py::module_& m);
 

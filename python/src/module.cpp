@@ -26,8 +26,10 @@ fs::path module_file() {
   return ec ? fs::path{} : file;
 }
 
-std::vector<SearchDir> search_path() {
-  std::vector<SearchDir> dirs = PluginHost::default_search_path();
+}  // namespace
+
+std::vector<SearchDir> plugin_search_path(const std::vector<fs::path>& extra) {
+  std::vector<SearchDir> dirs = PluginHost::default_search_path(extra);
   // The install or build folder the core derives from the running program is python's, not salsa's:
   // the module's own build tree instead.
   std::erase_if(dirs, [](const SearchDir& d) { return d.origin == "install" || d.origin == "build tree"; });
@@ -37,8 +39,6 @@ std::vector<SearchDir> search_path() {
     dirs.push_back({(prefix / SALSA_LIBDIR / "salsa/plugins").lexically_normal(), "install"});
   return dirs;
 }
-
-}  // namespace
 
 fs::path build_tree() {
   const fs::path file = module_file();
@@ -74,7 +74,7 @@ std::atomic<int>& sessions_stepping() {
 std::shared_ptr<const PluginHost> shared_host() {
   if (host) return host;
   auto loaded = std::make_shared<PluginHost>();
-  loaded->load(search_path());
+  loaded->load(plugin_search_path());
   host = loaded;
   for (const LoadFailure& f : loaded->failures()) {
     const std::string line = "plugin " + f.file.string() + (f.registration.empty() ? " skipped: " : ": ") + f.reason;
@@ -173,4 +173,5 @@ PYBIND11_MODULE(_core, m) {
   bind_validate(m);
   bind_behavior(m);
   bind_features(m);
+  bind_cli(m);
 }

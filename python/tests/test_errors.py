@@ -43,7 +43,7 @@ def test_a_bad_test_gets_the_clis_line(tmp_path, program, case):
     assert in_process(str(raised.value)) == line.replace(str(file), "<dict>")
     with pytest.raises(salsa.InputError) as raised:  # salsa.run passes the program's line on
         salsa.run(str(file), out=tmp_path / "out")
-    assert str(raised.value) == line
+    assert in_process(str(raised.value)) == line  # with Python behaviors registered, the program knows them too
 
 
 def test_bad_json_and_missing_files(tmp_path, program):
