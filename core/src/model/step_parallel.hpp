@@ -72,6 +72,18 @@ struct Simulation::Parallel {
         error = std::current_exception();
       }
     }
+    /// fn() for drone i unless skipped, its throw noted (a thread being cancelled passes through).
+    template <class Fn>
+    void guard(std::uint32_t i, Fn&& fn) {
+      if (skip(i)) return;
+      try {
+        fn();
+      } catch (const abi::__forced_unwind&) {
+        throw;
+      } catch (...) {
+        note(i);
+      }
+    }
   };
 
   /// fn(order[k], scratch) for every k, spread over the arena's threads. Drones go in grid-cell order,
@@ -83,16 +95,7 @@ struct Simulation::Parallel {
   template <class Fn, class Ahead = void (*)(std::uint32_t, int)>
   void for_each(std::span<const std::uint32_t> order, Fn&& fn, Ahead&& ahead = [](std::uint32_t, int) {}) {
     FirstFailure failure;
-    auto one = [&](std::uint32_t i, Scratch& s) {
-      if (failure.skip(i)) return;
-      try {
-        fn(i, s);
-      } catch (const abi::__forced_unwind&) {
-        throw;
-      } catch (...) {
-        failure.note(i);
-      }
-    };
+    auto one = [&](std::uint32_t i, Scratch& s) { failure.guard(i, [&] { fn(i, s); }); };
     auto run = [&](std::size_t begin, std::size_t end) {
       Scratch& s = scratch.local();
       for (std::size_t k = begin; k != end; ++k) {
@@ -120,17 +123,7 @@ struct Simulation::Parallel {
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
         Scratch& s = scratch.local();
-        for (std::size_t k = r.begin(); k != r.end(); ++k) {
-          const auto i = static_cast<std::uint32_t>(k);
-          if (failure.skip(i)) continue;
-          try {
-            fn(k, s);
-          } catch (const abi::__forced_unwind&) {
-            throw;
-          } catch (...) {
-            failure.note(i);
-          }
-        }
+        for (std::size_t k = r.begin(); k != r.end(); ++k) failure.guard(static_cast<std::uint32_t>(k), [&] { fn(k, s); });
       });
     });
     if (failure.error) std::rethrow_exception(failure.error);
