@@ -21,6 +21,7 @@ commands:
   run FILE...        run tests (a test, a list of tests, or a queue with a sweep) and write their data
   summarize OUT      write OUT/summary.csv (one row per test), comparison and plots from a queue's output folder
   tune FILE          tune a test's parameters (pagmo2, NLopt; racing, held-out validation): tune.csv, best.json
+  suite BEHAVIOR     run a behavior on the benchmark suite's tasks and place it among the reference behaviors
   validate FILE...   check test, queue and map files without running them
   queue expand FILE  print the tests a queue expands to (count, then one line each)
   plugins            list the plugins found, the folders searched and the files refused
@@ -64,7 +65,8 @@ int salsa::cli::run_command(int argc, char** argv) {
     if (command == "plot") return cmd_plot(argc - 1, argv + 1);
     if (command == "new-plugin") return cmd_new_plugin(argc - 1, argv + 1);
     if (command == "tune") return cmd_tune(argc - 1, argv + 1);
-    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, tune, summarize, validate, queue, plugins, describe, bench, plot, new-plugin)\n";
+    if (command == "suite") return cmd_suite(argc - 1, argv + 1);
+    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, tune, suite, summarize, validate, queue, plugins, describe, bench, plot, new-plugin)\n";
     return 2;
   } catch (const po::error& e) {
     std::cerr << "salsa " << command << ": " << e.what() << " (see 'salsa " << command << " --help')\n";

@@ -267,7 +267,7 @@ class TestMetrics : public QObject {
   void bad_metric_lists_are_refused_data() {
     QTest::addColumn<QString>("metrics");
     QTest::addColumn<QStringList>("expected");
-    QTest::newRow("unknown name") << R"(["nope"])" << QStringList{"t.json: metrics[0]: unknown metric 'nope' (known: test_metric, area_coverage, time_to_found, distance_flown, collisions)"};
+    QTest::newRow("unknown name") << R"(["nope"])" << QStringList{"t.json: metrics[0]: unknown metric 'nope' (known: test_metric, area_coverage, time_to_found, distance_flown, collisions, staleness)"};
     QTest::newRow("not a list") << R"("area_coverage")" << QStringList{"t.json: metrics: \"area_coverage\" must be a list"};
     QTest::newRow("out of range") << R"([{"name": "area_coverage", "params": {"cell_size": -1}}])"
                                   << QStringList{"t.json: metrics[0].params.cell_size: -1 is out of range (allowed: [0, 1000] m)"};

@@ -111,6 +111,13 @@ void forest(const fs::path& csv, const fs::path& file, const ConditionLabels& la
                 percent ? "difference A − B (percentage points)" : "difference A − B (" + QString::fromStdString(metric) + ")", file);
 }
 
+void draw_estimates(const std::vector<Estimate>& rows, const std::string& title, const std::string& x_label, const fs::path& file) {
+  std::vector<IntervalRow> given;
+  for (const Estimate& e : rows)
+    given.push_back({QString::fromStdString(e.heading), QString::fromStdString(e.label), QString::fromStdString(e.note), e.mean, e.lo, e.hi});
+  interval_plot(given, QString::fromStdString(title), QString::fromStdString(x_label), file);
+}
+
 void did_plot(const fs::path& csv, const fs::path& file, const ConditionLabels& labels) {
   CsvReader in(csv);
   const std::size_t c_a = in.column("variant_a"), c_b = in.column("variant_b"), c_base = in.column("baseline"), c_cond = in.column("condition"),

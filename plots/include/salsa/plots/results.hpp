@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cstddef>
 #include <filesystem>
+#include <optional>
+#include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -29,6 +31,17 @@ bool test_plots_missing(const std::filesystem::path& test_folder);
 
 /// Writes OUT/plots/*.png from OUT/summary.csv, OUT/comparison.csv and the test folders' summary.csv.
 void draw_queue_plots(const std::filesystem::path& out);
+
+/// One estimate of an interval plot: under `heading`, `label` on the left, the mean with its 95 % interval
+/// (absent: not drawn), `note` on the right.
+struct Estimate {
+  std::string heading, label, note;
+  std::optional<double> mean, lo, hi;
+};
+/// An interval plot (comparison.png's kind) of `rows`, grouped under their headings in order of first
+/// appearance, against a dashed line at 0; salsa suite's report draws its differences with it.
+void draw_estimates(const std::vector<Estimate>& rows, const std::string& title, const std::string& x_label,
+                    const std::filesystem::path& file);
 
 /// The condition each ok test of OUT/summary.csv is plotted under, in file order: its queue condition
 /// and the value of every other setting the queue varies between tests of one variant, swarm size and
