@@ -127,10 +127,12 @@ json params_option(const po::variables_map& vm) {
   const std::string text = vm["params"].as<std::string>();
   json p;
   try {
-    const bool inline_json = text.find_first_not_of(" \t") != std::string::npos && text[text.find_first_not_of(" \t")] == '{';
+    const auto first = text.find_first_not_of(" \t\n");
+    const bool inline_json = first != std::string::npos && (text[first] == '{' || text[first] == '[');
     p = inline_json ? strict_json::parse<json>(text, "--params") : strict_json::read_file<json>(text, "a JSON object of parameters");
   } catch (const strict_json::Error& e) {
-    throw InputError(std::string(e.what()) + " (allowed: a JSON object of parameters, or a file holding one)");
+    const std::string what = e.what();
+    throw InputError((what.starts_with("--params") ? "" : "--params: ") + what + " (allowed: a JSON object of parameters, or a file holding one)");
   }
   if (!p.is_object()) throw InputError("--params: " + strict_json::shown(p) + " is not a JSON object of parameters");
   return p;
