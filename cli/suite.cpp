@@ -271,6 +271,10 @@ int cmd_suite(int argc, char** argv) {
   }
   const bool quiet = vm.count("quiet");
   if (references) {
+    if (status != 0) {
+      std::cerr << "salsa: a reference test failed (its line above): " << suite.results.string() << " left as it was" << std::endl;
+      return status;
+    }
     write_references(suite, values, suite.results);
     write_reference_table(suite, values, fs::path(suite.results).replace_extension(".md"));
     if (!quiet) std::cout << "references written to " << suite.results.string() << " and " << fs::path(suite.results).replace_extension(".md").string() << std::endl;

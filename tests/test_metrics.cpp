@@ -37,7 +37,8 @@ class TwoDrones final : public MetricView {
   std::vector<std::uint32_t> groups{0, 0};
   std::vector<DroneStatus> status{DroneStatus::flying, DroneStatus::flying};
   Rect bounds() const override { return {{0, 0}, {200, 200}}; }
-  double time() const override { return 0; }
+  double now = 0;  // s
+  double time() const override { return now; }
   double dt() const override { return 1.0 / 60; }
   std::span<const Vec2> drone_positions() const override { return positions; }
   std::span<const Vec2> drone_velocities() const override { return velocities; }
@@ -164,6 +165,50 @@ class TestMetrics : public QObject {
     QVERIFY2(std::abs(before - 2 * pi * r * r / area) <= 4 * pi * r * (r / 4) / area, qPrintable(QString::number(before)));
     QVERIFY2(std::abs(after - expected) <= tolerance, qPrintable(QString("coverage %1, expected %2 ± %3").arg(after).arg(expected).arg(tolerance)));
     QCOMPARE(flown, 40.0 / 2);  // 40 m flown by one drone of two
+  }
+
+  // staleness is the mean over the free cells of the time since a flying drone's camera last covered
+  // them: with hovering drones, t × (1 − the covered fraction, area_coverage's on the same grid); its time
+  // average over N steps of dt is (1 − f) dt (N + 1) / 2; a drone that lands stops refreshing its disc,
+  // whose cells then age from the landing.
+  void staleness_is_the_age_of_the_area() {
+    auto fraction = [&](bool second_flying) {  // area_coverage of drone 0's disc, or of both
+      TwoDrones world;
+      if (!second_flying) world.status[1] = DroneStatus::landed;
+      auto coverage = host_->metric("area_coverage").factory.create();
+      coverage->reset(world);
+      double f = 0;
+      coverage->observe(world, {&f, 1});
+      return f;
+    };
+    const double both = fraction(true), first = fraction(false), second = both - first;
+    QVERIFY(first > 0.01 && second > 0.01);
+    TwoDrones world;
+    auto staleness = host_->metric("staleness").factory.create();
+    staleness->reset(world);
+    const int steps = 600;
+    for (int k = 1; k <= steps; ++k) {
+      world.now = k * world.dt();
+      staleness->step(world);
+    }
+    double row = 0;
+    staleness->observe(world, {&row, 1});
+    QVERIFY2(std::abs(row - world.now * (1 - both)) < 1e-9, qPrintable(QString::number(row)));
+    double end[2] = {0, 0};
+    staleness->finish(world, end);
+    QVERIFY(std::abs(end[0] - row) < 1e-12);
+    const double mean = (1 - both) * world.dt() * (steps + 1) / 2;
+    QVERIFY2(std::abs(end[1] - mean) < 1e-9, qPrintable(QString("%1 vs %2").arg(end[1]).arg(mean)));
+    // Drone 1 lands at 10 s; 10 s later its disc's cells are 10 s old, drone 0's still fresh.
+    const double landed_at = world.now;
+    world.status[1] = DroneStatus::landed;
+    for (int k = 1; k <= steps; ++k) {
+      world.now = landed_at + k * world.dt();
+      staleness->step(world);
+    }
+    staleness->observe(world, {&row, 1});
+    const double expected = world.now * (1 - both) + (world.now - landed_at) * second;
+    QVERIFY2(std::abs(row - expected) < 1e-9, qPrintable(QString("%1 vs %2").arg(row).arg(expected)));
   }
 
   // time_to_50/90/100 are the ⌈f × n⌉-th found_time of targets.csv; empty when not reached.
