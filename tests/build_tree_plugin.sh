@@ -29,6 +29,9 @@ for kind in behavior metric; do
   out=$(ctest --test-dir "$bin" --output-on-failure 2>&1) || { echo "$out"; echo "FAIL: ctest of $name"; exit 1; }
   grep -q "${name}_test .*Passed" <<<"$out" && grep -q "${name}_loads .*Passed" <<<"$out" ||
     { echo "$out"; echo "FAIL: $name: expected ${name}_test and ${name}_loads to pass"; exit 1; }
-  "$salsa" plugins --plugin-dir "$bin" | grep -q "$name" || { echo "FAIL: salsa plugins does not list $name"; exit 1; }
+  # Read whole before grep: grep -q stops at the first match, and under pipefail the SIGPIPE of a listing
+  # longer than one write would fail the pipeline.
+  listing=$("$salsa" plugins --plugin-dir "$bin")
+  grep -q "$name" <<<"$listing" || { echo "FAIL: salsa plugins does not list $name"; exit 1; }
   echo "ok: new-plugin $kind $name built and tested against the build tree"
 done
