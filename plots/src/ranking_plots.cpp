@@ -75,7 +75,6 @@ void ranking_plot(const std::vector<Ranked>& ranked, const std::string& metric, 
     }
     QString note = r.best_share ? "best in " + QString::number(*r.best_share * 100, 'f', 0) + " %" : QString("best in –");
     if (r.differs == "yes") note += ", below #1";
-    else if (r.differs == "no") note += ", not below #1";
     rows.push_back({"    " + QString::fromStdString(r.rank + ". " + r.variant), note, &r});
   }
   double lo = 1e300, hi = -1e300;
@@ -85,12 +84,12 @@ void ranking_plot(const std::vector<Ranked>& ranked, const std::string& metric, 
   const double pad = 0.05 * std::max(hi - lo, 1e-9);
   std::vector<QString> names;
   for (const Row& r : rows) names.push_back(r.label);
-  Figure f("Variants ranked by mean " + QString::fromStdString(metric == "fraction_found" ? "targets found" : metric) + " (mean, 95 % CI)", plot_width,
+  Figure f("Variants ranked by mean " + QString::fromStdString(metric == "fraction_found" ? "targets found" : metric) + " (mean, 95 % CI; grey: below #1)", plot_width,
            comparison_plot_height(rows.size()));
   f.x_axis(metric_axis(metric), lo - pad, hi + pad);
   f.y_categories(names);
-  f.reserve_right(300);
-  // The notes say what the colours show: #1 dark, below #1 grey.
+  f.reserve_right(200);
+  // #1 dark, those its paired interval puts below it grey (the note says so too).
   const QColor best = palette(0).darker(130), level = palette(0), below(150, 150, 150);
   QPainter& p = f.begin();
   for (std::size_t i = 0; i < rows.size(); ++i) {
@@ -112,7 +111,7 @@ void ranking_plot(const std::vector<Ranked>& ranked, const std::string& metric, 
   p.setPen(Qt::black);
   p.setFont(font(15));
   for (std::size_t i = 0; i < rows.size(); ++i)
-    p.drawText(QRectF(f.plot_area().right() + 12, f.at(0, static_cast<double>(i)).y() - 11, 300, 22), Qt::AlignLeft | Qt::AlignVCenter, rows[i].note);
+    p.drawText(QRectF(f.plot_area().right() + 12, f.at(0, static_cast<double>(i)).y() - 11, 200, 22), Qt::AlignLeft | Qt::AlignVCenter, rows[i].note);
   f.save(file);
 }
 
