@@ -9,12 +9,14 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "salsa/core/results/queue_summary.hpp"
 #include "commands.hpp"
 #include "options.hpp"
 #include "salsa/core/results/comparison.hpp"
+#include "salsa/core/experiments/queue.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/plots/chart.hpp"
 #include "salsa/plots/results.hpp"
@@ -131,8 +133,45 @@ salsa::plots::Chart csv_chart(const fs::path& file, const std::string& column) {
 // A results folder: a test folder (config.json), a tune folder (its tune.json record and
 // candidates.csv) or a queue folder (test folders, and summary.csv when the queue wrote one).
 // Everything is redrawn from the files alone.
-void plot_folder(const fs::path& folder, const std::string& metric) {
+// --reference VARIANT or --top K for a queue folder, checked as the queue file's "reference" and "top"
+// are (the same variants, a behavior's name for its defaults, K from 2 to the variants), before
+// anything in the folder is written; nullopt when neither is given: queue.json's choice.
+std::optional<salsa::Pairing> pairing_option(const po::variables_map& vm, const fs::path& folder) {
+  const bool reference = vm.count("reference"), top = vm.count("top");
+  if (!reference && !top) return std::nullopt;
+  if (reference && top)
+    throw InputError("--top: given with --reference (allowed: one of them; --top compares the best variants with each other, "
+                     "--reference every variant with one)");
+  const std::vector<std::string> variants = salsa::queue_variants(folder);
+  salsa::Pairing p;
+  if (top) {
+    const std::string text = vm["top"].as<std::string>();
+    const std::string allowed = " (allowed: a whole number from 2 to " + std::to_string(variants.size()) + ", the variants of " + folder.string() + ")";
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), p.top);
+    if (text.empty() || ec == std::errc::invalid_argument || end != text.data() + text.size())
+      throw InputError("--top: '" + salsa::strict_json::printable(text) + "' is not a whole number" + allowed);
+    if (ec == std::errc::result_out_of_range || p.top < 2 || p.top > variants.size())
+      throw InputError("--top: " + text + " is out of range" + allowed);
+    return p;
+  }
+  const std::string given = vm["reference"].as<std::string>();
+  for (const std::string& wanted : {given, salsa::variant_label(given, {})})
+    if (p.reference.empty() && std::find(variants.begin(), variants.end(), wanted) != variants.end()) p.reference = wanted;
+  if (p.reference.empty()) {
+    std::string allowed;
+    for (std::size_t i = 0; i < variants.size() && i < 20; ++i) allowed += (i ? "; " : "") + variants[i];
+    throw InputError("--reference: '" + salsa::strict_json::printable(given) + "' names no variant of " + folder.string() + " (allowed: " +
+                     allowed + (variants.size() > 20 ? "; ..." : "") + "; or a behavior's name for its defaults)");
+  }
+  return p;
+}
+
+void plot_folder(const fs::path& folder, const std::string& metric, const po::variables_map& vm) {
+  const bool repair = vm.count("reference") || vm.count("top");
   std::error_code ec;
+  if (repair && (fs::is_regular_file(folder / "config.json", ec) || !fs::is_regular_file(folder / "summary.csv", ec) || !salsa::holds_results(folder)))
+    throw InputError(std::string(vm.count("reference") ? "--reference" : "--top") + ": " + folder.string() +
+                     " is not a queue's folder (allowed: a folder 'salsa run' wrote a queue's summary.csv into)");
   if (fs::is_regular_file(folder / "config.json", ec)) {
     salsa::plots::draw_test_plots(folder);
     std::cout << "plots in " << (folder / "plots").string() << "\n";
@@ -157,7 +196,8 @@ void plot_folder(const fs::path& folder, const std::string& metric) {
   if (tests.empty() && !queue)
     throw InputError(salsa::strict_json::printable(folder.string(), 200) +
                      ": neither a test folder (no config.json) nor a results folder (no test folders, no summary.csv in a folder salsa wrote)");
-  if (queue) salsa::write_comparison(folder, metric);  // first: a bad summary.csv is refused before anything is drawn
+  // First: a bad summary.csv, --reference or --top is refused before anything is written or drawn.
+  if (queue) salsa::write_comparison(folder, metric, pairing_option(vm, folder));
   for (const auto& test : tests) salsa::plots::draw_test_plots(test);
   if (queue) salsa::plots::draw_queue_plots(folder);
   std::cout << "plots of " << tests.size() << " test" << (tests.size() == 1 ? "" : "s") << " in <test>/plots"
@@ -172,7 +212,9 @@ int cmd_plot(int argc, char** argv) {
   o.add_options()("file", po::value<std::string>(), "a results folder, a test folder, a bench JSON file or a summary.csv")(
       "out,o", po::value<std::string>(), "PNG file to write (for a FILE)")(
       "column", po::value<std::string>()->default_value("targets_found"), "summary.csv column to plot over time")(
-      "metric", po::value<std::string>()->default_value("fraction_found"), "queue summary.csv column compared in comparison.csv (FOLDER)");
+      "metric", po::value<std::string>()->default_value("fraction_found"), "queue summary.csv column compared in comparison.csv (FOLDER)")(
+      "reference", po::value<std::string>(), "pair each variant with VARIANT in comparison.csv and did.csv instead of the queue's choice (FOLDER)")(
+      "top", po::value<std::string>(), "pair the K best variants of each condition with each other instead (FOLDER)");
   po::variables_map vm;
   if (!salsa::cli::parse(argc, argv, "plot",
                          "FOLDER          redraw the plots of a results folder (every test's, the queue's,\n"
@@ -185,9 +227,11 @@ int cmd_plot(int argc, char** argv) {
   std::error_code ec;  // a link loop or an unreadable folder is "not a folder" here; reading it says why
   if (fs::is_directory(file, ec)) {
     if (vm.count("out")) throw InputError("--out: " + vm["out"].as<std::string>() + ": not for a folder (its plots go into FOLDER/plots)");
-    plot_folder(file, vm["metric"].as<std::string>());
+    plot_folder(file, vm["metric"].as<std::string>(), vm);
     return 0;
   }
+  for (const char* option : {"reference", "top"})
+    if (vm.count(option)) throw InputError(std::string("--") + option + ": " + file.string() + " is not a queue's folder (allowed: a folder 'salsa run' wrote a queue's summary.csv into)");
   if (!vm.count("out")) throw InputError("plot: needs FILE and --out PNG (see 'salsa plot --help')");
   // The PNG goes to a file in an existing folder; say so before drawing anything.
   const fs::path png = vm["out"].as<std::string>();

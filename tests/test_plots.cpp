@@ -11,6 +11,7 @@
 #include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/plots/results.hpp"
 #include "figure.hpp"  // plots/src: the layout each figure reports
+#include "ranking_plots.hpp"  // plots/src: which number the conditions differ in
 
 using namespace salsa_test;
 
@@ -469,6 +470,79 @@ class TestPlots : public QObject {
     QVERIFY(!QFileInfo::exists(out + "/condition_effects.csv"));
   }
 
+  // ranking.csv by hand. Cell c1, three variants over repeats 0-3 (C lacks repeat 3):
+  //   A = .5 .6 .7 .4: mean .55, sd √(.05 / 3) = .129099, t_{0.975,3} = 3.182446 → [.344574, .755426]
+  //   B = .2 .4 .3 .1: mean .25, the same sd → [.044574, .455426]
+  //   C = .5 .7 .6:    mean .6,  sd .1, t_{0.975,2} = 4.302653 → .6 ± .248414
+  // Ranks by mean: C 1, A 2, B 3. The repeats all three have: 0-2; best in repeat 0: A and C tie (½
+  // each), 1: C, 2: A → shares A .5, C .5, B 0. Against the best (C), paired on repeats 0-2 (as
+  // comparison.csv would): A − C = 0 −.1 .1: mean 0 ± .248414 (not apart); B − C = −.3 each: [−.3, −.3]
+  // (below). Cell c2: D = .5 .5 and E = .4 .6 have equal means: both rank 1, D (first seen) is the best;
+  // each best in one repeat.
+  void ranking() {
+    const QString out = path("ranking");
+    QByteArray summary = "name,status,error,cell,variant,behavior,repeat,seed,drones,targets,target,map,time,fraction_found\n";
+    const std::vector<std::pair<const char*, std::vector<double>>> c1{{"A", {.5, .6, .7, .4}}, {"B", {.2, .4, .3, .1}}, {"C", {.5, .7, .6}}};
+    for (int r = 0; r < 4; ++r)
+      for (const auto& [v, x] : c1)
+        if (r < static_cast<int>(x.size()))
+          summary += QByteArray(v) + QByteArray::number(r) + ",ok,,c1," + v + ",b," + QByteArray::number(r) + "," + QByteArray::number(11 + r) +
+                     ",10,50,tree,forest,60," + QByteArray::number(x[r]) + "\n";
+    summary += "d0,ok,,c2,D,b,0,21,20,50,tree,forest,60,0.5\ne0,ok,,c2,E,b,0,21,20,50,tree,forest,60,0.4\n"
+               "d1,ok,,c2,D,b,1,22,20,50,tree,forest,60,0.5\ne1,ok,,c2,E,b,1,22,20,50,tree,forest,60,0.6\n";
+    write_file(out + "/summary.csv", summary);
+    salsa::write_comparison(out.toStdString());
+    const QStringList lines = non_empty_lines(QString::fromUtf8(read_file(out + "/ranking.csv")));
+    QCOMPARE(lines.value(0), QString("cell,condition,drones,targets,target,map,time,metric,rank,variant,n,mean,ci_low,ci_high,repeats,best_share,"
+                                     "n_vs_best,diff_vs_best,ci_low_vs_best,ci_high_vs_best,differs_from_best"));
+    QCOMPARE(lines.size(), 1 + 3 + 2);
+    auto about = [](const QString& field, double v) { return std::abs(field.toDouble() - v) < 2e-6; };
+    const QStringList c = lines[1].split(','), a = lines[2].split(','), b = lines[3].split(',');
+    QCOMPARE(c.mid(0, 11).join(','), QString("c1,,10,50,tree,forest,60,fraction_found,1,C,3"));
+    QVERIFY2(about(c[11], .6) && about(c[12], .6 - .248414) && about(c[13], .6 + .248414), qPrintable(lines[1]));
+    QVERIFY2(c[14] == "3" && about(c[15], .5) && c.mid(16).join(',') == ",,,,", qPrintable(lines[1]));  // the best: nothing against itself
+    QCOMPARE(a.mid(8, 3).join(','), QString("2,A,4"));
+    QVERIFY2(about(a[11], .55) && about(a[12], .344574) && about(a[13], .755426) && about(a[15], .5), qPrintable(lines[2]));
+    QVERIFY2(a[16] == "3" && about(a[17], 0) && about(a[18], -.248414) && about(a[19], .248414) && a[20] == "no", qPrintable(lines[2]));
+    QCOMPARE(b.mid(8, 3).join(','), QString("3,B,4"));
+    QVERIFY2(about(b[11], .25) && about(b[12], .044574) && about(b[13], .455426) && b[15] == "0", qPrintable(lines[3]));
+    QVERIFY2(b[16] == "3" && about(b[17], -.3) && about(b[18], -.3) && about(b[19], -.3) && b[20] == "yes", qPrintable(lines[3]));
+    QVERIFY2(lines[4].startsWith("c2,,20,50,tree,forest,60,fraction_found,1,D,2,0.5,0.5,0.5,2,0.5,,,,,"), qPrintable(lines[4]));
+    const QStringList e = lines[5].split(',');
+    QVERIFY2(e.mid(8, 3).join(',') == "1,E,2" && about(e[11], .5) && about(e[15], .5) && about(e[17], 0) && e[20] == "no", qPrintable(lines[5]));
+    // ranking.png: a row per variant under a heading per cell.
+    salsa::plots::ensure_application();
+    std::filesystem::create_directories((out + "/plots").toStdString());
+    salsa::plots::ranking_plots(out.toStdString(), {"A", "B", "C", "D", "E"}, {});
+    check_png(out + "/plots/ranking.png", 1200, salsa::plots::comparison_plot_height(2 + 5));
+    QCOMPARE(pngs(out + "/plots"), QStringList{"ranking.png"});  // no conditions: no plot against a number
+  }
+
+  // The number the conditions differ in: exactly one input column the same within each condition and
+  // different between them, a number in each.
+  void condition_number() {
+    const QString out = path("number");
+    const QByteArray header = "name,status,error,cell,variant,condition,condition_label,behavior,repeat,seed,drones,targets,target,map,time,behavior.speed,comm.range,comm.loss,outcome.targets,fraction_found\n";
+    auto rows = [&](const char* r50, const char* r100, const char* loss100) {
+      QByteArray s = header;
+      for (const char* v : {"a", "b"})
+        for (int r = 0; r < 2; ++r) {
+          s += QByteArray(v) + "50_" + QByteArray::number(r) + ",ok,,c,\"" + v + "\",r50,x," + v + "," + QByteArray::number(r) + ",1,10,5,tree,empty,60," +
+               (v[0] == 'a' ? "1" : "2") + "," + r50 + ",0,5,0.5\n";
+          s += QByteArray(v) + "100_" + QByteArray::number(r) + ",ok,,c,\"" + v + "\",r100,x," + v + "," + QByteArray::number(r) + ",1,10,5,tree,empty,60," +
+               (v[0] == 'a' ? "1" : "2") + "," + r100 + "," + loss100 + ",5,0.6\n";
+        }
+      write_file(out + "/summary.csv", s);
+      return salsa::plots::condition_number(out.toStdString());
+    };
+    const auto range = rows("50.0", "100.0", "0");  // the behavior's parameter differs too: between variants, not conditions
+    QVERIFY(range && range->key == "comm.range");
+    QCOMPARE(range->values, (std::map<std::string, double>{{"r100", 100}, {"r50", 50}}));
+    QVERIFY(!rows("50.0", "100.0", "0.5"));  // two settings differ
+    QVERIFY(!rows("", "100.0", "0"));        // not a number under r50
+    QVERIFY(!rows("50.0", "50.0", "0"));     // none differs
+  }
+
   // Many variants: each against the reference, or the first beyond max_all_pairs; few: every pair.
   void pairs_that_matter() {
     using P = std::vector<std::pair<std::size_t, std::size_t>>;
@@ -535,8 +609,9 @@ class TestPlots : public QObject {
       check_png(out + "/plots/" + png, salsa::plots::plot_width, salsa::plots::plot_height);
     // Drones alive over time only for the swarm size whose tests have the column.
     QCOMPARE(pngs(out + "/plots"), (QStringList{"alive_over_time_5_drones.png", "comparison.png", "found_boxplot.png",
-                                                "found_over_time_20_drones.png", "found_over_time_5_drones.png"}));
+                                                "found_over_time_20_drones.png", "found_over_time_5_drones.png", "ranking.png"}));
     check_png(out + "/plots/comparison.png", salsa::plots::plot_width, salsa::plots::comparison_plot_height(2 + 2));  // a heading per swarm size
+    check_png(out + "/plots/ranking.png", salsa::plots::plot_width, salsa::plots::comparison_plot_height(2 + 2 * 2));  // and a row per variant
   }
 
   // A queue with conditions and a swept parameter: every plot, grouped by condition; the change's time
@@ -564,7 +639,10 @@ class TestPlots : public QObject {
     write_file(out + "/queue.json", R"({"tests": ["t0"], "configs_hash": "0123456789abcdef", "command": ["salsa", "run"], "reference": "f: alpha = 1"})");
     CliResult r = run_salsa({"plot", out});
     QVERIFY2(r.exit_code == 0, describe(r));
-    QCOMPARE(pngs(out + "/plots"), (QStringList{"comparison.png", "did.png", "found_boxplot.png", "found_over_time_5_drones.png", "found_vs_f_alpha.png"}));
+    // The conditions differ in a timed change, not a number: no plot against one.
+    QCOMPARE(pngs(out + "/plots"), (QStringList{"comparison.png", "did.png", "found_boxplot.png", "found_over_time_5_drones.png", "found_vs_f_alpha.png",
+                                                "ranking.png"}));
+    check_png(out + "/plots/ranking.png", salsa::plots::plot_width, salsa::plots::comparison_plot_height(2 * (1 + 4)));
     for (const char* png : {"found_boxplot.png", "found_over_time_5_drones.png", "found_vs_f_alpha.png"})
       check_png(out + "/plots/" + png, salsa::plots::plot_width, salsa::plots::plot_height);
     // 3 against the reference under each of 2 conditions, each condition's rows under a heading.
@@ -610,7 +688,7 @@ class TestPlots : public QObject {
     salsa::plots::observe_layouts([&](const QString& title, QSize canvas, QRectF plot) { drawn.push_back({title, canvas, plot}); });
     salsa::plots::draw_queue_plots(out.toStdString());
     salsa::plots::observe_layouts({});
-    QCOMPARE(drawn.size(), std::size_t{7});  // box plot, found and alive over time for 2 sizes, comparison, did
+    QCOMPARE(drawn.size(), std::size_t{8});  // box plot, found and alive over time for 2 sizes, comparison, did, ranking
     for (const Drawn& d : drawn) {
       const QString what = d.title + ": plot area " + QString("%1,%2 %3 × %4 on %5 × %6").arg(d.plot.left()).arg(d.plot.top()).arg(d.plot.width())
                                                         .arg(d.plot.height()).arg(d.canvas.width()).arg(d.canvas.height());

@@ -462,6 +462,68 @@ class TestQueueRun : public QObject {
     QVERIFY2(r.exit_code == 2 && r.err.contains("out/queue.json: holds the same tests with other settings"), describe(r));
   }
 
+  // Re-pairing without rerunning: `salsa plot OUT --reference V` (or --top K) writes the comparison a run
+  // of the queue with that reference (top) in its file writes, byte for byte, and leaves queue.json as it
+  // is (a later `salsa plot OUT` is the queue's own again); a bad V or K is refused in one line naming
+  // the option, the folder untouched. The conditions differ in one number (comm.range): ranking.png and
+  // by_comm.range.png are drawn.
+  void plot_re_pairs_as_a_run_with_that_reference() {
+    QTemporaryDir dir;
+    const QByteArray queue = R"({"repeats": 2, "reference": "random_walk",
+      "base": {"drones": 5, "time": 20, "map": {"name": "empty", "params": {"size": 200}}, "targets": {"count": 400}, "metrics": [], "comm": {"range": 50}},
+      "sweep": {"behaviors": ["random_walk", "flocking", "pheromone_avoidance"]},
+      "conditions": [{"name": "r50"}, {"name": "r100", "set": {"comm.range": 100}}]})";
+    write(dir.filePath("q.json"), queue);
+    write(dir.filePath("q_flocking.json"), QByteArray(queue).replace("\"reference\": \"random_walk\"", "\"reference\": \"flocking\""));
+    write(dir.filePath("q_top.json"), QByteArray(queue).replace("\"reference\": \"random_walk\"", "\"top\": 2"));
+    for (const auto& [file, out] : {std::pair{"q.json", "out"}, {"q_flocking.json", "flocking"}, {"q_top.json", "top"}}) {
+      QStringList args{"run", file, "--out", out, "-q", "--no-drones-csv"};
+      if (QString(out) != "out") args << "--no-plots";
+      const CliResult r = run_salsa(args, dir.path());
+      QVERIFY2(r.exit_code == 0, describe(r));
+    }
+    for (const char* png : {"ranking.png", "by_comm.range.png"}) QVERIFY2(QFileInfo::exists(dir.filePath("out/plots/") + png), png);
+    const QStringList tables{"comparison.csv", "did.csv", "condition_effects.csv", "ranking.csv"};
+    auto files = [&](const QString& out) {
+      QStringList texts;
+      for (const QString& t : tables) texts << QString::fromUtf8(read_file(dir.filePath(out + "/" + t)));
+      return texts;
+    };
+    const QStringList own = files("out");
+    QVERIFY(own != files("flocking"));
+    QCOMPARE(own[3], files("flocking")[3]);  // the ranking does not depend on the pairs
+    const auto before = snapshot(dir.filePath("out"));
+    const std::vector<std::pair<QStringList, QString>> bad{
+        {{"--reference", "nope"}, "--reference: 'nope' names no variant of out (allowed: random_walk (defaults); flocking (defaults); "
+                                  "pheromone_avoidance (defaults); or a behavior's name for its defaults)"},
+        {{"--top", "1"}, "--top: 1 is out of range (allowed: a whole number from 2 to 3, the variants of out)"},
+        {{"--top", "4"}, "--top: 4 is out of range (allowed: a whole number from 2 to 3, the variants of out)"},
+        {{"--top", "two"}, "--top: 'two' is not a whole number (allowed: a whole number from 2 to 3, the variants of out)"},
+        {{"--top", "2", "--reference", "flocking"}, "--top: given with --reference (allowed: one of them"},
+        {{"--reference", "flocking", "--out", "x.png"}, "--out: x.png: not for a folder"}};
+    for (const auto& [args, expect] : bad) {
+      const CliResult r = run_salsa(QStringList{"plot", "out"} + args, dir.path());
+      QVERIFY2(r.exit_code == 2 && non_empty_lines(r.err).size() == 1 && r.err.contains(expect), describe(r));
+      QCOMPARE(snapshot(dir.filePath("out")), before);
+    }
+    for (const QString folder : {"out/random_walk_r50_r0", "out/summary.csv"}) {  // a test's folder, a file: no pairs to choose
+      const CliResult r = run_salsa({"plot", folder, "--top", "2"}, dir.path());
+      const QString expect = "--top: " + folder + " is not a queue's folder (allowed: a folder 'salsa run' wrote a queue's summary.csv into)";
+      QVERIFY2(r.exit_code == 2 && non_empty_lines(r.err).size() == 1 && r.err.contains(expect), describe(r));
+      QCOMPARE(snapshot(dir.filePath("out")), before);
+    }
+    CliResult r = run_salsa({"plot", "out", "--reference", "flocking"}, dir.path());  // a behavior's name for its defaults, as in the file
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QCOMPARE(files("out"), files("flocking"));
+    QCOMPARE(read_file(dir.filePath("out/queue.json")), before.value("queue.json"));
+    r = run_salsa({"plot", "out", "--top", "2"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QCOMPARE(files("out"), files("top"));
+    r = run_salsa({"plot", "out"}, dir.path());
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QCOMPARE(files("out"), own);
+  }
+
   void shards_cover_the_queue_once() {
     QTemporaryDir dir;
     write(dir.filePath("q.json"), small_queue(10, 1));

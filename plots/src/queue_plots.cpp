@@ -14,6 +14,7 @@
 #include "comparison_plots.hpp"
 #include "plot_helpers.hpp"
 #include "queue_rows.hpp"
+#include "ranking_plots.hpp"
 
 namespace salsa::plots {
 
@@ -306,6 +307,7 @@ void draw_queue_plots(const fs::path& out) {
   if (is_file(out / "comparison.csv")) forest(out / "comparison.csv", dir / "comparison.png", labels);
   if (is_file(out / "did.csv")) did_plot(out / "did.csv", dir / "did.png", labels);
   score_plots(rows, dir);
+  if (is_file(out / "ranking.csv")) ranking_plots(out, variants_of(rows), labels);
 }
 
 }  // namespace salsa::plots

@@ -22,7 +22,7 @@ ALLOWED = "allowed: a test's output folder OUT/<name>, a queue's output folder O
 _WHOLE = {"targets", "targets_found", "collisions", "alive", "false_detections", "messages_sent",
           "messages_delivered", "dropped_range", "dropped_obstacle", "dropped_loss", "dropped_cap",
           "id", "found_by", "observations", "repeat", "seed", "drones", "n", "velocity_iterations",
-          "position_iterations", "decision_lag"}
+          "position_iterations", "decision_lag", "rank", "repeats", "n_vs_best"}
 # Names: pandas categoricals.
 _CATEGORIES = {"group", "status", "behavior", "condition", "variant", "target", "map", "metric",
                "variant_a", "variant_b", "baseline", "physics", "phase"}
@@ -185,6 +185,11 @@ class QueueResult:
     def condition_effects(self):
         """condition_effects.csv: each variant under each condition against the baseline."""
         return self._file("condition_effects.csv")
+
+    @cached_property
+    def ranking(self):
+        """ranking.csv: each cell and condition's variants by rank, how often each is best, against the best."""
+        return self._file("ranking.csv")
 
     @cached_property
     def timing(self):

@@ -41,7 +41,7 @@ FILES = {
         "decision_lag": "", "spawn.mode": "", "spawn.radius": "m", "spawn.point": "m", "physics": "",
         "contact_handlers": "", "metrics": "", "drone.name": "", "wind.velocity": "m/s", "wind.field.name": "",
     },
-    # comparison.csv, did.csv and condition_effects.csv: the means and differences are in the unit of
+    # comparison.csv, did.csv, condition_effects.csv and ranking.csv: the means and differences are in the unit of
     # the row's metric, which varies by row, so only the fixed columns have one.
     "comparison.csv": {"cell": "", "condition": "", "drones": "", "targets": "", "target": "", "map": "", "time": "s",
                        "metric": "", "variant_a": "", "variant_b": "", "n": "", "win_rate_a": ""},
@@ -49,6 +49,8 @@ FILES = {
                 "variant_a": "", "variant_b": "", "baseline": "", "condition": "", "n": ""},
     "condition_effects.csv": {"cell": "", "drones": "", "targets": "", "target": "", "map": "", "time": "s", "metric": "",
                               "variant": "", "baseline": "", "condition": "", "n": "", "win_rate": ""},
+    "ranking.csv": {"cell": "", "condition": "", "drones": "", "targets": "", "target": "", "map": "", "time": "s", "metric": "",
+                    "rank": "", "variant": "", "n": "", "repeats": "", "best_share": "", "n_vs_best": "", "differs_from_best": ""},
     # A tune's files: their other columns are the parameters (test keys) and the objectives (columns
     # of outcome.csv or summary.csv).
     "tune.csv": {"evaluation": "", "candidate": "", "phase": "", "world": "", "seed": "", "status": "", "test": ""},

@@ -36,7 +36,7 @@ def check_frame(frame, where):
 def frames(result):
     """Every DataFrame a result has, by name."""
     names = {salsa.TestResult: ["summary", "outcome", "drones", "targets", "fleet"],
-             salsa.QueueResult: ["summary", "comparison", "did", "condition_effects", "timing", "test_summary",
+             salsa.QueueResult: ["summary", "comparison", "did", "condition_effects", "ranking", "timing", "test_summary",
                                  "outcome", "drones", "targets", "fleet"],
              salsa.TuneResult: ["evaluations", "candidates", "best", "front", "summary", "timing"]}[type(result)]
     return {n: getattr(result, n) for n in names if getattr(result, n) is not None}

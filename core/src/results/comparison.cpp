@@ -16,6 +16,7 @@
 #include "salsa/core/files/csv_reader.hpp"
 #include "salsa/core/files/csv_writer.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
+#include "results/comparison_groups.hpp"
 
 namespace salsa {
 
@@ -83,38 +84,11 @@ std::vector<std::pair<std::size_t, std::size_t>> compared_pairs(const std::vecto
 
 namespace {
 
-// Six significant digits, whatever the locale: the file is compared byte for byte.
-std::string number(double v) {
-  if (std::isnan(v)) return "";
-  if (v == 0) v = 0;  // no "-0"
-  char buf[32];
-  const auto end = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 6).ptr;
-  return {buf, end};
-}
-
-// The columns of summary.csv that describe a cell, copied into each comparison row.
-constexpr const char* description[] = {"drones", "targets", "target", "map", "time"};
-
-using Values = std::map<std::string, double>;  // "repeat/seed" → the metric
-
-/// The ok tests of one cell under one condition.
-struct Group {
-  std::string cell, condition;
-  std::vector<std::string> description;
-  std::vector<std::string> variants;        // in order of first appearance
-  std::map<std::string, Values> values;     // variant → its tests
-};
-
-/// The mean of each variant's values (in `g.variants`' order): what "top" ranks by.
-std::vector<double> variant_means(const Group& g) {
-  std::vector<double> out;
-  for (const std::string& v : g.variants) {
-    double sum = 0;
-    for (const auto& [key, x] : g.values.at(v)) sum += x;
-    out.push_back(sum / static_cast<double>(g.values.at(v).size()));
-  }
-  return out;
-}
+using detail::Group;
+using detail::number;
+using detail::Values;
+using detail::description;
+using detail::variant_means;
 
 /// Which pairs to show, as OUT/queue.json records the queue's "reference" and "top" ("" and 0: none).
 struct Choice {
@@ -190,7 +164,7 @@ std::string assumed(const std::vector<Group>& groups, bool conditions) {
 
 }  // namespace
 
-std::string write_comparison(const fs::path& out, const std::string& metric) {
+std::string write_comparison(const fs::path& out, const std::string& metric, const std::optional<Pairing>& pairing) {
   // ---- Read: the ok tests' metric, by cell and condition, variant and (repeat, seed).
   CsvReader in(out / "summary.csv");
   const std::size_t c_cell = in.column("cell"), c_variant = in.column("variant"), c_status = in.column("status"),
@@ -224,7 +198,8 @@ std::string write_comparison(const fs::path& out, const std::string& metric) {
                        " in cell " + id + (condition.empty() ? "" : " under condition " + condition) + " with seed " +
                        std::string(in[c_seed]) + " (each pair needs one of each)");
   }
-  const Choice choice = recorded_choice(out);
+  Choice choice = recorded_choice(out);
+  if (pairing) choice.reference = pairing->reference, choice.top = pairing->top;
   const auto pairs_of = [&](const Group& g) { return compared_pairs(g.variants, choice.reference, choice.top, variant_means(g)); };
   const auto put = [](std::string& text, const std::string& field) { (text += ',') += field; };
   auto put_numbers = [&](std::string& text, std::initializer_list<double> values) {
@@ -247,6 +222,7 @@ std::string write_comparison(const fs::path& out, const std::string& metric) {
       text += '\n';
     }
   replace_file(out / "comparison.csv", text);
+  replace_file(out / "ranking.csv", detail::ranking_csv(groups, metric));
 
   // ---- did.csv: within each cell, whether A − B changes from the first condition to each other one.
   std::string did = "cell";
@@ -310,6 +286,15 @@ std::string write_comparison(const fs::path& out, const std::string& metric) {
     for (const char* name : {"did.csv", "condition_effects.csv"}) fs::remove(out / name, ec);
   }
   return choice.recorded ? std::string() : assumed(groups, any);
+}
+
+std::vector<std::string> queue_variants(const fs::path& out) {
+  CsvReader in(out / "summary.csv");
+  const std::size_t c_variant = in.column("variant");
+  std::vector<std::string> out_variants;
+  while (in.next())
+    if (std::find(out_variants.begin(), out_variants.end(), in[c_variant]) == out_variants.end()) out_variants.emplace_back(in[c_variant]);
+  return out_variants;
 }
 
 }  // namespace salsa

@@ -20,10 +20,10 @@ std::string name_problem(std::string_view name);
 std::string group_name_problem(std::string_view name);
 
 /// The names of the files and folders a queue writes at its output folder's top level (plots/,
-/// summary.csv, queue.json, comparison.csv, did.csv, condition_effects.csv, timing.json, timing.csv);
+/// summary.csv, queue.json, comparison.csv, did.csv, condition_effects.csv, ranking.csv, timing.json, timing.csv);
 /// the lock file and markers start with '.', which name_problem refuses already.
 inline constexpr const char* reserved_names[] = {"plots", "summary.csv", "queue.json", "comparison.csv", "did.csv", "condition_effects.csv",
-                                                  "timing.json", "timing.csv"};
+                                                  "ranking.csv", "timing.json", "timing.csv"};
 
 /// name_problem() for a test's name (it names OUT/<name>/): also refuses the reserved names, in any
 /// case and with any ".<suffix>" (the temporary files salsa writes beside them), e.g. "\"plots\" is a

@@ -3,10 +3,11 @@
 // condition), a condition and a seed are pairs, so the difference between two variants is measured on
 // the same worlds; the difference-in-differences between conditions; and each variant under each
 // condition against itself under the first. See docs/output-format.md
-// (comparison.csv, did.csv, condition_effects.csv).
+// (comparison.csv, did.csv, condition_effects.csv, ranking.csv).
 #include <cstddef>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,11 +21,25 @@ namespace salsa {
 /// condition), paired by repeat and seed (by repeat when the condition changes the world), with its
 /// 95 % t-interval over the per-repeat values; and OUT/condition_effects.csv: for each variant,
 /// (variant | condition) − (variant | the cell's first condition), paired the same way, with its 95 %
-/// t-interval and the first condition's mean with its own. The reference and top are OUT/queue.json's.
+/// t-interval and the first condition's mean with its own. The reference and top are OUT/queue.json's,
+/// or `pairing`'s when given (salsa plot OUT --reference / --top: queue.json is left as it is). Also
+/// OUT/ranking.csv: within each cell and condition, each variant's mean with its 95 % t-interval, its
+/// rank, the share of the repeats in which it is best and its paired difference from the best.
 /// Without OUT/queue.json (test folders copied elsewhere), returns what it took from the folders' order
 /// instead: the baseline condition and the pairs, in words ("" when there was no choice to make).
 /// Throws InputError (one line naming the file) on bad input.
-std::string write_comparison(const std::filesystem::path& out, const std::string& metric = "fraction_found");
+/// Which pairs comparison.csv and did.csv show: each variant against `reference`, or every pair of the
+/// `top` best (a queue's "reference" and "top"; "" and 0: none).
+struct Pairing {
+  std::string reference;
+  std::size_t top = 0;
+};
+std::string write_comparison(const std::filesystem::path& out, const std::string& metric = "fraction_found",
+                             const std::optional<Pairing>& pairing = std::nullopt);
+
+/// The variants of OUT/summary.csv's tests (any status), in order of first appearance: what a
+/// reference or top given for OUT may name or count. Throws InputError (one line naming the file).
+std::vector<std::string> queue_variants(const std::filesystem::path& out);
 
 /// Half the width of the two-sided 95 % t-interval of a mean of `n` values with sample standard
 /// deviation `sd`: t_{0.975, n-1} · sd / √n. NaN for n < 2.
