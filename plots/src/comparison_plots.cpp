@@ -23,8 +23,9 @@ struct IntervalRow {
   std::optional<double> mean, lo, hi;
 };
 
-// The queue's warnings (comparison_notes.txt) across the top of the plot area, in dark red on a white
-// box, so that a figure shown without its folder still says what it compares.
+// The queue's warnings (comparison_notes.txt) across the top of the plot area, over the two empty rows
+// interval_plot leaves for it, in dark red on a white box: a figure shown without its folder still says
+// what it compares.
 void draw_note(QPainter& p, const Figure& f, const QString& note) {
   if (note.isEmpty()) return;
   const QFont small = font(13);
@@ -54,6 +55,7 @@ void interval_plot(const std::vector<IntervalRow>& given, const QString& title, 
     for (const auto& r : given)
       if (r.heading == h) rows.push_back({h, "    " + r.label, r.note, r.mean, r.lo, r.hi});
   }
+  if (!note.isEmpty()) rows.insert(rows.begin(), 2, IntervalRow{});  // room for draw_note's box (4 lines at most)
   double lo = 0, hi = 0;
   for (const auto& r : rows)
     for (const auto& v : {r.mean, r.lo, r.hi})
