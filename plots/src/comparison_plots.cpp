@@ -44,7 +44,7 @@ void draw_note(QPainter& p, const Figure& f, const QString& note) {
 // Rows of estimates with their 95 % intervals against a dashed line at 0 (comparison.png, did.png),
 // grouped under their headings in order of first appearance.
 void interval_plot(const std::vector<IntervalRow>& given, const QString& title, const QString& x_label, const fs::path& file,
-                   const QString& note) {
+                   const QString& note = {}) {
   if (given.empty()) return;
   std::vector<IntervalRow> rows;
   std::vector<QString> headings;
