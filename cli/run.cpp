@@ -17,6 +17,7 @@
 #include "salsa/core/plugins/plugin_host.hpp"
 #include "salsa/core/experiments/queue.hpp"
 #include "salsa/core/results/queue_summary.hpp"
+#include "salsa/core/experiments/shared_state.hpp"
 #include "salsa/core/run/runner.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 #include "commands.hpp"
@@ -128,6 +129,9 @@ int cmd_run(int argc, char** argv) {
   const auto tests = load_all(vm, host, comparison);
   // Every test valid before the first one runs; tests that will take hours are said so up front.
   for (const auto& t : tests) warn_workload(t, make_setup(t, host), quiet || child);
+  // A comparison that mixes global knowledge with a radio's says so here, in queue.json and on its plots.
+  const std::string sharing = child ? std::string() : shared_state_warning(tests, host);
+  if (!sharing.empty() && !quiet) std::cerr << "salsa: warning: the queue " << sharing << "\n";
   // This process's share: one test (--isolate child), a shard (test k when k % n == i), or all.
   std::vector<std::size_t> mine;
   for (std::size_t k = 0; k < tests.size(); ++k)
@@ -158,6 +162,7 @@ int cmd_run(int argc, char** argv) {
         if (!child) {
           record = queue_record(tests, host, command);
           record->reference = comparison.reference, record->top = comparison.top;
+          if (!sharing.empty()) record->warnings.push_back("the queue " + sharing);
           check_queue_folder(options.out, *record, options.resume, options.force);
         }
         check_outputs(checked, host, options);

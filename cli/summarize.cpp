@@ -18,6 +18,7 @@ namespace salsa::cli {
 std::string finish_queue(const fs::path& out, const PluginHost& host, bool draw_plots) {
   write_queue_summary(out, &host);
   std::string assumed = write_comparison(out);
+  write_comparison_notes(out);
   if (draw_plots) plots::draw_queue_plots(out);
   return assumed;
 }
@@ -44,6 +45,8 @@ int cmd_summarize(int argc, char** argv) {
   // Test folders copied out of a queue's folder keep neither its baseline condition nor its reference.
   if (const std::string assumed = finish_queue(out, host, !vm.count("no-plots")); !assumed.empty())
     std::cerr << "salsa: warning: summarize: " << out.string() << " has no queue.json: " << assumed << std::endl;
+  if (!vm.count("quiet"))
+    for (const std::string& note : write_comparison_notes(out)) std::cerr << "salsa: warning: " << note << std::endl;
   if (!vm.count("quiet")) std::cout << "wrote " << (out / "summary.csv").string() << std::endl;
   return 0;
 }

@@ -3,6 +3,7 @@
 
 #include "salsa/core/plugins/plugin_host.hpp"
 #include "salsa/core/experiments/queue.hpp"
+#include "salsa/core/experiments/shared_state.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 #include "commands.hpp"
 #include "options.hpp"
@@ -27,6 +28,8 @@ int cmd_validate(int argc, char** argv) {
     }
     const auto tests = load_queue(f, host, options).tests;
     for (const auto& t : tests) warn_workload(t, make_setup(t, host), vm.count("quiet"));
+    if (const std::string line = shared_state_warning(tests, host); !line.empty() && !vm.count("quiet"))
+      std::cerr << "salsa: warning: " << f << ": the queue " << line << "\n";
     if (!vm.count("quiet")) std::cout << f << ": ok (" << tests.size() << (tests.size() == 1 ? " test)\n" : " tests)\n");
   }
   return 0;

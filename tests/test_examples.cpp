@@ -30,6 +30,17 @@ QStringList test_names(const QString& file) {
 /// example-digests.txt: "<example>/<test>/<file> <sha-256>"), so a change that was to change no result
 /// is shown to change none. SALSA_UPDATE_DIGESTS=1 writes the digests of this run instead.
 const char* const data_files[] = {"summary.csv", "outcome.csv", "drones.csv", "targets.csv", "map.json"};
+/// The radio studies set the global variants beside radio-bound ones on purpose (the idealised
+/// baseline): their stderr is the one warning that says so, and nothing else. Returns what is left.
+QString other_warnings(const QString& file, const QString& err) {
+  QStringList left = non_empty_lines(err);
+  if (file.endsWith("dsp-radio-queue.json") || file.endsWith("pheromone-radio-queue.json")) {
+    const qsizetype said = left.removeIf([](const QString& l) { return l.contains("salsa: warning: ") && l.contains("compares global knowledge with a radio"); });
+    if (said != 1) left << "expected the one warning of a comparison of global knowledge with a radio";
+  }
+  return left.join('\n');
+}
+
 QString digests_file() { return q(source_dir() / "tests/data/example-digests.txt"); }
 QMap<QString, QString> read_digests() {
   QMap<QString, QString> out;
@@ -94,7 +105,7 @@ class TestExamples : public QObject {
     QFETCH(QString, file);
     const CliResult r = run_salsa({"validate", file});
     QVERIFY2(!r.crashed && r.exit_code == 0, describe(r));
-    QVERIFY2(r.err.trimmed().isEmpty(), describe(r));  // not even a warning
+    QVERIFY2(other_warnings(file, r.err).isEmpty(), describe(r));  // not even a warning
     QVERIFY2(r.out.contains(": ok ("), describe(r));
   }
 
@@ -122,7 +133,7 @@ class TestExamples : public QObject {
     for (qsizetype k = 0; k < names.size(); k += shards) ran << names[k];
     const CliResult r = run_salsa(args, out.path());
     QVERIFY2(!r.crashed && r.exit_code == 0, describe(r));
-    QVERIFY2(r.err.trimmed().isEmpty(), describe(r));
+    QVERIFY2(other_warnings(file, r.err).isEmpty(), describe(r));
     for (const QString& name : ran) {
       const QString dir = out.filePath(name);
       for (const char* f : {"config.json", "map.json", "summary.csv", "drones.csv", "targets.csv"})

@@ -1,6 +1,8 @@
 // The queue's comparison plots: comparison.png and did.png, paired differences A − B with their 95 % intervals.
 #include "salsa/plots/results.hpp"
 
+#include <QFile>
+
 #include <algorithm>
 #include <optional>
 
@@ -21,9 +23,28 @@ struct IntervalRow {
   std::optional<double> mean, lo, hi;
 };
 
+// The queue's warnings (comparison_notes.txt) across the top of the plot area, over the two empty rows
+// interval_plot leaves for it, in dark red on a white box: a figure shown without its folder still says
+// what it compares.
+void draw_note(QPainter& p, const Figure& f, const QString& note) {
+  if (note.isEmpty()) return;
+  const QFont small = font(13);
+  const QRectF area = f.plot_area();
+  const QStringList lines = wrapped("Note: " + note, small, area.width() - 16, 4);
+  const double h = 18.0 * static_cast<double>(lines.size()) + 8;
+  p.setPen(QPen(QColor(160, 0, 0), 1.5));
+  p.setBrush(QColor(255, 255, 255, 230));
+  p.drawRect(QRectF(area.left() + 4, area.top() + 4, area.width() - 8, h));
+  p.setFont(small);
+  for (qsizetype k = 0; k < lines.size(); ++k)
+    p.drawText(QRectF(area.left() + 10, area.top() + 8 + 18.0 * static_cast<double>(k), area.width() - 20, 18), Qt::AlignLeft | Qt::AlignVCenter,
+               lines[k]);
+}
+
 // Rows of estimates with their 95 % intervals against a dashed line at 0 (comparison.png, did.png),
 // grouped under their headings in order of first appearance.
-void interval_plot(const std::vector<IntervalRow>& given, const QString& title, const QString& x_label, const fs::path& file) {
+void interval_plot(const std::vector<IntervalRow>& given, const QString& title, const QString& x_label, const fs::path& file,
+                   const QString& note = {}) {
   if (given.empty()) return;
   std::vector<IntervalRow> rows;
   std::vector<QString> headings;
@@ -34,6 +55,7 @@ void interval_plot(const std::vector<IntervalRow>& given, const QString& title, 
     for (const auto& r : given)
       if (r.heading == h) rows.push_back({h, "    " + r.label, r.note, r.mean, r.lo, r.hi});
   }
+  if (!note.isEmpty()) rows.insert(rows.begin(), 2, IntervalRow{});  // room for draw_note's box (4 lines at most)
   double lo = 0, hi = 0;
   for (const auto& r : rows)
     for (const auto& v : {r.mean, r.lo, r.hi})
@@ -70,6 +92,7 @@ void interval_plot(const std::vector<IntervalRow>& given, const QString& title, 
   p.setFont(font(15));
   for (std::size_t i = 0; i < rows.size(); ++i)
     p.drawText(QRectF(f.plot_area().right() + 12, f.at(0, static_cast<double>(i)).y() - 11, 200, 22), Qt::AlignLeft | Qt::AlignVCenter, rows[i].note);
+  draw_note(p, f, note);
   f.save(file);
 }
 
@@ -89,7 +112,13 @@ std::optional<double> in_plot_unit(CsvReader& in, std::size_t c, const std::stri
 
 }  // namespace
 
-void forest(const fs::path& csv, const fs::path& file, const ConditionLabels& labels) {
+QString comparison_note(const fs::path& out) {
+  QFile file(QString::fromStdString((out / "comparison_notes.txt").string()));
+  if (!file.open(QIODevice::ReadOnly)) return {};
+  return QString::fromUtf8(file.readAll()).trimmed().replace('\n', ' ');
+}
+
+void forest(const fs::path& csv, const fs::path& file, const ConditionLabels& labels, const QString& note) {
   CsvReader in(csv);
   const std::size_t c_a = in.column("variant_a"), c_b = in.column("variant_b"), c_n = in.column("n"), c_mean = in.column("mean_diff"),
                     c_lo = in.column("ci_low"), c_hi = in.column("ci_high"), c_win = in.column("win_rate_a"),
@@ -108,7 +137,7 @@ void forest(const fs::path& csv, const fs::path& file, const ConditionLabels& la
   }
   const bool percent = metric.starts_with("fraction");
   interval_plot(rows, "Paired differences A − B in " + metric_words(metric) + " (mean, 95 % CI)",
-                percent ? "difference A − B (percentage points)" : "difference A − B (" + QString::fromStdString(metric) + ")", file);
+                percent ? "difference A − B (percentage points)" : "difference A − B (" + QString::fromStdString(metric) + ")", file, note);
 }
 
 void draw_estimates(const std::vector<Estimate>& rows, const std::string& title, const std::string& x_label, const fs::path& file) {
@@ -118,7 +147,7 @@ void draw_estimates(const std::vector<Estimate>& rows, const std::string& title,
   interval_plot(given, QString::fromStdString(title), QString::fromStdString(x_label), file);
 }
 
-void did_plot(const fs::path& csv, const fs::path& file, const ConditionLabels& labels) {
+void did_plot(const fs::path& csv, const fs::path& file, const ConditionLabels& labels, const QString& note) {
   CsvReader in(csv);
   const std::size_t c_a = in.column("variant_a"), c_b = in.column("variant_b"), c_base = in.column("baseline"), c_cond = in.column("condition"),
                     c_n = in.column("n"), c_did = in.column("did"), c_lo = in.column("ci_low"), c_hi = in.column("ci_high"),
@@ -133,7 +162,7 @@ void did_plot(const fs::path& csv, const fs::path& file, const ConditionLabels& 
   }
   const bool percent = metric.starts_with("fraction");
   interval_plot(rows, "How a condition changes A − B in " + metric_words(metric) + " (mean, 95 % CI)",
-                percent ? "change of A − B (percentage points)" : "change of A − B (" + QString::fromStdString(metric) + ")", file);
+                percent ? "change of A − B (percentage points)" : "change of A − B (" + QString::fromStdString(metric) + ")", file, note);
 }
 
 }  // namespace salsa::plots

@@ -304,8 +304,9 @@ void draw_queue_plots(const fs::path& out) {
   box_plot(rows, dir / "found_boxplot.png");
   for (const auto& size : sizes_of(rows))
     for (const Measure* m : {&found_measure, &alive_measure}) over_time(out, rows, size, *m);
-  if (is_file(out / "comparison.csv")) forest(out / "comparison.csv", dir / "comparison.png", labels);
-  if (is_file(out / "did.csv")) did_plot(out / "did.csv", dir / "did.png", labels);
+  const QString note = comparison_note(out);
+  if (is_file(out / "comparison.csv")) forest(out / "comparison.csv", dir / "comparison.png", labels, note);
+  if (is_file(out / "did.csv")) did_plot(out / "did.csv", dir / "did.png", labels, note);
   score_plots(rows, dir);
   if (is_file(out / "ranking.csv")) ranking_plots(out, variants_of(rows), labels);
 }

@@ -52,7 +52,8 @@ class Behavior:
     """Base of a behavior written in Python; register the class with salsa.register.
 
     Class attributes: `name` (how tests name it), `brief`, `parameters` (a list of Param), `senses`
-    (a Senses). The core makes one instance per group that uses it, sets `params` (a Group-like
+    (a Senses), `shared_state` ("none", the default; "global": state built from all drones at once;
+    "radio": shared only through messages; docs/plugins.md, Shared state). The core makes one instance per group that uses it, sets `params` (a Group-like
     namespace of the values) and calls:
 
       reset(drones)        drones (re)spawned: ids 0..drones-1, fresh memory (keep it in arrays by id)
@@ -66,6 +67,7 @@ class Behavior:
     brief = ""
     parameters = ()
     senses = Senses()
+    shared_state = "none"
 
     def reset(self, drones):
         pass

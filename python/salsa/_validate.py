@@ -11,8 +11,9 @@ def validate(tests):
     plugins given their data), and none run.
 
     tests: a test, queue or map file's path, a dict holding a test or a queue (as a file would), or a
-    list of them. Returns the warnings (a test likely to take hours: `salsa validate`'s "warning:"
-    lines) as a list of strings, or None when there are none. Raises salsa.InputError with the CLI's
+    list of them. Returns the warnings (a test likely to take hours, a queue that sets a behavior with
+    global shared state beside a radio: `salsa validate`'s "warning:" lines) as a list of strings, or
+    None when there are none. Raises salsa.InputError with the CLI's
     line at the first bad input.
     """
     items = list(tests) if isinstance(tests, (list, tuple)) else [tests]

@@ -131,8 +131,8 @@ py::array field(const PerceptionBatch::Rows<Item>& rows, std::size_t offset, con
 
 class PyBatchBehavior final : public BatchBehavior {
  public:
-  PyBatchBehavior(py::object instance, std::string name, Senses senses, py::handle group_type, py::handle rows_type)
-      : instance_(std::move(instance)), name_(std::move(name)), senses_(senses),
+  PyBatchBehavior(py::object instance, std::string name, Senses senses, SharedState shared, py::handle group_type, py::handle rows_type)
+      : instance_(std::move(instance)), name_(std::move(name)), senses_(senses), shared_(shared),
         group_type_(py::reinterpret_borrow<py::object>(group_type)), rows_type_(py::reinterpret_borrow<py::object>(rows_type)) {}
   ~PyBatchBehavior() override {
     if (!Py_IsInitialized()) {  // at exit, after Python: leave its objects be
@@ -144,6 +144,7 @@ class PyBatchBehavior final : public BatchBehavior {
   }
 
   Senses senses() const override { return senses_; }
+  SharedState shared_state() const override { return shared_; }
 
   void reset(std::size_t drones) override { call("reset", drones); }
   void resize(std::size_t drones) override { call("resize", drones); }
@@ -274,6 +275,7 @@ class PyBatchBehavior final : public BatchBehavior {
   py::object instance_;
   std::string name_;
   Senses senses_;
+  SharedState shared_;
   py::object group_type_, rows_type_, params_;
 };
 
@@ -301,6 +303,13 @@ void register_behavior(const py::object& cls) {
   if (!py::isinstance(senses, declared.attr("Senses")))
     throw refuse("senses: " + py::repr(senses).cast<std::string>() + " (allowed: a salsa.Senses)");
   const Senses sensed{senses.attr("neighbours").cast<bool>(), senses.attr("targets").cast<bool>()};
+  const py::object shared_text = cls.attr("shared_state");
+  SharedState shared = SharedState::none;
+  if (!py::isinstance<py::str>(shared_text) || (shared_text.cast<std::string>() != "none" && shared_text.cast<std::string>() != "global" &&
+                                                shared_text.cast<std::string>() != "radio"))
+    throw refuse("shared_state: " + py::repr(shared_text).cast<std::string>() + " (allowed: \"none\", \"global\", \"radio\")");
+  if (shared_text.cast<std::string>() == "global") shared = SharedState::global;
+  if (shared_text.cast<std::string>() == "radio") shared = SharedState::radio;
   // Group's own fields: a parameter of one of these names would hide it.
   static const char* taken[] = {"id", "position", "velocity", "air_velocity", "wind", "battery", "time", "dt", "group",
                                 "max_speed", "max_force", "radius", "mass", "camera_range", "obstacle_range",
@@ -323,11 +332,11 @@ void register_behavior(const py::object& cls) {
   auto type = std::make_shared<PyRef>(cls);
   auto group_type = std::make_shared<PyRef>(declared.attr("Group"));
   auto rows_type = std::make_shared<PyRef>(declared.attr("Rows"));
-  f.create = [type, group_type, rows_type, name = f.name, sensed, label]() -> std::unique_ptr<Behavior> {
+  f.create = [type, group_type, rows_type, name = f.name, sensed, shared, label]() -> std::unique_ptr<Behavior> {
     // The core makes behaviors while stepping or starting a Session, without the GIL.
     py::gil_scoped_acquire gil;
     try {
-      return std::make_unique<PyBatchBehavior>(type->get()(), name, sensed, group_type->get(), rows_type->get());
+      return std::make_unique<PyBatchBehavior>(type->get()(), name, sensed, shared, group_type->get(), rows_type->get());
     } catch (py::error_already_set& e) {
       throw std::runtime_error(label + "() raised " + describe(e));
     }

@@ -1,6 +1,7 @@
 // salsa.validate's checks (python/salsa/_validate.py): those of `salsa validate` (cli/validate.cpp), in
 // this process: a map file read through the map plugin, a test or queue read, every test set up, and the
-// workload warnings collected rather than printed.
+// workload warnings and the shared-state warning (a global behavior beside a radio) collected rather
+// than printed.
 #include <pybind11/stl.h>
 
 #include <string>
@@ -8,6 +9,7 @@
 
 #include "bindings.hpp"
 #include "salsa/core/experiments/queue.hpp"
+#include "salsa/core/experiments/shared_state.hpp"
 #include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/core/run/session.hpp"
 
@@ -28,6 +30,7 @@ std::vector<std::string> set_up(const Queue& queue, const PluginHost& host) {
       throw InputError(e.what());
     }
   }
+  if (std::string line = shared_state_warning(queue.tests, host); !line.empty()) warnings.push_back(queue.source + ": the queue " + line);
   return warnings;
 }
 

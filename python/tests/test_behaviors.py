@@ -299,6 +299,32 @@ def test_registration_refuses_what_it_cannot_use():
         salsa.Param("gain", 1.0, 2.0)
 
 
+def test_a_declared_shared_state_is_checked_and_warned_about_beside_a_radio():
+    class Bad(salsa.Behavior):
+        name = "py_bad_sharing"
+        shared_state = "everyone"
+
+    with pytest.raises(ValueError, match=r"shared_state: 'everyone' \(allowed: \"none\", \"global\", \"radio\"\)"):
+        salsa.register(Bad)
+
+    class Oracle(salsa.Behavior):
+        name = "py_oracle"
+        shared_state = "global"
+
+        def decide(self, group, rng):
+            return np.zeros((len(group.id), 2))
+
+    salsa.register(Oracle)
+    queue = {"repeats": 1, "base": {"drones": 3, "time": 1, "targets": {"count": 5}},
+             "tests": [{"name": "o", "behavior": "py_oracle", "comm": {"range": 50}}, {"name": "w", "behavior": "py_random_walk"}]}
+    warnings = salsa.validate(queue) or []
+    assert any("compares global knowledge with a radio: py_oracle" in w for w in warnings), warnings
+    # A Python behavior without the attribute declares none: no warning beside the same radio.
+    queue["tests"][0]["behavior"] = "py_random_walk"
+    queue["tests"][1]["behavior"] = "py_flocking"
+    assert not any("global knowledge" in w for w in salsa.validate(queue) or []), warnings
+
+
 def test_registered_classes_are_listed_beside_the_plugins():
     listed = salsa.behaviors()
     assert "flocking" in listed and listed["flocking"]["origin"].endswith(".so")

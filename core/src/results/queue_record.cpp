@@ -109,6 +109,7 @@ json record_json(const QueueRecord& record) {
   json out = {{"tests", record.tests}, {"configs_hash", record.configs_hash}, {"command", record.command}};
   if (!record.reference.empty()) out["reference"] = record.reference;  // only then: queue.json as before references
   if (record.top > 0) out["top"] = record.top;
+  if (!record.warnings.empty()) out["warnings"] = record.warnings;
   return out;
 }
 
@@ -171,6 +172,23 @@ bool holds_tune(const fs::path& out) {
   // A tune's record (its canonical tune file), not a file of the user's that happens to be named so.
   const auto record = read_json(out / "tune.json");
   return record && record->is_object() && record->contains("test") && record->contains("budget");
+}
+
+std::vector<std::string> write_comparison_notes(const fs::path& out) {
+  std::vector<std::string> notes;
+  if (const auto record = read_json(out / "queue.json"); record && record->is_object() && record->contains("warnings"))
+    for (const auto& w : (*record)["warnings"])
+      if (w.is_string()) notes.push_back(w.get<std::string>());
+  const fs::path file = out / "comparison_notes.txt";
+  if (notes.empty()) {
+    std::error_code ec;
+    fs::remove(file, ec);  // one left from an earlier queue goes
+    return notes;
+  }
+  std::string text;
+  for (const auto& n : notes) text += n + "\n";
+  replace_file(file, text);
+  return notes;
 }
 
 bool holds_results(const fs::path& out) {

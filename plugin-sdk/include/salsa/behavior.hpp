@@ -22,6 +22,19 @@ struct Senses {
   bool targets = true;     ///< Perception::targets
 };
 
+/// What a behavior's drones know beyond their own senses (Behavior::shared_state): whether a
+/// comparison of its results with a radio's is fair. A queue that sets a `global` behavior beside tests
+/// with a radio ("comm") says so in its warnings, its queue.json and its comparison plots.
+enum class SharedState : std::uint8_t {
+  none,    ///< each drone decides from its own Perception and memory alone
+  global,  ///< state built in `prepare` from every drone at once (a field, a partition): knowledge no radio carried
+  radio,   ///< what drones share reaches them only as the comm model's messages (Perception::messages)
+};
+/// "none", "global", "radio".
+inline const char* to_string(SharedState s) {
+  return s == SharedState::global ? "global" : s == SharedState::radio ? "radio" : "none";
+}
+
 class Behavior : public Configurable {
  public:
   /// Shared state (a pheromone field, partitions) is updated here, once per step before any `decide`.
@@ -45,6 +58,10 @@ class Behavior : public Configurable {
   /// The most doubles one message of this behavior holds (Perception::broadcast); 0 (the default): its
   /// drones never broadcast. Asked when the behavior starts; more than max_message_size is refused.
   virtual std::size_t message_size() const { return 0; }
+  /// What its drones share (default: none). Asked after the parameters are set, so it may depend on
+  /// them (a `sharing` parameter). Declare `global` for state `prepare` builds from all drones' data
+  /// that decide then reads; `radio` when that knowledge travels only in messages.
+  virtual SharedState shared_state() const { return SharedState::none; }
 
   /// The group this behavior decides for (index into WorldView::drone_groups()); 0 without groups.
   /// Shared state built in `prepare` should count only its group's flying drones.

@@ -6,6 +6,10 @@
 // the nearest cell of it that nobody has visited, and once all are visited, to the one visited
 // longest ago. So the regions tile the free map and every region has a drone covering it. Only the
 // group's flying drones count: their points spread, their regions tile the map, their visits count.
+// `sharing` 0 (global): one set of points, one partition and one record of visits for the group.
+// `sharing` 1 (radio): each drone broadcasts its point and where it is, every step; it moves its own
+// point away from the points it heard lately, floods its own copy of the map from those, and counts the
+// visits it made or heard of. With no radio (no "comm", or out of range) a drone's region is the map.
 // The paper's version (a random walk in a disc around the point) is dynamic_space_partitioning_paper.hpp.
 // Derive to change which cell of its region a drone visits next (docs/plugins.md).
 #include <algorithm>
@@ -13,7 +17,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "salsa/behavior.hpp"
@@ -37,12 +43,14 @@ class DynamicSpacePartitioning : public BehaviorWithMemory<PartitionSweep> {
     BehaviorWithMemory::reset(drones);
     points_.clear();  // re-seeded at the drones' positions by the next prepare
     cells_.clear();
+    views_.clear();
   }
 
   void prepare(const WorldView& world) override {
     if (points_.gather(world, *this)) next_flood_ = 0;
-    if (cells_.empty() || world.bounds() != bounds_ || cell_size != built_cell_size_) build(world);
+    if (cells_.empty() || world.bounds() != bounds_ || cell_size != built_cell_size_ || by_radio() != built_radio_) build(world);
     if (points_.members().empty()) return;
+    if (by_radio()) return prepare_views(world);
     points_.spread(world, bounds_, point_speed, cutoff, cell_ / 2);
     // Visits: the cell under a member close to its centre; cells a member could not reach count too.
     const auto drones = world.drone_positions();
@@ -58,11 +66,13 @@ class DynamicSpacePartitioning : public BehaviorWithMemory<PartitionSweep> {
   Vec2 decide(const Perception& me, PartitionSweep& s, Rng&) override {
     Vec2 steer;
     if (points_.is_member(me.id)) {
+      if (by_radio()) hear(me);  // only this drone's view and cells are written: decide may run in parallel
+      const std::vector<Cell>& cells = cells_of(me.id);
       if (s.given_up != kNone) s = {};
-      const bool stale = s.goal == kNone || cells_[s.goal].owner != me.id || cells_[s.goal].visited > s.since;
+      const bool stale = s.goal == kNone || cells[s.goal].owner != me.id || cells[s.goal].visited > s.since;
       if (stale) choose_goal(me, s);
       if (me.time > s.deadline && s.goal != kNone) s.given_up = s.goal;
-      steer = seek(me, s.goal != kNone ? centre(s.goal) : points_[me.id]);
+      steer = seek(me, s.goal != kNone ? centre(s.goal) : point_of(me.id));
     }
     return steer + obstacle_weight * avoid_near_obstacles(me, kAvoidFade);
   }
@@ -70,9 +80,9 @@ class DynamicSpacePartitioning : public BehaviorWithMemory<PartitionSweep> {
   Senses senses() const override { return {.neighbours = false, .targets = false}; }  // obstacles only
 
   std::string inspect(std::uint32_t id) const override {
-    if (id >= points_.size() || id >= memory().size()) return {};
+    if (id >= points_.size() || id >= memory().size() || (by_radio() && (id >= views_.size() || views_[id].cells.empty()))) return {};
     std::size_t owned = 0;
-    for (const auto& c : cells_) owned += c.owner == id;
+    for (const auto& c : cells_of(id)) owned += c.owner == id;
     const PartitionSweep& s = memory()[id];
     char text[160];
     if (s.goal == kNone) std::snprintf(text, sizeof text, "region: %zu cells; no goal", owned);
@@ -81,8 +91,13 @@ class DynamicSpacePartitioning : public BehaviorWithMemory<PartitionSweep> {
     return text;
   }
 
-  /// The virtual points, one per drone id (m).
+  /// The virtual points, one per drone id (m), with `sharing` 0.
   const PartitionPoints& points() const { return points_; }
+  /// Drone `id`'s view of the points with `sharing` 1 (empty before its first step).
+  const HeardPoints& heard_points(std::uint32_t id) const { return views_.at(id).points; }
+
+  SharedState shared_state() const override { return by_radio() ? SharedState::radio : SharedState::global; }
+  std::size_t message_size() const override { return 4; }  // its point x, y; where it is x, y (sharing 1)
 
  protected:
   /// Which free cell of its region a drone flies to next: the one with the lowest score. `visited` is
@@ -98,6 +113,11 @@ class DynamicSpacePartitioning : public BehaviorWithMemory<PartitionSweep> {
                   "side of a coverage cell; a drone at its centre sees all of it up to camera range × 1.41"};
   Param repartition_interval{this, "repartition_interval", 1.0, 0.0, 60.0, "s", "time between re-floods of the regions (0: every step)"};
   Param obstacle_weight{this, "obstacle_avoidance_weight", 4.0, 0.0, 10.0, "", "weight of flying away from obstacle hits"};
+  Param sharing{this, "sharing", 0, 0, 1, "",
+                "0: one partition for the group (global, the paper's); 1: each drone's own, from the points and visits its radio heard", 1};
+  Param forget_after{this, "forget_after", 60.0, 0.1, 600.0, "s", "with sharing 1: a point not heard for this long is dropped from a drone's view"};
+
+  bool by_radio() const { return sharing.value() == 1; }
 
  private:
   struct Cell {
@@ -110,9 +130,57 @@ class DynamicSpacePartitioning : public BehaviorWithMemory<PartitionSweep> {
   static constexpr double kAvoidFade = 0.25;  // obstacle avoidance starts at a quarter of obstacle range
   static constexpr double kMaxCells = 1 << 22;
 
+  /// A drone's own partition (sharing 1): its view of the points, its copy of the cells.
+  struct View {
+    HeardPoints points;
+    std::vector<Cell> cells;  // made from cells_ (the free ground) on the drone's first step
+  };
+
+  const std::vector<Cell>& cells_of(std::uint32_t id) const { return by_radio() ? views_[id].cells : cells_; }
+  Vec2 point_of(std::uint32_t id) const { return by_radio() ? views_[id].points.own() : points_[id]; }
+
+  // Sharing 1, once a step: each member's own point moves from its view, its own visit counts in its
+  // own cells, and every repartition_interval its cells are flooded from the points it knows.
+  void prepare_views(const WorldView& world) {
+    const auto drones = world.drone_positions();
+    if (views_.size() < drones.size()) views_.resize(drones.size());
+    const double t = world.time(), arrive2 = kArrival * kArrival * cell_ * cell_;
+    const bool flood_now = t >= next_flood_;
+    for (std::uint32_t i : points_.members()) {
+      View& v = views_[i];
+      if (!v.points.seeded()) v.points.seed(drones[i]);
+      if (v.cells.empty()) v.cells = cells_;
+      v.points.refresh(i, t, forget_after, bounds_.area());
+      v.points.spread(i, world, bounds_, point_speed, cutoff, cell_ / 2);
+      const std::uint32_t c = index(drones[i]);
+      if (distance_squared(drones[i], centre(c)) <= arrive2) v.cells[c].visited = t;
+      if (i < memory().size() && memory()[i].given_up != kNone) v.cells[memory()[i].given_up].visited = t;
+      if (flood_now) flood(v.cells, v.points.known());
+    }
+    if (flood_now) next_flood_ = t + repartition_interval;
+  }
+
+  // Sharing 1, in decide: the points and visits heard, into this drone's view; then its own broadcast.
+  void hear(const Perception& me) {
+    View& v = views_[me.id];
+    const double arrive2 = kArrival * kArrival * cell_ * cell_;
+    for (const Message& m : me.messages) {
+      if (m.group != group() || m.payload.size() != 4) continue;
+      v.points.hear(m.sender, {m.payload[0], m.payload[1]}, m.time);
+      const Vec2 at{m.payload[2], m.payload[3]};
+      const std::uint32_t c = index(at);
+      if (distance_squared(at, centre(c)) <= arrive2) v.cells[c].visited = std::max(v.cells[c].visited, m.time);
+    }
+    const Vec2 p = v.points.own();
+    const double message[4] = {p.x, p.y, me.position.x, me.position.y};
+    me.broadcast(message);
+  }
+
   void build(const WorldView& world) {
     bounds_ = world.bounds();
     built_cell_size_ = cell_size;
+    built_radio_ = by_radio();
+    views_.clear();
     // At most kMaxCells cells, however thin the map (its long side bounds the count too).
     cell_ = std::max({cell_size.value(), std::sqrt(bounds_.area() / kMaxCells), std::max(bounds_.width(), bounds_.height()) / kMaxCells});
     cols_ = std::max(1, static_cast<int>(std::ceil(bounds_.width() / cell_)));
@@ -134,10 +202,15 @@ class DynamicSpacePartitioning : public BehaviorWithMemory<PartitionSweep> {
   // Regions: a breadth-first flood over free cells (8 neighbours) from every member's point at once,
   // in id order, so each free cell goes to the point fewest cell steps away around obstacles. O(cells).
   void flood() {
-    for (Cell& c : cells_) c.owner = kNone;
+    seeds_.clear();
+    for (std::uint32_t i : points_.members()) seeds_.emplace_back(i, points_[i]);
+    flood(cells_, seeds_);
+  }
+  void flood(std::vector<Cell>& cells, std::span<const std::pair<std::uint32_t, Vec2>> seeds) {
+    for (Cell& c : cells) c.owner = kNone;
     queue_.clear();
-    for (std::uint32_t i : points_.members())
-      if (Cell& c = cells_[index(points_[i])]; c.owner == kNone) c.owner = i, queue_.push_back(index(points_[i]));
+    for (const auto& [i, p] : seeds)
+      if (Cell& c = cells[index(p)]; c.owner == kNone) c.owner = i, queue_.push_back(index(p));
     for (std::size_t head = 0; head < queue_.size(); ++head) {
       const std::uint32_t c = queue_[head];
       const int x = static_cast<int>(c % cols_), y = static_cast<int>(c / cols_);
@@ -145,7 +218,7 @@ class DynamicSpacePartitioning : public BehaviorWithMemory<PartitionSweep> {
         for (int dx = -1; dx <= 1; ++dx) {
           if (x + dx < 0 || x + dx >= cols_ || y + dy < 0 || y + dy >= rows_) continue;
           const auto n = static_cast<std::uint32_t>((y + dy) * cols_ + x + dx);
-          if (cells_[n].free && cells_[n].owner == kNone) cells_[n].owner = cells_[c].owner, queue_.push_back(n);
+          if (cells[n].free && cells[n].owner == kNone) cells[n].owner = cells[c].owner, queue_.push_back(n);
         }
     }
   }
@@ -153,16 +226,18 @@ class DynamicSpacePartitioning : public BehaviorWithMemory<PartitionSweep> {
   // The free cell of the drone's region with the lowest goal_score. The region lies within reach of
   // its point; scanning that square costs about the region's size.
   void choose_goal(const Perception& me, PartitionSweep& s) const {
-    const std::uint32_t home = index(points_[me.id]);
-    const int reach = static_cast<int>(std::ceil(cutoff * points_.spacing() / cell_)) + 1;
+    const std::vector<Cell>& cells = cells_of(me.id);  // the group's, or this drone's own
+    const std::uint32_t home = index(point_of(me.id));
+    // A drone's own partition is of the points it knows, not evenly spread: its region may reach farther.
+    const int reach = by_radio() ? std::max(cols_, rows_) : static_cast<int>(std::ceil(cutoff * points_.spacing() / cell_)) + 1;
     const int hx = static_cast<int>(home % cols_), hy = static_cast<int>(home / cols_);
     double best = std::numeric_limits<double>::infinity();
     s.goal = kNone;
     for (int y = std::max(0, hy - reach); y <= std::min(rows_ - 1, hy + reach); ++y)
       for (int x = std::max(0, hx - reach); x <= std::min(cols_ - 1, hx + reach); ++x) {
         const auto c = static_cast<std::uint32_t>(y * cols_ + x);
-        if (cells_[c].owner != me.id || !cells_[c].free) continue;
-        const double score = goal_score(me, centre(c), cells_[c].visited);
+        if (cells[c].owner != me.id || !cells[c].free) continue;
+        const double score = goal_score(me, centre(c), cells[c].visited);
         if (score < best) best = score, s.goal = c;
       }
     s.since = me.time;
@@ -172,9 +247,12 @@ class DynamicSpacePartitioning : public BehaviorWithMemory<PartitionSweep> {
   PartitionPoints points_;
   Rect bounds_;
   double cell_ = 0, built_cell_size_ = 0, next_flood_ = 0;
+  bool built_radio_ = false;
   int cols_ = 0, rows_ = 0;
   std::vector<Cell> cells_;
   std::vector<std::uint32_t> queue_;
+  std::vector<std::pair<std::uint32_t, Vec2>> seeds_;
+  std::vector<View> views_;  // by drone id (sharing 1)
 };
 
 }  // namespace salsa::behaviors

@@ -1,11 +1,14 @@
 #pragma once
 // The virtual points of dynamic space partitioning, shared by both versions (dynamic_space_partitioning
 // and dynamic_space_partitioning_paper): one point per drone id, and the points of a behavior's members
-// (its group's flying drones) repel each other until they spread evenly over the area.
+// (its group's flying drones) repel each other until they spread evenly over the area. `PartitionPoints`
+// holds every point at once (the `global` sharing); `HeardPoints` is one drone's own view over the radio.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "salsa/behavior.hpp"
@@ -81,6 +84,76 @@ class PartitionPoints {
   std::vector<char> member_;
   double spacing_ = 0;
   PointGrid grid_;
+};
+
+/// One drone's view of the points when they travel over the radio (`sharing` 1): its own point, which
+/// only it moves, and the others' points as last heard. The spread is PartitionPoints::spread's for the
+/// own point alone, pushed by the points heard within `timeout` s; the spacing counts those and itself.
+class HeardPoints {
+ public:
+  bool seeded() const { return seeded_; }
+  /// The own point starts at its drone (a new run, or a drone new to the group).
+  void seed(Vec2 at) { own_ = at, seeded_ = true; }
+
+  /// A point drone `sender` broadcast at `time` (s); an older one than what is known is ignored.
+  void hear(std::uint32_t sender, Vec2 point, double time) {
+    if (sender >= heard_.size()) heard_.resize(sender + 1, {{}, -std::numeric_limits<double>::infinity()});
+    if (time > heard_[sender].time) heard_[sender] = {point, time};
+  }
+
+  /// Once a step, before `spread`: the known points (own id `self`, and those heard at or after
+  /// now − timeout), ascending by id, and the spacing √(area / their count).
+  void refresh(std::uint32_t self, double now, double timeout, double area) {
+    known_.clear();
+    bool own_in = false;
+    for (std::uint32_t j = 0; j < heard_.size(); ++j) {
+      if (j == self) own_in = true, known_.emplace_back(self, own_);
+      else if (heard_[j].time >= now - timeout) known_.emplace_back(j, heard_[j].point);
+    }
+    if (!own_in) known_.emplace_back(self, own_);  // heard only lower ids: the own point is the last
+    spacing_ = std::sqrt(area / static_cast<double>(known_.size()));
+  }
+
+  /// Moves the own point one step, as PartitionPoints::spread moves each point (same push, bounds and
+  /// clearance), from the known points.
+  void spread(std::uint32_t self, const WorldView& world, const Rect& b, double point_speed, double cutoff, double margin,
+              double clearance = 0) {
+    const double reach = cutoff * spacing_, step = point_speed * world.dt();
+    margin = std::min({margin, b.width() / 2, b.height() / 2});
+    const Vec2 p = own_;
+    Vec2 push;
+    for (const auto& [j, q] : known_) {
+      if (j == self) continue;
+      const double d2 = distance_squared(p, q);
+      if (d2 > reach * reach) continue;
+      const double d = std::sqrt(d2);  // coincident points part along a fixed per-drone direction
+      push += (d > 0 ? (p - q) / d : Vec2::polar(1, 2.39996 * self)) * (1 - d / reach);
+    }
+    const Vec2 m = p + push.clamped(1) * step;
+    Vec2 next{std::clamp(m.x, b.min.x + margin, b.max.x - margin), std::clamp(m.y, b.min.y + margin, b.max.y - margin)};
+    if (clearance > 0 && !world.is_free(next, clearance) && world.is_free(p, clearance)) {
+      const Vec2 along_x{next.x, p.y}, along_y{p.x, next.y};
+      next = world.is_free(along_x, clearance) ? along_x : world.is_free(along_y, clearance) ? along_y : p;
+    }
+    own_ = next;
+  }
+
+  Vec2 own() const { return own_; }
+  /// The points this drone knows, its own among them, ascending by id (as of the last refresh).
+  std::span<const std::pair<std::uint32_t, Vec2>> known() const { return known_; }
+  /// √(area / known points), m.
+  double spacing() const { return spacing_; }
+
+ private:
+  struct Heard {
+    Vec2 point;
+    double time;  // s, when it was sent
+  };
+  Vec2 own_;
+  bool seeded_ = false;
+  double spacing_ = 0;
+  std::vector<Heard> heard_;  // by sender id
+  std::vector<std::pair<std::uint32_t, Vec2>> known_;
 };
 
 }  // namespace salsa::behaviors

@@ -61,6 +61,7 @@ class PheromoneAvoidance : public Behavior {
   void reset(std::size_t) override { built_ = false; }  // a fresh run starts with clean fields
   void resize(std::size_t) override {}                  // fields outlive drones that come and go
   std::size_t message_size() const override { return 2; }  // where the sender marked: x, y (sharing 1)
+  SharedState shared_state() const override { return by_messages() ? SharedState::radio : SharedState::global; }
 
  protected:
   /// What is left after `elapsed` s of `value` pheromone: exponential decay at evaporation_rate.

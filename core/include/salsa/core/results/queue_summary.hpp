@@ -19,6 +19,9 @@ struct QueueRecord {
   std::vector<std::string> command;
   std::string reference;  ///< the queue's "reference" (the comparison's); "": none
   std::size_t top = 0;    ///< the queue's "top" (the comparison's); 0: none
+  /// What the run warned about the queue as a whole (shared_state_warning), for the comparison's
+  /// readers: written as "warnings" when there are any; not part of what makes two queues the same.
+  std::vector<std::string> warnings;
 };
 
 QueueRecord queue_record(const std::vector<TestSpec>& tests, const PluginHost& host, std::vector<std::string> command);
@@ -48,6 +51,10 @@ void replace_file(const std::filesystem::path& file, const std::string& text);
 
 /// Refuses (InputError) an OUT that holds no salsa results (no queue.json record, no marked folder).
 void write_queue_summary(const std::filesystem::path& out, const PluginHost* host = nullptr);
+
+/// The warnings OUT/queue.json records (QueueRecord::warnings), and OUT/comparison_notes.txt: one a
+/// line beside comparison.csv, or no file when there are none. Returns them. Throws WriteError.
+std::vector<std::string> write_comparison_notes(const std::filesystem::path& out);
 
 /// Whether OUT holds salsa results: a queue.json record salsa wrote or a test folder with the marker.
 bool holds_results(const std::filesystem::path& out);
