@@ -205,11 +205,11 @@ void Simulation::Drones::Errands::grow(std::size_t drones) {
 }
 
 void Simulation::Drones::Errands::columns(std::vector<StateColumn>& out) const {
-  out.push_back(StateColumn::of("errand", "", "return_to_base", "0 its behavior flies it, 1 returning to its base, 2 charging there, 3 outbound to where it left off", state));
-  out.push_back(StateColumn::of("charging_time", "s", "return_to_base", "time it has spent charging at its base", charging));
-  out.push_back(StateColumn::of("energy_home", "J", "return_to_base", "energy the way home needs from where it is (energy_home), as last computed", need));
-  out.push_back(StateColumn::of("way_home", "m", "return_to_base", "length of its way home: the straight line in sight of the base, else along the home map", need_way));
-  out.push_back(StateColumn::of("resume_point", "m", "return_to_base", "where it left its behavior last: where it flies back out to", resume));
+  out.push_back(StateColumn::of("errand", "", "errands", "0 its behavior flies it, 1 returning to its base, 2 charging there, 3 outbound to where it left off", state));
+  out.push_back(StateColumn::of("charging_time", "s", "errands", "time it has spent charging at its base", charging));
+  out.push_back(StateColumn::of("energy_home", "J", "errands", "energy the way home needs from where it is (energy_home), as last computed", need));
+  out.push_back(StateColumn::of("way_home", "m", "errands", "length of its way home: the straight line in sight of the base, else along the home map", need_way));
+  out.push_back(StateColumn::of("resume_point", "m", "errands", "where it left its behavior last: where it flies back out to", resume));
 }
 
 }  // namespace salsa
