@@ -246,8 +246,8 @@ class GuiGroups : public QObject {
     QVERIFY(!battery->isVisibleTo(window_.get()));  // folded while no battery is in use
     QVERIFY(!sandbox().drone_panel()->spin_box("battery_capacity"));
     for (const char* name : {"battery_capacity", "blade_power", "induced_power", "tip_speed", "induced_velocity", "parasite_drag",
-                             "charge_power", "charge_radius"})
-      QVERIFY2(battery->spin_box(name), name);
+                             "charge_power", "charge_radius", "return_to_base", "return_reserve", "resume_charge"})
+      QVERIFY2(battery->spin_box(name), name);  // return to base's with the battery's
     auto* capacity = battery->spin_box("battery_capacity");
     QCOMPARE(capacity->spec().unit, std::string("Wh"));
     QCOMPARE(capacity->text(), QString("none"));  // 0: no battery model

@@ -89,11 +89,14 @@ class TestColumns : public QObject {
   }
 
   void the_declared_columns_are_those_a_simulation_keeps() {
-    Simulation sim(field(3));
+    SimulationSetup s = field(3);
+    DroneConfig& d = s.groups[0].drone;  // return to base keeps its columns too
+    d.battery_capacity = 1, d.charge_power = 100, d.return_to_base = 1;
+    Simulation sim(std::move(s));
     Wind w;
     w.velocity = {1, 0};
     sim.set_wind(w, nullptr);
-    sim.step();  // every model on: the wind's columns too
+    sim.step();  // every model on: the wind's and return to base's columns too
     const std::vector<StateColumn> kept = sim.columns(), declared = Simulation::declared_columns();
     QCOMPARE(declared.size(), kept.size());
     for (std::size_t k = 0; k < kept.size(); ++k) {

@@ -48,10 +48,15 @@ class TestTestFormat : public QObject {
       // A value in range, not the default; small enough that check_drone's step limit holds.
       const double v = spec.is_integer() ? spec.value + 1
                        : spec.value == 0       ? 1
-                       : (spec.name == "max_speed" ? spec.value / 2 : spec.value * 1.5);
+                       : (spec.name == "max_speed" || spec.value * 1.5 > spec.max ? spec.value / 2 : spec.value * 1.5);
       const std::string value = Parameter::format(v);
-      // The energy model's properties are written once there is a battery.
-      const std::string battery = p.shapes_world || spec.name == "battery_capacity" ? "" : ", \"battery_capacity\": 10";
+      // The energy model's properties are written once there is a battery; return to base's once it is
+      // on, which needs a base that charges.
+      const bool returning = p.section == DroneSection::returning;
+      const std::string battery = returning ? std::string(", \"battery_capacity\": 10, \"charge_power\": 100") +
+                                                  (spec.name == "return_to_base" ? "" : ", \"return_to_base\": 1")
+                                  : p.shapes_world || spec.name == "battery_capacity" ? ""
+                                                                                      : ", \"battery_capacity\": 10";
       auto with = [&](const std::string& text) {
         return "{\"behavior\": \"flocking\", \"drone\": {\"" + spec.name + "\": " + text + battery + "}}";
       };
@@ -68,13 +73,14 @@ class TestTestFormat : public QObject {
         QVERIFY2(std::string(e.what()).find("t.json: drone." + spec.name + ": ") == 0 && std::string(e.what()).find(spec.range()) != std::string::npos,
                  e.what());
       }
-      // A timed change of it.
+      // A timed change of it (return to base's on a drone that may return).
       const Change change{1, "drone." + spec.name, v};
-      QCOMPARE(check_change(base, change, *host_), std::string());
-      TestSpec changed = base;
+      const TestSpec from = returning ? parse_test("{\"behavior\": \"flocking\", \"drone\": {\"battery_capacity\": 10, \"charge_power\": 100}}", "t.json", *host_) : base;
+      QCOMPARE(check_change(from, change, *host_), std::string());
+      TestSpec changed = from;
       apply_to_test(changed, change);
       QCOMPARE(p.get(changed.groups[0].drone), v);
-      QVERIFY(!check_change(base, {1, "drone." + spec.name, spec.max * 2 + 1}, *host_).empty());
+      QVERIFY(!check_change(from, {1, "drone." + spec.name, spec.max * 2 + 1}, *host_).empty());
     }
     QVERIFY(check_change(base, {1, "drone.wingspan", 1}, *host_).find(drone_schema().names()) != std::string::npos);
   }

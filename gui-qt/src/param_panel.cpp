@@ -245,7 +245,7 @@ NumberField* ParamPanel::spin_box(const std::string& name) const {
 Parameters drone_schema(DroneSection section) {
   Parameters out;  // the core's declaration: the panel allows exactly what a test file allows
   for (const DroneProperty& p : salsa::drone_schema())
-    if (p.section == section) out.push_back(p.spec);
+    if (p.section == section || (section == DroneSection::energy && p.section == DroneSection::returning)) out.push_back(p.spec);  // return to base: with the battery
   return out;
 }
 

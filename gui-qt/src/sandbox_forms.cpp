@@ -400,7 +400,8 @@ void SandboxPage::apply_drone_config(const QString& name) {
       if (p.spec.name != "max_speed") order.push_back(&p);
     order.push_back(salsa::drone_schema().find("max_speed"));
     for (const DroneProperty* p : order) {
-      const ParamPanel* panel = drone_panels()[static_cast<std::size_t>(p->section)];
+      const DroneSection section = p->section == DroneSection::returning ? DroneSection::energy : p->section;  // one panel
+      const ParamPanel* panel = drone_panels()[static_cast<std::size_t>(section)];
       if (panel->value(p->spec.name) != p->get(c)) live_change(group_key("drone." + p->spec.name), p->get(c));
     }
     const bool was = updating_;

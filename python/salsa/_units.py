@@ -16,7 +16,7 @@ _OUTCOME = {
     "coverage": "", "time_to_50": "s", "time_to_90": "s", "time_to_100": "s", "mean_distance": "m",
     "collisions": "",
     # the fleet, sensor noise and comm models' columns
-    "alive": "", "energy_used_Wh": "Wh", "false_detections": "",
+    "alive": "", "energy_used_Wh": "Wh", "charging_s": "s", "false_detections": "",
     "messages_sent": "", "messages_delivered": "", "dropped_range": "", "dropped_obstacle": "",
     "dropped_loss": "", "dropped_cap": "",
 }
@@ -30,9 +30,9 @@ FILES = {
     },
     "outcome.csv": _OUTCOME,
     "drones.csv": {"time": "s", "id": "", "x": "m", "y": "m", "vx": "m/s", "vy": "m/s", "group": "",
-                   "status": "", "energy_used_Wh": "Wh"},
+                   "status": "", "energy_used_Wh": "Wh", "charging_s": "s"},
     "targets.csv": {"id": "", "x": "m", "y": "m", "found_time": "s", "found_by": "", "observations": ""},
-    "fleet.csv": {"id": "", "group": "", "status": "", "since": "s", "energy_used_Wh": "Wh", "battery_left": ""},
+    "fleet.csv": {"id": "", "group": "", "status": "", "since": "s", "energy_used_Wh": "Wh", "battery_left": "", "charging_s": "s"},
     "timing.csv": {"name": "", "wall_seconds": "s"},
     "queue": {
         "name": "", "status": "", "error": "", "cell": "", "variant": "", "condition": "", "condition_label": "",
@@ -84,6 +84,9 @@ def units(file, columns):
             continue
         if file in ("summary.csv", "outcome.csv", "queue") and name.endswith(".energy_used_Wh"):
             out[column] = "Wh"  # <group>.energy_used_Wh
+            continue
+        if file in ("summary.csv", "outcome.csv", "queue") and name.endswith(".charging_s"):
+            out[column] = "s"  # <group>.charging_s (return to base)
             continue
         if file in ("summary.csv", "outcome.csv", "queue") and (name.endswith(".found") or name.endswith(".alive")):
             out[column] = ""

@@ -35,6 +35,14 @@ bool TestSpec::fleet() const {
   return false;
 }
 
+bool TestSpec::return_to_base() const {
+  for (const GroupSpec& g : groups)
+    if (g.drone.return_to_base > 0) return true;
+  for (const Change& c : changes)
+    if (c.key.ends_with("drone.return_to_base") && c.value > 0) return true;
+  return false;
+}
+
 namespace {
 
 /// A hash of what `==` compares in a TestSpec, but its name, source and seed_given, through the

@@ -5,9 +5,10 @@
 namespace salsa {
 namespace {
 
-/// `d`'s columns: the drone's own, then each model's (the wind's while `wind`).
+/// `d`'s columns: the drone's own, then each model's (the wind's while `wind`, return to base's while
+/// `errands`).
 template <class Drones>
-std::vector<StateColumn> columns_of(const Drones& d, bool wind) {
+std::vector<StateColumn> columns_of(const Drones& d, bool wind, bool errands) {
   std::vector<StateColumn> out{
       StateColumn::of("position", "m", "drone", "where the drone is", d.positions),
       StateColumn::of("velocity", "m/s", "drone", "its ground velocity", d.velocities),
@@ -20,16 +21,18 @@ std::vector<StateColumn> columns_of(const Drones& d, bool wind) {
   d.fleet.columns(out);
   d.sensing.columns(out);
   if (wind) d.air.columns(out);
+  if (errands) d.errands.columns(out);
   for (const ModelState& m : d.models) m.columns(out);
   return out;
 }
 
 }  // namespace
 
-std::vector<StateColumn> Simulation::columns() const { return columns_of(drones_, wind_active_); }  // air: once the test has had wind
+// air: once the test has had wind; errands: once a group has returned to base
+std::vector<StateColumn> Simulation::columns() const { return columns_of(drones_, wind_active_, !drones_.errands.state.empty()); }
 
 std::vector<StateColumn> Simulation::declared_columns() {
-  std::vector<StateColumn> out = columns_of(Drones{}, true);
+  std::vector<StateColumn> out = columns_of(Drones{}, true, true);
   for (StateColumn& c : out) c.data = nullptr;
   return out;
 }

@@ -81,7 +81,7 @@ Perception Simulation::perceive(std::uint32_t id, Senses senses, Scratch& s) con
 // in parallel, each perceiving only what its behavior senses. Each drone writes only its own steering
 // slot and uses its own Rng stream, so any thread count gives the same result. A group whose behavior
 // decides in batches (batch_behavior.hpp) is left out of the parallel part and decided after it, once
-// for the whole group (decide_batch.cpp).
+// for the whole group (decide_batch.cpp). A drone on a return-to-base errand is steered by the core.
 void Simulation::decide() {
   std::array<Senses, 1> one{};
   std::array<BatchBehavior*, 1> one_batch{};
@@ -115,11 +115,12 @@ void Simulation::decide() {
   parallel_->for_each(drone_grid_.cell_order(), [&](std::uint32_t i, Scratch& s) {
     if (drones_.status[i] != DroneStatus::flying) return;
     const std::uint32_t g = drones_.groups[i];
-    if (batches && batch[g]) return;
+    const bool away = on_errand(i);  // the core flies it (return_to_base.cpp), not its behavior
+    if (batches && batch[g] && !away) return;
     Behavior& behavior = *setup_.groups[g].behavior;
     Perception me = perceive(i, senses[g], s);
     if (noise) add_noise(me, senses[g], s);
-    drones_.steering[i] = plugin_call(behavior_kind, g, [&] { return behavior.decide(me, drones_.rngs[i]); });
+    drones_.steering[i] = away ? errand_steering(me) : plugin_call(behavior_kind, g, [&] { return behavior.decide(me, drones_.rngs[i]); });
   });
   if (batches)
     for (std::uint32_t g = 0; g < setup_.groups.size(); ++g)

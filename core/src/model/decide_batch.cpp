@@ -18,7 +18,7 @@ void Simulation::decide_batch(std::uint32_t g, BatchBehavior& behavior, Senses s
   Batches& b = *batches_;
   b.ids.clear();
   for (std::uint32_t i = 0; i < drones_.status.size(); ++i)
-    if (drones_.status[i] == DroneStatus::flying && drones_.groups[i] == g) b.ids.push_back(i);
+    if (drones_.status[i] == DroneStatus::flying && drones_.groups[i] == g && !on_errand(i)) b.ids.push_back(i);
   if (b.ids.empty()) return;  // as a C++ behavior, not asked without a drone to decide for
   if (!b.batch || b.batch.use_count() > 1) b.batch = std::make_shared<PerceptionBatch>();
 

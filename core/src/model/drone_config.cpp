@@ -24,6 +24,9 @@ const Schema<DroneConfig, DroneSection>& drone_schema() {
       field<&DroneConfig::parasite_drag>({"parasite_drag", 0.0092, 0, 100, "kg/m", "k = d0 rho s A / 2: fuselage drag term, k V^3 W", 1e-4}, DroneSection::energy, false),
       field<&DroneConfig::charge_power>({"charge_power", 0, 0, 1e6, "W", "charging power at the group's base; 0: bases do not recharge", 0.1}, DroneSection::energy, false),
       field<&DroneConfig::charge_radius>({"charge_radius", 5, 0, 1e4, "m", "a drone slower than 1 m/s this close to its base charges", 0.1}, DroneSection::energy, false),
+      field<&DroneConfig::return_to_base>({"return_to_base", 0, 0, 1, "", "1: the core flies the drone home to charge when its energy left is what the way home needs plus the reserve, then back to where it left off", 1}, DroneSection::returning, false),
+      field<&DroneConfig::return_reserve>({"return_reserve", 0, 0, 1e6, "Wh", "energy a returning drone keeps on arrival at the base", 0.01}, DroneSection::returning, false),
+      field<&DroneConfig::resume_charge>({"resume_charge", 1, 0, 1, "", "battery fraction at which a charging drone flies out again", 0.01}, DroneSection::returning, false),
       // Sensor noise: not part of the world key, so tests that differ only in noise fly in the same world.
       field<&DroneConfig::position_noise>({"position_noise", 0, 0, 1e3, "m", "sd of the noise on each axis of the drone's own perceived position", 0.01}, DroneSection::noise, false),
       field<&DroneConfig::neighbour_noise>({"neighbour_noise", 0, 0, 1e3, "m", "sd of the noise on each axis of a neighbour's perceived offset", 0.01}, DroneSection::noise, false),
@@ -38,6 +41,7 @@ bool section_in_use(const DroneConfig& d, DroneSection section) {
   switch (section) {
     case DroneSection::body: return true;
     case DroneSection::energy: return d.battery_capacity > 0;
+    case DroneSection::returning: return d.battery_capacity > 0 && d.return_to_base > 0;
     case DroneSection::noise:
       return d.position_noise > 0 || d.neighbour_noise > 0 || d.obstacle_noise > 0 || d.miss_probability > 0 ||
              d.false_detection_rate > 0;

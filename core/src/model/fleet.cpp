@@ -14,14 +14,20 @@ namespace salsa {
 using namespace detail;
 
 // Fleet: each flying drone's battery drains by the power its speed over the step takes (or charges on
-// its base), and its failure clocks advance. An empty battery lands the drone, a due failure grounds
+// its base), return to base decides its errand on the energy left (return_to_base.cpp), and its failure
+// clocks advance. An empty battery lands the drone, a due failure grounds
 // it, at the end of this step. Nothing to do (and no cost) without batteries or failure rates.
 void Simulation::fleet() {
   const double dt = setup_.dt;
   const FailureSetup& f = setup_.failures;
-  bool batteries = false;
-  for (const GroupSetup& g : setup_.groups) batteries = batteries || g.drone.battery_capacity > 0;
+  bool batteries = false, returning = false;
+  for (const GroupSetup& g : setup_.groups) {
+    batteries = batteries || g.drone.battery_capacity > 0;
+    returning = returning || (g.drone.battery_capacity > 0 && g.drone.return_to_base > 0);
+  }
   if (!batteries && f.drone_mtbf <= 0 && f.camera_mtbf <= 0) return;
+  // Return to base's columns, once a group has it (and for drones added since).
+  if (returning || !drones_.errands.state.empty()) drones_.errands.grow(drones_.positions.size());
   for (std::uint32_t i = 0; i < drones_.positions.size(); ++i) {
     if (drones_.status[i] != DroneStatus::flying) continue;
     const GroupSetup& g = setup_.groups[drones_.groups[i]];
@@ -43,7 +49,10 @@ void Simulation::fleet() {
           continue;
         }
       }
+      if (g.drone.return_to_base > 0) errand_step(i, on_base);
     }
+    if (on_errand(i) && !(g.drone.battery_capacity > 0 && g.drone.return_to_base > 0))
+      drones_.errands.state[i] = static_cast<std::uint8_t>(Errand::none);  // turned off: its behavior flies it again
     if (f.drone_mtbf > 0 && (drones_.fleet.exposure[i] += dt / f.drone_mtbf) >= drones_.fleet.due[i]) {
       ground(i, DroneStatus::failed);
       continue;

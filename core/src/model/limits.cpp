@@ -23,6 +23,10 @@ Problem check_drone(const DroneConfig& d, double dt) {
   for (const DroneProperty& p : drone_schema())
     if (const double v = p.get(d); !p.spec.check(v).empty())
       return {"drone." + p.spec.name, format::number(v) + (p.spec.unit.empty() ? "" : " " + p.spec.unit) + " " + p.spec.check(v)};
+  if (d.return_to_base > 0 && !(d.battery_capacity > 0 && d.charge_power > 0))
+    return {"drone.return_to_base", "1 needs a battery and a base that charges, here battery_capacity " + format::number(d.battery_capacity) +
+                                         " Wh and charge_power " + format::number(d.charge_power) +
+                                         " W (allowed: 1 with battery_capacity > 0 and charge_power > 0, or 0)"};
   if (!(std::isfinite(dt) && dt > 0)) return {"dt", format::figure(dt) + " s is out of range (allowed: a finite time step > 0 s)"};
 
   // Contacts are found once per step (continuous collision is off): a drone that starts a step clear of

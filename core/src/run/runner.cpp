@@ -73,9 +73,11 @@ class SummaryObserver final : public Observer {
 // energy drawn; then the state columns asked for by name (RunOptions::drone_columns).
 class DroneObserver final : public Observer {
  public:
-  DroneObserver(const fs::path& file, bool fleet, const std::vector<std::string>& columns)
-      : csv_(file, header(fleet ? "time,id,x,y,vx,vy,group,status,energy_used_Wh" : "time,id,x,y,vx,vy", drone_column_headers(columns))),
-        fleet_(fleet), columns_(columns) {
+  DroneObserver(const fs::path& file, bool fleet, bool charging, const std::vector<std::string>& columns)
+      : csv_(file, header(fleet ? (charging ? "time,id,x,y,vx,vy,group,status,energy_used_Wh,charging_s" : "time,id,x,y,vx,vy,group,status,energy_used_Wh")
+                                : "time,id,x,y,vx,vy",
+                          drone_column_headers(columns))),
+        fleet_(fleet), charging_(fleet && charging), columns_(columns) {
     for (const std::string& name : columns) widths_.push_back(width(name));
   }
   void observe(const Simulation& sim) override {
@@ -91,6 +93,7 @@ class DroneObserver final : public Observer {
       if (fleet_) {
         csv_.text(sim.setup().groups[sim.drone_groups()[i]].name).text(status_name(sim, i));
         csv_.field(sim.energy_used(i) / 3600, 4);
+        if (charging_) csv_.field(sim.charging_time(i), 4);
       }
       for (std::size_t k = 0; k < extra.size(); ++k) write_value(extra[k], widths_[k], i);
       csv_.end_row();
@@ -124,14 +127,14 @@ class DroneObserver final : public Observer {
   }
 
   CsvWriter csv_;
-  bool fleet_;
+  bool fleet_, charging_;  ///< charging: return to base's time charged (s) after the energy
   std::vector<std::string> columns_;
   std::vector<std::size_t> widths_;
 };
 
 // fleet.csv: each drone at the end, removed ones too: its status, since when, energy and battery.
-void write_fleet(const fs::path& file, const Simulation& sim) {
-  CsvWriter csv(file, "id,group,status,since,energy_used_Wh,battery_left");
+void write_fleet(const fs::path& file, const Simulation& sim, bool charging) {
+  CsvWriter csv(file, charging ? "id,group,status,since,energy_used_Wh,battery_left,charging_s" : "id,group,status,since,energy_used_Wh,battery_left");
   const auto status = sim.drone_status();
   for (std::uint32_t i = 0; i < status.size(); ++i) {
     const std::uint32_t g = sim.drone_groups()[i];
@@ -142,6 +145,7 @@ void write_fleet(const fs::path& file, const Simulation& sim) {
     const double capacity = sim.drone_config(g).battery_capacity * 3600;
     if (capacity > 0) csv.field(std::clamp(sim.battery_left(i) / capacity, 0.0, 1.0), 4);
     else csv.empty_field();
+    if (charging) csv.field(sim.charging_time(i), 4);
     csv.end_row();
   }
   csv.close();
@@ -234,7 +238,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     }
     SummaryObserver summary(work / "summary.csv", session->metrics(), *session);
     std::optional<DroneObserver> drones;
-    if (options.drones_csv) drones.emplace(work / "drones.csv", test.fleet(), options.drone_columns);
+    if (options.drones_csv) drones.emplace(work / "drones.csv", test.fleet(), test.return_to_base(), options.drone_columns);
     session->add_observer(&summary);
     if (drones) session->add_observer(&*drones);
     try {
@@ -275,7 +279,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
       summary.close();
       if (drones) drones->close();
       write_targets(work / "targets.csv", sim);
-      if (test.fleet()) write_fleet(work / "fleet.csv", sim);
+      if (test.fleet()) write_fleet(work / "fleet.csv", sim, test.return_to_base());
       const ModelOutputs outputs(test);
       const std::vector<std::string> texts = outputs.values(sim, session->current());
       for (std::size_t k = 0; k < texts.size(); ++k) finals.emplace_back(outputs.columns()[k], texts[k]);

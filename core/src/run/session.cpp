@@ -68,7 +68,14 @@ SummaryRow summary_row(const Simulation& sim) {
 
 const char* status_name(const Simulation& sim, std::uint32_t id) {
   switch (sim.drone_status()[id]) {
-    case DroneStatus::flying: return sim.camera_works(id) ? "flying" : "camera_failed";
+    case DroneStatus::flying:
+      switch (sim.errand(id)) {  // return to base's errands first: what the drone is doing now
+        case Errand::returning: return "returning";
+        case Errand::charging: return "charging";
+        case Errand::outbound: return "outbound";
+        case Errand::none: break;
+      }
+      return sim.camera_works(id) ? "flying" : "camera_failed";
     case DroneStatus::landed: return "landed";
     case DroneStatus::failed: return "failed";
     case DroneStatus::removed: return "removed";

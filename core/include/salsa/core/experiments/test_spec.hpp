@@ -90,6 +90,9 @@ struct TestSpec {
   /// two or more groups, a battery, failure rates or failure events. Off, every data file is as before
   /// them (one group in "groups" is the single form, with the same seed and bytes).
   bool fleet() const;
+  /// Whether a group returns to base (drone.return_to_base 1, from the start or by a timed change): the
+  /// fleet's outputs then carry the time spent charging.
+  bool return_to_base() const;
   bool operator==(const TestSpec&) const = default;
 };
 

@@ -9,6 +9,7 @@
 
 #include "salsa/core/model/schema.hpp"
 #include "salsa/parameters.hpp"
+#include "salsa/vec2.hpp"
 
 namespace salsa {
 
@@ -33,6 +34,12 @@ struct DroneConfig {
   double parasite_drag = 0.0092;  ///< kg/m: k = ½ d0 ρ s A (fuselage drag ratio, air density, rotor solidity, disc area)
   double charge_power = 0;        ///< W a drone charges with at its base; 0: bases do not recharge
   double charge_radius = 5;       ///< m from the base within which a drone slower than 1 m/s charges
+  // Return to base (off while return_to_base is 0; return_to_base.cpp): the core takes a drone from its
+  // behavior when its energy left is what the way home needs plus the reserve, charges it at the base
+  // and flies it back to where it left off.
+  int return_to_base = 0;         ///< 1: the core brings the drone home to charge, whatever its behavior
+  double return_reserve = 0;      ///< Wh kept on arrival at the base
+  double resume_charge = 1;       ///< battery fraction at which a charging drone flies out again
   // Sensor noise (off while all are 0; simulation.cpp, sense and perceive): what a drone perceives
   // departs from the truth; the world, the contact handlers and the outputs keep the truth.
   double position_noise = 0;      ///< m: sd of Gaussian noise on each axis of the drone's own perceived position
@@ -44,10 +51,11 @@ struct DroneConfig {
 };
 
 /// Where a property belongs: the body and sensors every drone has, the energy model (in use while
-/// battery_capacity > 0) or sensor noise (in use while any of its properties is not 0). A section not in
+/// battery_capacity > 0), return to base (in use while return_to_base is 1; the desktop shows it with
+/// the energy model) or sensor noise (in use while any of its properties is not 0). A section not in
 /// use is left out of config.json, so a test without it is written as before it existed; the desktop
 /// folds each optional section away.
-enum class DroneSection { body, energy, noise };
+enum class DroneSection { body, energy, noise, returning };
 
 /// One property of DroneConfig: its declaration (default = the "small" drone; step 1 for a whole
 /// number), where it lives, its section and whether it shapes the world (schema.hpp).
@@ -58,6 +66,13 @@ bool section_in_use(const DroneConfig& d, DroneSection section);
 
 /// Power drawn in flight at speed `v` (m/s), W: the model above.
 double flight_power(const DroneConfig& d, double v);
+
+/// The energy (J) a drone of configuration `d` needs to fly `distance` m home and stop there, its way
+/// setting off along the unit vector `direction`: turning its ground velocity `velocity` onto the way,
+/// cruising at full air speed (at the ground speed along `direction` in the `wind` at the drone),
+/// braking to rest, with the power model above; `dt` is the time step its max force is per. +inf when
+/// the wind allows no headway home. See docs/test-format.md, "Return to base".
+double energy_home(const DroneConfig& d, double distance, Vec2 direction, Vec2 velocity, Vec2 wind, double dt);
 
 /// Every drone property, in file order.
 const Schema<DroneConfig, DroneSection>& drone_schema();

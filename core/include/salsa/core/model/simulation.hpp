@@ -104,6 +104,11 @@ struct SimulationSetup {
   bool profile = false;               ///< time each phase (Simulation::profile); off saves ~12 clock reads a step
 };
 
+/// What the core does with a drone of a group with return_to_base on (return_to_base.cpp) instead of its
+/// behavior: nothing (`none`: the behavior flies it), flying it home, charging it there, flying it back
+/// out to where it left off. Its status stays DroneStatus::flying throughout.
+enum class Errand : std::uint8_t { none = 0, returning = 1, charging = 2, outbound = 3 };
+
 /// Step phases, timed separately (`salsa bench --profile`). `communicate`: the messages broadcast in
 /// decide matched to their receivers (the comm model); `fleet`: batteries and failures.
 enum class Phase { sense, decide, communicate, act, physics, fleet, detect, observe };
@@ -168,6 +173,11 @@ class Simulation final : public WorldView {
   double energy_used(std::uint32_t id) const { return drones_.fleet.used[id]; }
   double battery_left(std::uint32_t id) const { return drones_.fleet.charge[id]; }
   double status_time(std::uint32_t id) const { return drones_.since[id]; }
+  /// Its errand (none unless its group returns to base) and the time it has charged on one (s).
+  Errand errand(std::uint32_t id) const {
+    return id < drones_.errands.state.size() ? static_cast<Errand>(drones_.errands.state[id]) : Errand::none;
+  }
+  double charging_time(std::uint32_t id) const { return id < drones_.errands.charging.size() ? drones_.errands.charging[id] : 0.0; }
   const std::vector<TargetState>& targets() const { return targets_.states; }
   const Wind& wind() const { return setup_.wind; }
   const std::shared_ptr<WindField>& wind_field_ptr() const { return setup_.wind_field; }
@@ -240,6 +250,10 @@ class Simulation final : public WorldView {
   void act_in_wind();         // act when the test has (had) wind
   void physics();
   void fleet();               // batteries and failures
+  void errand_step(std::uint32_t id, bool on_base);  // fleet, for a drone of a group that returns to base
+  Vec2 errand_steering(const Perception& me) const;  // decide, for a drone on an errand
+  void way_home(std::uint32_t id);                    // its way home's length and next point (errands)
+  bool on_errand(std::uint32_t id) const { return id < drones_.errands.state.size() && drones_.errands.state[id] != 0; }
   void dispatch_sightings();  // detect, part 1
   void dispatch_contacts();   // detect, part 2
   void observe();
@@ -269,6 +283,19 @@ class Simulation final : public WorldView {
       std::vector<Vec2> velocity, wind;
       void columns(std::vector<StateColumn>& out) const;
     } air;
+    /// With return to base only, sized once a group has it (return_to_base.cpp): the Errand, the time
+    /// charged, the way home and the energy it needs, where its behavior left off.
+    struct Errands {
+      std::vector<std::uint8_t> state;
+      std::vector<double> charging, need, need_way;  ///< s charged; J and m of the way home
+      std::vector<Vec2> resume, next;  ///< where it left off; the point it flies at on its way home
+      /// Per group: the length of the shortest free path home from each cell of a grid over the map
+      /// (return_to_base.cpp), made when first needed; a map change drops it with the drones.
+      struct HomeMap;
+      std::vector<std::shared_ptr<const HomeMap>> home;
+      void grow(std::size_t drones);
+      void columns(std::vector<StateColumn>& out) const;
+    } errands;
     /// What each drone's obstacle rays hit in the last sense (sense.cpp).
     struct Sensing {
       std::vector<ObstacleHit> hits;      ///< ray_slots_ per drone
@@ -278,6 +305,7 @@ class Simulation final : public WorldView {
     /// The columns of SimulationSetup::models, in their order (drone_model.cpp).
     std::vector<ModelState> models;
   };
+  const Drones::Errands::HomeMap& home_map(std::uint32_t group);  // return to base's, made when first needed
   /// What the simulation derives for each group from its GroupSetup.
   struct Group {
     DroneProperties properties;  ///< its drone configuration as plugins see it

@@ -40,7 +40,8 @@ struct SummaryRow {
 };
 SummaryRow summary_row(const Simulation& sim);
 
-/// A drone's status as the outputs write it: flying, camera_failed, landed, failed or removed.
+/// A drone's status as the outputs write it: flying, camera_failed, returning, charging, outbound
+/// (return to base's errands), landed, failed or removed.
 const char* status_name(const Simulation& sim, std::uint32_t id);
 
 /// The plugin a PluginFailure is about, as `test` chose it: "contact handler 'h' (/path/libh.so)"
