@@ -6,6 +6,9 @@
 
 #include <oneapi/tbb/info.h>
 
+#include <nlohmann/json.hpp>
+
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -24,6 +27,7 @@
 #include "tuner.hpp"
 
 namespace fs = std::filesystem;
+using json = nlohmann::ordered_json;
 using namespace salsa;
 using namespace salsa::cli;
 
@@ -35,6 +39,8 @@ po::options_description tune_options() {
       "out,o", po::value<std::string>()->default_value("tune"), "output folder: one test folder per evaluation, tune.csv, best.json, report.txt, plots/")(
       "jobs,j", po::value<std::string>(), "tests run at once (default: all cores; 1 per rank under mpirun)")(
       "threads", po::value<std::string>()->default_value("0"), "threads for each simulation's decide phase (0: all cores; default 1 when tests run side by side)")(
+      "time", po::value<std::string>(), "simulated seconds of every evaluation's test (overrides the tune's test, as salsa run --time)")(
+      "evaluations", po::value<std::string>(), "the budget's evaluations (overrides the tune file's budget.evaluations)")(
       "resume", "continue an interrupted tune in OUT: finished tests are read back, the rest run")(
       "force", "replace what an earlier tune wrote in OUT")(
       "no-plots", "do not draw the tune's plots");
@@ -58,6 +64,14 @@ void remove_earlier_tune(const fs::path& out) {
   }
 }
 
+/// "--time 30 --evaluations 20", or "neither --time nor --evaluations": a tune.json's "command_line".
+std::string overrides_text(const json& line) {
+  std::string out;
+  for (const char* key : {"time", "evaluations"})
+    if (line.contains(key)) out += (out.empty() ? "--" : " --") + std::string(key) + " " + line[key].dump();
+  return out.empty() ? "neither --time nor --evaluations" : out;
+}
+
 /// OUT/tune.json records the tune file that writes OUT: another tune is refused, the same one needs --resume.
 void claim_tune_folder(const fs::path& out, const TuneSpec& spec, bool resume, bool force) {
   const fs::path record = out / "tune.json";
@@ -65,9 +79,20 @@ void claim_tune_folder(const fs::path& out, const TuneSpec& spec, bool resume, b
     std::ifstream in(record);
     std::stringstream text;
     text << in.rdbuf();
-    if (text.str() != spec.canonical + "\n")
+    if (text.str() != spec.canonical + "\n") {
+      json recorded;
+      try {
+        recorded = json::parse(text.str());
+      } catch (const json::exception&) {
+      }
+      // --time and --evaluations are part of the tune: resuming with others would mix two tunes.
+      const json before = recorded.is_object() ? recorded.value("command_line", json::object()) : json::object();
+      if (const json now = json::parse(spec.canonical).value("command_line", json::object()); before != now)
+        throw InputError(out.string() + ": holds a tune run with " + overrides_text(before) + ", and this one has " + overrides_text(now) +
+                         " (allowed: the same with --resume, or --force to start again, or another --out)");
       throw InputError(out.string() + ": holds another tune (its tune.json differs from " + spec.source +
                        "; allowed: the same tune file and seed with --resume, or --force to replace it, or another --out)");
+    }
     if (!resume) throw InputError(out.string() + ": holds this tune already (allowed: --resume to continue it, --force to start again, or another --out)");
   } else if (!fs::exists(record) && holds_results(out)) {
     // A queue's folder: --force replaces only what a tune wrote.
@@ -93,9 +118,21 @@ int cmd_tune(int argc, char** argv) {
   if (vm.count("resume") && vm.count("force")) throw InputError("--resume and --force: one or the other");
   PluginHost host;
   load_plugins(host, vm, true);
-  std::optional<std::uint64_t> seed;
-  if (vm.count("seed")) seed = queue_settings(vm).seed;
-  const TuneSpec spec = load_tune(vm["file"].as<std::string>(), host, seed);
+  TuneOverrides overrides;
+  if (vm.count("seed")) overrides.seed = queue_settings(vm).seed;
+  // The ranges depend on the tune (its test's dt, its worlds): load_tune checks them.
+  if (vm.count("time")) {
+    const std::string text = vm["time"].as<std::string>();
+    overrides.time = decimal(text);
+    if (!overrides.time) throw InputError("--time: \"" + text + "\" is not a number (allowed: seconds, from the test's dt to 10000000)");
+  }
+  if (vm.count("evaluations")) {
+    const std::string text = vm["evaluations"].as<std::string>();
+    overrides.evaluations = decimal(text);
+    if (!overrides.evaluations || *overrides.evaluations != std::floor(*overrides.evaluations))
+      throw InputError("--evaluations: \"" + text + "\" is not a whole number (allowed: a whole number from the tune's tuning worlds to 1000000000)");
+  }
+  const TuneSpec spec = load_tune(vm["file"].as<std::string>(), host, overrides);
 
   RunOptions options;
   options.out = vm["out"].as<std::string>();

@@ -151,6 +151,7 @@ std::string Tuner::report(const std::string& why, std::size_t winner, const std:
   s << "salsa tune " << spec_.source << ": " << spec_.algorithm << (spec_.local.empty() ? "" : " + " + spec_.local) << ", "
     << spec_.parameters.size() << " parameters, seed " << spec_.seed << "\n";
   s << "command: " << command << "\n";
+  if (!spec_.world.empty()) s << "world: " << spec_.world << "\n";
   for (const Objective& o : spec_.objectives)
     s << "objective: " << o.name() << ", " << (o.maximise ? "maximised" : "minimised") << ", " << o.aggregate_name() << " over "
       << spec_.worlds << " tuning worlds\n";

@@ -20,7 +20,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   (void)test_file;
   std::optional<salsa::TuneSpec> spec;
   try {
-    spec = salsa::load_tune(salsa_fuzz::write("tune.json", data, size), host, std::nullopt);
+    spec = salsa::load_tune(salsa_fuzz::write("tune.json", data, size), host);
   } catch (const salsa::InputError& e) {
     salsa_fuzz::check_message(e);
     return 0;

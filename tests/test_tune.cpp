@@ -56,6 +56,33 @@ CliResult tune(const QString& file, const QString& out, QStringList more = {}) {
   return run_salsa(QStringList{"tune", file, "--out", out, "--plugin-dir", bowl_dir(), "--no-plots"} + more);
 }
 
+/// A queue of two tests (test_bowl with c = 8, and random_walk), 3 repeats, under two conditions:
+/// "calm" (the base) and "crowd" (8 drones, 6 from 0.5 s on, a wind, shorter steps).
+QJsonObject bowl_queue() {
+  QJsonObject base{{"drones", 5},
+                   {"spawn", QJsonObject{{"mode", "uniform"}}},
+                   {"map", QJsonObject{{"name", "empty"}, {"params", QJsonObject{{"size", 1000}}}}},
+                   {"time", 1},
+                   {"dt", 0.1},
+                   {"log_interval", 0.5},
+                   {"metrics", QJsonArray{}}};
+  QJsonObject crowd{{"name", "crowd"},
+                    {"drones", 8},
+                    {"dt", 0.05},  // with the wind, a step must stay shorter than a drone's radius
+                    {"changes", QJsonArray{QJsonObject{{"time", 0.5}, {"set", QJsonObject{{"drones", 6}}}}}},
+                    {"set", QJsonObject{{"wind.velocity.x", 1}}}};
+  QJsonArray tests{QJsonObject{{"name", "bowl"}, {"behavior", QJsonObject{{"name", "test_bowl"}, {"params", QJsonObject{{"c", 8}}}}}},
+                   QJsonObject{{"name", "walk"}, {"behavior", "random_walk"}}};
+  return QJsonObject{{"seed", 5}, {"repeats", 3}, {"base", base}, {"conditions", QJsonArray{QJsonObject{{"name", "calm"}}, crowd}}, {"tests", tests}};
+}
+
+/// A test folder's config.json as an object, without the keys named.
+QJsonObject config_without(const QString& folder, const QStringList& keys) {
+  QJsonObject o = QJsonDocument::fromJson(read_file(folder + "/config.json")).object();
+  for (const QString& k : keys) o.remove(k);
+  return o;
+}
+
 /// A CSV file as rows of column → text.
 QList<QMap<QString, QString>> csv_rows(const QString& file) {
   const QStringList lines = non_empty_lines(QString::fromUtf8(read_file(file)));
@@ -375,6 +402,98 @@ class TestTune : public QObject {
       const QString evaluation = QString("%1/c%2_w%3/summary.csv").arg(out).arg(members.last().mid(1).toInt(), 4, 10, QChar('0')).arg(w, 2, 10, QChar('0'));
       QVERIFY2(read_file(dir.filePath(QString("replay/front_%1_r%2/summary.csv").arg(last).arg(w))) == read_file(evaluation), qPrintable(evaluation));
     }
+  }
+
+  // "world": a queue's test under one of its conditions is the tune's test, exactly: the defaults'
+  // evaluation on world w is the queue's repeat w (config.json but for the name, and the data), and
+  // another candidate's differs only in the tuned parameters.
+  void a_world_from_a_queue_is_the_queues_test_under_its_condition() {
+    QTemporaryDir dir;
+    QVERIFY(QDir(dir.path()).mkpath("queues"));
+    const QString queue = dir.filePath("queues/q.json");
+    QVERIFY(write_file(queue, QJsonDocument(bowl_queue()).toJson()));
+    QJsonObject t = bowl_tune("random", 8, 2);
+    t.remove("test");
+    t.remove("seed");  // the queue's seed: world w is its repeat w
+    t["world"] = QJsonObject{{"queue", "queues/q.json"}, {"condition", "crowd"}, {"test", "bowl"}};
+    t["validation"] = QJsonObject{{"worlds", 1}, {"candidates", 1}};
+    const QString out = dir.filePath("out");
+    const CliResult r = tune(write_tune(dir, t), out);
+    QVERIFY2(r.exit_code == 0, describe(r));
+    QVERIFY2(read_file(out + "/report.txt").contains("world: " + queue.toUtf8() + ": test bowl, condition crowd"), describe(r));
+    const CliResult q = run_salsa({"run", queue, "--out", dir.filePath("queue-out"), "--plugin-dir", bowl_dir(), "--no-plots"});
+    QVERIFY2(q.exit_code == 0, describe(q));
+    const CliResult expand = run_salsa({"queue", "expand", queue, "--plugin-dir", bowl_dir()});
+    QVERIFY2(expand.exit_code == 0, describe(expand));
+    const auto rows = csv_rows(out + "/tune.csv");
+    for (int w = 0; w < 2; ++w) {
+      const QString queued = dir.filePath(QString("queue-out/bowl_crowd_r%1").arg(w));
+      const QString tuned = QString("%1/c0000_w%2").arg(out).arg(w, 2, 10, QChar('0'));
+      const QJsonObject config = config_without(tuned, {"name"});
+      QCOMPARE(config, config_without(queued, {"name"}));
+      QCOMPARE(config["drones"].toInt(), 8);  // the condition's, with its change and its wind
+      QVERIFY(config.contains("changes") && config.contains("wind"));
+      for (const char* f : {"summary.csv", "outcome.csv", "drones.csv"})
+        if (QFileInfo::exists(tuned + "/" + f)) QVERIFY2(read_file(tuned + "/" + f) == read_file(queued + "/" + f), f);
+      // The seed salsa queue expand lists for the queue's test of repeat w.
+      const QString seed = QString::number(static_cast<qint64>(config["seed"].toDouble()));
+      bool listed = false;
+      for (const QString& line : non_empty_lines(expand.out))
+        listed |= line.startsWith(QString("bowl_crowd_r%1 ").arg(w)) && line.contains("seed=" + seed);
+      QVERIFY2(listed, qPrintable(expand.out));
+      for (const auto& row : rows)
+        if (row["world"].toInt() == w) QCOMPARE(row["seed"], seed);
+    }
+    for (const auto& row : rows) QCOMPARE(row["status"], QString("ok"));
+    // Another candidate: the same world, its own parameters.
+    QJsonObject other = config_without(out + "/c0001_w00", {"name", "behavior"});
+    QCOMPARE(other, config_without(dir.filePath("queue-out/bowl_crowd_r0"), {"name", "behavior"}));
+    QVERIFY(config_without(out + "/c0001_w00", {})["behavior"] != config_without(out + "/c0000_w00", {})["behavior"]);
+  }
+
+  // --time shortens every evaluation (timed changes past it dropped, as salsa run --time does),
+  // --evaluations caps their count; both are recorded, and --resume with other values is refused.
+  void time_and_evaluations_from_the_command_line() {
+    QTemporaryDir dir;
+    QJsonObject t = bowl_tune("random", 40, 2);
+    QJsonObject test = t["test"].toObject();
+    test["changes"] = QJsonArray{QJsonObject{{"time", 0.2}, {"set", QJsonObject{{"drones", 4}}}},
+                                 QJsonObject{{"time", 0.8}, {"set", QJsonObject{{"drones", 3}}}}};
+    t["test"] = test;
+    const QString file = write_tune(dir, t);
+    const QString out = dir.filePath("out");
+    const QStringList quick{"--time", "0.5", "--evaluations", "6"};
+    const CliResult r = tune(file, out, quick);
+    QVERIFY2(r.exit_code == 0, describe(r));
+    int tuning = 0, all = 0;
+    for (const auto& row : csv_rows(out + "/tune.csv")) {
+      tuning += row["phase"] == "tuning";
+      ++all;
+      const QJsonObject config = config_without(out + "/" + row["test"], {});
+      QCOMPARE(config["time"].toDouble(), 0.5);
+      QCOMPARE(config["changes"].toArray().size(), 1);  // the change at 0.8 s is past the end
+    }
+    QCOMPARE(tuning, 6);
+    QVERIFY(all > tuning);  // and the validation
+    const QJsonObject record = QJsonDocument::fromJson(read_file(out + "/tune.json")).object();
+    QCOMPARE(record["command_line"].toObject(), (QJsonObject{{"time", 0.5}, {"evaluations", 6}}));
+    QCOMPARE(record["budget"].toObject()["evaluations"].toInt(), 6);
+    QCOMPARE(record["test"].toObject()["time"].toDouble(), 0.5);
+    QVERIFY2(read_file(out + "/report.txt").contains("--time 0.5 --evaluations 6"), describe(r));
+
+    const QByteArray csv = read_file(out + "/tune.csv");
+    for (const QStringList& other : {QStringList{"--time", "1", "--evaluations", "6"}, QStringList{}}) {
+      const CliResult again = tune(file, out, QStringList{"--resume"} + other);
+      QCOMPARE(again.exit_code, 2);
+      const QStringList lines = non_empty_lines(again.err);
+      QCOMPARE(lines.size(), 1);
+      QVERIFY2(lines[0].contains(out + ": holds a tune run with --time 0.5 --evaluations 6, and this one has " +
+                                 (other.isEmpty() ? QString("neither --time nor --evaluations") : QString("--time 1 --evaluations 6"))),
+               describe(again));
+    }
+    const CliResult same = tune(file, out, QStringList{"--resume"} + quick);
+    QVERIFY2(same.exit_code == 0, describe(same));
+    QVERIFY(read_file(out + "/tune.csv") == csv);
   }
 
   void bad_input_is_refused_before_anything_runs_data() {

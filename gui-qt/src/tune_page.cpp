@@ -64,7 +64,7 @@ std::optional<TuneSpec> check_tune(const std::string& text, const PluginHost& ho
   const fs::path file = fs::path(dir.path().toStdString()) / "tune.json";
   std::ofstream(file) << text;
   try {
-    return load_tune(file, host, std::nullopt);
+    return load_tune(file, host);
   } catch (const std::exception& e) {
     *why = e.what();
     if (auto at = why->find(file.string()); at != std::string::npos) why->replace(at, file.string().size(), "tune");
@@ -409,7 +409,7 @@ std::string TunePage::save(const QString& file) {
   const std::string text = tune_json(&why);
   if (text.empty()) return show_message(q(why)), why;
   why = save_checked(file.toStdString(), text, [this](const fs::path& aside) -> std::string {
-    load_tune(aside, *host_, std::nullopt);  // throws what salsa tune would refuse
+    load_tune(aside, *host_);  // throws what salsa tune would refuse
     return {};
   });
   show_message(why.empty() ? QString("saved %1 (salsa tune %1 runs it)").arg(file) : q(why), !why.empty());

@@ -42,6 +42,7 @@ struct Config {
   std::string where;  // for messages about the seed and the repeat keys
   std::string name;   // without the repeat suffix; empty: keep test.name
   std::string at;     // a sweep's test: the axis values it was made of ("behaviors[1], drones[0]")
+  QueueTest object;   // the test object before it was read, for queue_tests
 };
 
 /// One test of a sweep before it is read: sweep.test with one value of each axis set.
@@ -49,6 +50,8 @@ struct Swept {
   json test;
   std::string name;  // without the repeat suffix, not yet fitted
   std::string at;    // the axis values it was made of: "behaviors[1], set.drones[0]"
+  std::string bare;       // the name without the condition's
+  std::string condition;  // the condition's name, "" without conditions
 };
 
 /// Visits the sweep's tests in the order they run within a repeat, one at a time (a million test objects
@@ -104,6 +107,8 @@ void multiply(const Sweep& sweep, const Reader& r, Visit visit) {
               c.apply(t.test, r, "sweep.test");
               join(t.name, b.token.empty() ? behavior_name(t.test) : b.token, "_");
               for (const Point* p : {&n, &tg, &m, &dc, &st}) join(t.name, p->token, "_");
+              t.bare = t.name;
+              t.condition = c.name;
               join(t.name, c.name, "_");
               for (const Point* p : {&b, &n, &tg, &m, &dc, &st}) join(t.at, p->at, ", ");
               join(t.at, c.at, ", ");
@@ -118,7 +123,7 @@ namespace {
 /// The queue `j` read from `shown_file` (as messages name it), its relative paths from `dir`, a test
 /// without a name named after `stem`.
 Queue read_queue(const json& j, const std::string& shown_file, const fs::path& dir, const std::string& stem,
-                 const PluginHost& host, const QueueOptions& options) {
+                 const PluginHost& host, const QueueOptions& options, std::vector<QueueTest>* objects = nullptr) {
   const Reader r(shown_file, dir);
   Queue queue;
   queue.source = shown_file;
@@ -149,9 +154,15 @@ Queue read_queue(const json& j, const std::string& shown_file, const fs::path& d
   // ---- The explicit tests, then the sweep's axes (checked before anything is multiplied out).
   std::vector<Config> configs;
   if (!is_queue && !tests) {
-    Config c{detail::parse_test(j, r, host), shown_file, "", ""};
+    Config c{detail::parse_test(j, r, host), shown_file, "", "", {}};
     c.test.source = shown_file;
     name_after_file(c.test, stem);
+    c.object.name = c.test.name;
+    if (objects) {
+      json test = j;
+      test["name"] = c.test.name;
+      c.object.json = test.dump();
+    }
     configs.push_back(std::move(c));
   }
   if (tests)
@@ -173,10 +184,16 @@ Queue read_queue(const json& j, const std::string& shown_file, const fs::path& d
           condition.check_apart(own_paths, r);
           condition.apply(test, reader, at);
         }
-        Config c{detail::parse_test(test, reader, host), where, "", ""};
+        Config c{detail::parse_test(test, reader, host), where, "", "", {}};
         c.test.source = where;
         name_after_file(c.test, stem + "-" + std::to_string(i + 1));
+        c.object.name = c.test.name;
+        c.object.condition = condition.name;
         if (!condition.name.empty()) c.test.name = fitted(c.test.name + "_" + condition.name, "");
+        if (objects) {
+          test["name"] = c.test.name;
+          c.object.json = test.dump();
+        }
         configs.push_back(std::move(c));
       }
     }
@@ -201,7 +218,11 @@ Queue read_queue(const json& j, const std::string& shown_file, const fs::path& d
     multiply(*sweep, r, [&](Swept&& s) {
       const Reader reader = s.at.empty() || (sweep->set.empty() && !shared.named()) ? base_reader
                                                                                  : Reader(shown_file + ": sweep (" + s.at + ")", dir);
-      Config c{detail::parse_test(s.test, reader, host), base_where, std::move(s.name), s.at};
+      Config c{detail::parse_test(s.test, reader, host), base_where, std::move(s.name), s.at, {name_safe(s.bare), s.condition, ""}};
+      if (objects) {
+        s.test["name"] = fitted(name_safe(c.name), "");
+        c.object.json = s.test.dump();
+      }
       c.test.source = shown_file + ": sweep" + (s.at.empty() ? "" : " (" + s.at + ")");
       configs.push_back(std::move(c));
     });
@@ -298,6 +319,8 @@ Queue read_queue(const json& j, const std::string& shown_file, const fs::path& d
       throw InputError(t.source + ": name: \"" + t.name + "\" is already used by " + queue.tests[it->second].source +
                        " (each test writes to a folder of its name)");
   }
+  if (objects)
+    for (Config& c : configs) objects->push_back(std::move(c.object));
   return queue;
 }
 
@@ -317,6 +340,18 @@ Queue parse_queue(const std::string& json_text, const std::string& where, const 
     throw InputError(e.what());
   }
   return read_queue(j, where, base_dir, stem, host, options);
+}
+
+QueueTests queue_tests(const fs::path& file, const PluginHost& host) {
+  const json j = detail::read_json_file(file, "a test, a list of tests, or a queue {\"tests\": [...], \"sweep\": {...}}");
+  QueueOptions options;
+  options.yes = true;  // only the configurations are kept, not the repeats
+  QueueTests out;
+  out.seed = read_queue(j, strict_json::printable(file.string(), 200), file.parent_path(), file.stem().string(), host, options, &out.tests).seed;
+  for (const QueueTest& t : out.tests)
+    if (!t.condition.empty() && std::find(out.conditions.begin(), out.conditions.end(), t.condition) == out.conditions.end())
+      out.conditions.push_back(t.condition);
+  return out;
 }
 
 std::vector<SweptTest> expand_sweep(const fs::path& file, const PluginHost& host) {

@@ -130,7 +130,8 @@ std::variant<Declared, std::string> declared(const TestSpec& test, const std::st
 /// searched on a log scale (0.1 to 100 s: each decade as likely as the next), others linearly.
 bool log_by_default(const Parameter& p) { return p.min > 0 && p.max / p.min >= 100 && !p.is_integer(); }
 
-Objective read_objective(const json& v, const std::string& field, const Refuse& refuse, const DataColumns& columns, const TestSpec& base) {
+Objective read_objective(const json& v, const std::string& field, const Refuse& refuse, const DataColumns& columns, const TestSpec& base,
+                         bool time_given) {
   refuse.only_keys(v, field, {"column", "goal", "at", "aggregate"});
   Objective o;
   if (!v.contains("column")) refuse(field + ".column", "missing (a column of outcome.csv or summary.csv, e.g. \"targets_found\")");
@@ -140,7 +141,12 @@ Objective read_objective(const json& v, const std::string& field, const Refuse& 
     if (goal != "max" && goal != "min") refuse(field + ".goal", show(v["goal"]) + " is not a goal (allowed: max, min)");
     o.maximise = goal == "max";
   }
-  if (v.contains("at")) o.at = refuse.number(v["at"], field + ".at", 0, base.time);
+  if (v.contains("at")) {
+    if (time_given && v["at"].is_number() && v["at"].get<double>() > base.time)
+      refuse(field + ".at", show(v["at"]) + " is past the end of the test, --time " + format::number(base.time) + " (allowed: [0, " +
+                                format::number(base.time) + "], or a longer --time)");
+    o.at = refuse.number(v["at"], field + ".at", 0, base.time);
+  }
   if (v.contains("aggregate")) {
     const json& a = v["aggregate"];
     if (a == "mean") o.aggregate = Objective::Aggregate::mean;
@@ -169,6 +175,60 @@ Objective read_objective(const json& v, const std::string& field, const Refuse& 
     o.from_summary = true;
   }
   return o;
+}
+
+/// "a, b, c", the first 20 of `names` ("..., and 12 more" past them).
+std::string first_names(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size() && i < 20; ++i) out += (i ? ", " : "") + names[i];
+  if (names.size() > 20) out += ", and " + std::to_string(names.size() - 20) + " more";
+  return out;
+}
+
+/// The tune file's "world": {"queue", "condition", "test"}, the test object the queue makes of that test
+/// under that condition. `spec.world` says which, `spec.base_dir` becomes the queue's folder (its tests'
+/// paths are relative to it) and `seed` the queue's seed.
+json queue_world(const json& w, const Refuse& refuse, TuneSpec& spec, const PluginHost& host, std::optional<std::uint64_t>& seed) {
+  refuse.only_keys(w, "world", {"queue", "condition", "test"});
+  if (!w.contains("queue")) refuse("world.queue", "missing (a queue file's path, relative to the tune file)");
+  const fs::path path = spec.base_dir / refuse.string(w["queue"], "world.queue", "a queue file's path, relative to the tune file");
+  const std::string shown = strict_json::printable(path.string(), 200);
+  QueueTests queue;
+  try {
+    queue = queue_tests(path, host);
+  } catch (const InputError& e) {
+    throw InputError(spec.source + ": world.queue: " + e.what());
+  }
+  std::string condition;
+  if (w.contains("condition")) {
+    condition = refuse.string(w["condition"], "world.condition", queue.conditions.empty() ? "none" : first_names(queue.conditions));
+    if (queue.conditions.empty()) refuse("world.condition", show(w["condition"]) + ": " + shown + " has no conditions (allowed: leave it out)");
+    if (std::find(queue.conditions.begin(), queue.conditions.end(), condition) == queue.conditions.end())
+      refuse("world.condition", show(w["condition"]) + " is not a condition of " + shown + " (allowed: " + first_names(queue.conditions) + ")");
+  } else if (queue.conditions.size() > 1) {
+    refuse("world.condition", "missing: " + shown + " has " + std::to_string(queue.conditions.size()) + " conditions (allowed: " + first_names(queue.conditions) + ")");
+  } else if (!queue.conditions.empty()) {
+    condition = queue.conditions.front();
+  }
+  std::vector<const QueueTest*> tests;
+  std::vector<std::string> names;
+  for (const QueueTest& t : queue.tests)
+    if (t.condition == condition) tests.push_back(&t), names.push_back(t.name);
+  const std::string under = condition.empty() ? "" : " under condition " + condition;
+  const QueueTest* chosen = tests.size() == 1 ? tests.front() : nullptr;
+  if (w.contains("test")) {
+    const std::string name = refuse.string(w["test"], "world.test", first_names(names));
+    chosen = nullptr;
+    for (const QueueTest* t : tests)
+      if (t->name == name) chosen = t;
+    if (!chosen) refuse("world.test", show(w["test"]) + " is not a test of " + shown + under + " (allowed: " + first_names(names) + ")");
+  } else if (!chosen) {
+    refuse("world.test", "missing: " + shown + " has " + std::to_string(tests.size()) + " tests" + under + " (allowed: " + first_names(names) + ")");
+  }
+  spec.world = shown + ": test " + chosen->name + (condition.empty() ? "" : ", condition " + condition);
+  spec.base_dir = path.parent_path();
+  seed = queue.seed;
+  return json::parse(chosen->json);
 }
 
 }  // namespace
@@ -228,7 +288,7 @@ const std::vector<std::string>& tune_algorithms() {
   return names;
 }
 
-TuneSpec load_tune(const fs::path& file, const PluginHost& host, std::optional<std::uint64_t> seed) {
+TuneSpec load_tune(const fs::path& file, const PluginHost& host, const TuneOverrides& overrides) {
   TuneSpec spec;
   spec.source = strict_json::printable(file.string(), 200);
   const Refuse refuse{spec.source};
@@ -238,14 +298,18 @@ TuneSpec load_tune(const fs::path& file, const PluginHost& host, std::optional<s
   } catch (const strict_json::Error& e) {
     throw InputError(e.what());
   }
-  refuse.only_keys(j, "", {"test", "parameters", "objective", "objectives", "algorithm", "population", "local", "seed", "budget",
+  refuse.only_keys(j, "", {"test", "world", "parameters", "objective", "objectives", "algorithm", "population", "local", "seed", "budget",
                            "worlds", "validation", "racing"});
 
-  // ---- The base test: an object, or a test file beside the tune file.
+  // ---- The base test: an object, a test file beside the tune file, or a queue's test under one of its conditions.
   spec.base_dir = file.parent_path();
-  if (!j.contains("test")) refuse("test", "missing (the test to tune: a test object, or a test file's path)");
-  json test = j["test"];
-  std::string test_where = spec.source + ": test";
+  if (j.contains("test") == j.contains("world"))
+    refuse("test", j.contains("test") ? "given with \"world\" (allowed: one or the other)"
+                                      : "missing (the test to tune: a test object, a test file's path, or \"world\": a queue's test under one of its conditions)");
+  std::optional<std::uint64_t> queue_seed;
+  json test = j.contains("world") ? queue_world(j["world"], refuse, spec, host, queue_seed) : j["test"];
+  const std::string test_field = j.contains("world") ? "world.test" : "test";
+  std::string test_where = j.contains("world") ? spec.source + ": world (" + spec.world + ")" : spec.source + ": test";
   if (test.is_string()) {
     const fs::path path = spec.base_dir / refuse.string(test, "test", "a test file's path");
     try {
@@ -258,11 +322,25 @@ TuneSpec load_tune(const fs::path& file, const PluginHost& host, std::optional<s
   }
   if (!test.is_object() || test.contains("tests") || test.contains("sweep"))
     refuse("test", "must be one test object (a queue or a list of tests cannot be tuned; tune one test, its worlds are the repeats)");
-  if (test.contains("seed")) refuse("test.seed", show(test["seed"]) + " would give every world the same seed (allowed: no seed; the tune's \"seed\" pairs the worlds)");
-  if (test.contains("repeat")) refuse("test.repeat", "given (allowed: none; the tune's worlds are the repeats)");
+  if (test.contains("seed")) refuse(test_field + ".seed", show(test["seed"]) + " would give every world the same seed (allowed: no seed; the tune's \"seed\" pairs the worlds)");
+  if (test.contains("repeat")) refuse(test_field + ".repeat", "given (allowed: none; the tune's worlds are the repeats)");
   if (!test.contains("name")) test["name"] = file.stem().string();
+  spec.base = parse_test(test.dump(), test_where, host, spec.base_dir);
+  if (overrides.time) {
+    // As salsa run --time: the test's time, and the timed changes past the new end dropped (they never apply).
+    const double t = *overrides.time;
+    if (!(t >= spec.base.dt && t <= 1e7))
+      throw InputError("--time: " + format::number(t) + " is out of range (allowed: [" + format::number(spec.base.dt) + ", 10000000] s for " + test_where + ")");
+    test["time"] = t == std::floor(t) ? json(static_cast<std::int64_t>(t)) : json(t);
+    if (test.contains("changes") && test["changes"].is_array()) {
+      json kept = json::array();
+      for (const json& c : test["changes"])
+        if (!(c.is_object() && c.contains("time") && c["time"].is_number() && c["time"].get<double>() > t)) kept.push_back(c);
+      test["changes"] = kept;
+    }
+    spec.base = parse_test(test.dump(), test_where, host, spec.base_dir);
+  }
   spec.test_json = test.dump();
-  spec.base = parse_test(spec.test_json, test_where, host, spec.base_dir);
 
   // ---- Parameters: the given keys with their ranges, or every declared parameter of the behavior.
   json params = j.value("parameters", json());
@@ -309,14 +387,14 @@ TuneSpec load_tune(const fs::path& file, const PluginHost& host, std::optional<s
                                                 : "missing (e.g. {\"column\": \"targets_found\", \"goal\": \"max\"})");
   const DataColumns columns = data_columns(spec.base, host);
   if (j.contains("objective")) {
-    spec.objectives.push_back(read_objective(j["objective"], "objective", refuse, columns, spec.base));
+    spec.objectives.push_back(read_objective(j["objective"], "objective", refuse, columns, spec.base, overrides.time.has_value()));
   } else {
     const json& list = j["objectives"];
     if (!list.is_array() || list.size() < 2 || list.size() > 8)
       refuse("objectives", show(list) + (list.is_array() ? " has " + std::to_string(list.size()) + (list.size() == 1 ? " entry" : " entries") : std::string()) +
                                " (allowed: a list of 2 to 8 objectives, a Pareto front; one objective is given as \"objective\")");
     for (std::size_t i = 0; i < list.size(); ++i)
-      spec.objectives.push_back(read_objective(list[i], "objectives[" + std::to_string(i) + "]", refuse, columns, spec.base));
+      spec.objectives.push_back(read_objective(list[i], "objectives[" + std::to_string(i) + "]", refuse, columns, spec.base, overrides.time.has_value()));
   }
   const bool several = spec.objectives.size() > 1;
 
@@ -348,8 +426,9 @@ TuneSpec load_tune(const fs::path& file, const PluginHost& host, std::optional<s
     if (spec.local != "bobyqa" && spec.local != "neldermead") refuse("local.algorithm", show(l["algorithm"]) + " is not a local method (allowed: bobyqa, neldermead)");
     spec.local_evaluations = refuse.whole(l["evaluations"], "local.evaluations", 1, 1e9);
   }
+  if (queue_seed) spec.seed = *queue_seed;  // world w is the queue's repeat w
   if (j.contains("seed")) spec.seed = refuse.whole(j["seed"], "seed", 0, static_cast<double>(max_seed));
-  if (seed) spec.seed = *seed;
+  if (overrides.seed) spec.seed = *overrides.seed;
 
   // ---- Budget, worlds, validation, racing.
   if (!j.contains("budget")) refuse("budget", "missing (e.g. {\"evaluations\": 400} or {\"seconds\": 3600}, or both)");
@@ -383,6 +462,14 @@ TuneSpec load_tune(const fs::path& file, const PluginHost& host, std::optional<s
     if (spec.racing.on && spec.worlds < 2) refuse("racing", "racing needs 2 or more worlds, and \"worlds\" is " + std::to_string(spec.worlds));
   }
   spec.racing.first_test = std::min(spec.racing.first_test, spec.worlds);
+  if (overrides.evaluations) {
+    const double n = *overrides.evaluations, least = static_cast<double>(spec.worlds + spec.local_evaluations);
+    if (!(n >= least && n <= 1e9) || n != std::floor(n))
+      throw InputError("--evaluations: " + format::number(n) + " is out of range (allowed: a whole number in [" + format::number(least) +
+                       ", 1000000000] for " + spec.source + ": the defaults run first on its " + std::to_string(spec.worlds) + " tuning worlds" +
+                       (spec.local_evaluations ? ", then local.evaluations" : "") + ")");
+    spec.evaluations = static_cast<std::size_t>(n);
+  }
   if (spec.evaluations == 0) {
     // Without a count of evaluations these would never end, or know their size.
     if (spec.algorithm == "lhs" || spec.algorithm == "grid")
@@ -407,9 +494,16 @@ TuneSpec load_tune(const fs::path& file, const PluginHost& host, std::optional<s
       candidate_test(spec, v, "check", 0, host);
     }
 
+  // What OUT/tune.json records: the tune as it runs (the test in full, its seed, the command line's
+  // overrides applied and listed), so that --resume with other values is refused.
   json canonical = j;
   canonical["test"] = json::parse(spec.test_json);
   canonical["seed"] = spec.seed;
+  if (overrides.time || overrides.evaluations) {
+    json& line = canonical["command_line"] = json::object();
+    if (overrides.time) line["time"] = canonical["test"]["time"];
+    if (overrides.evaluations) line["evaluations"] = canonical["budget"]["evaluations"] = spec.evaluations;
+  }
   spec.canonical = canonical.dump(2);
   return spec;
 }

@@ -41,6 +41,25 @@ Queue load_queue(const std::filesystem::path& file, const PluginHost& host, cons
 Queue parse_queue(const std::string& json_text, const std::string& where, const PluginHost& host, const QueueOptions& options,
                   const std::filesystem::path& base_dir = {}, const std::string& stem = "test");
 
+/// One configuration of a queue (one test under one condition, before the repeats) as a test object.
+struct QueueTest {
+  std::string name;       ///< as the queue names it without the condition's and the repeat's suffixes: "flocking_sd250"
+  std::string condition;  ///< the condition's name; "" in a queue without conditions
+  std::string json;       ///< the test object: the queue's base, the test and the condition laid over each other, named
+                          ///< as the queue names the test (without the repeat's suffix)
+};
+
+/// A queue file's configurations, for a tune's "world" (docs/tuning.md).
+struct QueueTests {
+  std::vector<QueueTest> tests;         ///< in the queue's order (repeat 0)
+  std::vector<std::string> conditions;  ///< the conditions' names in the file's order; none without conditions
+  std::uint64_t seed = 1;               ///< the queue seed
+};
+
+/// Reads and checks a queue file as load_queue does (any size up to max_queue_tests) and keeps each
+/// configuration's test object. Throws InputError.
+QueueTests queue_tests(const std::filesystem::path& file, const PluginHost& host);
+
 /// One test of a sweep before the test reader sees it.
 struct SweptTest {
   std::string json;  ///< the test object: sweep.test with one value of each axis set

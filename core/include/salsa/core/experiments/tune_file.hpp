@@ -47,6 +47,7 @@ struct Racing {
 
 struct TuneSpec {
   std::string source;                 ///< the file, as messages name it
+  std::string world;                  ///< a "world" from a queue: "QUEUE: test NAME, condition C"; "" for a "test"
   std::string test_json;              ///< the base test as JSON text (a test object)
   std::filesystem::path base_dir;     ///< relative paths in the test are relative to this
   TestSpec base;                      ///< the base test, read
@@ -83,8 +84,15 @@ std::vector<TunableNumber> tunable_numbers(const TestSpec& test, const PluginHos
 /// The algorithms by name, for messages: "random, lhs, grid, cmaes, xnes, pso, de, nsga2, bobyqa, neldermead".
 const std::vector<std::string>& tune_algorithms();
 
-/// Reads and checks a tune file; `seed` (--seed) overrides the file's. Throws InputError.
-TuneSpec load_tune(const std::filesystem::path& file, const PluginHost& host, std::optional<std::uint64_t> seed);
+/// What salsa tune's command line changes in a tune file (each recorded in OUT/tune.json).
+struct TuneOverrides {
+  std::optional<std::uint64_t> seed;         ///< --seed: over the file's
+  std::optional<double> time;                ///< --time (s): every evaluation's test time, as salsa run --time sets it
+  std::optional<double> evaluations;         ///< --evaluations: the budget's count of evaluations (a whole number, checked)
+};
+
+/// Reads and checks a tune file with the command line's overrides. Throws InputError.
+TuneSpec load_tune(const std::filesystem::path& file, const PluginHost& host, const TuneOverrides& overrides = {});
 
 /// The candidate's test: the base with each parameter set to `values` (in spec order), named `name`,
 /// on world `world` (its paired seed from the tune's seed). Throws InputError when the test reader
