@@ -209,8 +209,8 @@ class TestBadInput : public QObject {
     QVERIFY2(r.exit_code == 0, describe(r));
     const auto before = snapshot(out);
     // 2 tests × .salsa-test, config.json, manifest.json, map.json, summary.csv, drones.csv, targets.csv, outcome.csv;
-    // the queue's summary.csv and comparison.csv (plots left out)
-    QCOMPARE(results_snapshot(out).size(), 18);
+    // the queue's summary.csv, comparison.csv and ranking.csv (plots left out)
+    QCOMPARE(results_snapshot(out).size(), 19);
 
     r = run_salsa({"run", test, "--out", out});
     QVERIFY2(!r.crashed && r.exit_code != 0, describe(r));
@@ -275,7 +275,7 @@ class TestBadInput : public QObject {
     QVERIFY(read_file(out + "/one/config.json").contains("\"time\": 4.0"));
     QCOMPARE(non_empty_lines(QString::fromUtf8(read_file(out + "/one/summary.csv"))).size(), 1 + 5);  // t = 0..4 s
     // No leftover .partial folder; the queue's own files beside the test.
-    QCOMPARE(QDir(out).entryList(QDir::AllEntries | QDir::NoDotAndDotDot | QDir::Hidden), (QStringList{"comparison.csv", "one", "plots", "queue.json", "summary.csv", "timing.csv"}));
+    QCOMPARE(QDir(out).entryList(QDir::AllEntries | QDir::NoDotAndDotDot | QDir::Hidden), (QStringList{"comparison.csv", "one", "plots", "queue.json", "ranking.csv", "summary.csv", "timing.csv"}));
   }
 
   // ---------------------------------------------------------------- bad plugins

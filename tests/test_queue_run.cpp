@@ -116,7 +116,7 @@ class TestQueueRun : public QObject {
     r = run_salsa(QStringList{"run", "q.json", "--out", "many", "-q"} + options, dir.path());
     QVERIFY2(r.exit_code == 0 && r.out.isEmpty() && r.err.isEmpty(), describe(r));
     const auto one = results_snapshot(dir.filePath("one")), many = results_snapshot(dir.filePath("many"));
-    QCOMPARE(one.size(), 8 * 8 + 2);  // per test .salsa-test, config.json, manifest.json, map.json, summary, drones, targets, outcome; summary.csv, comparison.csv
+    QCOMPARE(one.size(), 8 * 8 + 3);  // per test .salsa-test, config.json, manifest.json, map.json, summary, drones, targets, outcome; summary.csv, comparison.csv, ranking.csv
     QCOMPARE(many, one);
     // timing.json: wall seconds and steps (5 s at 60 steps per second).
     for (int i = 0; i < 8; ++i) {

@@ -15,7 +15,8 @@ TUNE_FILE = SOURCE / "examples" / "tune" / "flocking-forest-tune.json"
 
 # The comparison files' means and differences are in the unit of their row's metric: no one unit.
 PER_METRIC = {"mean_a", "mean_b", "mean_diff", "ci_low", "ci_high", "diff_baseline", "diff_condition", "did",
-              "mean_baseline", "baseline_ci_low", "baseline_ci_high", "mean_condition"}
+              "mean_baseline", "baseline_ci_low", "baseline_ci_high", "mean_condition", "mean", "diff_vs_best",
+              "ci_low_vs_best", "ci_high_vs_best"}
 
 
 def check_frame(frame, where):
