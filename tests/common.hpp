@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #ifdef SALSA_TEST_WITH_CORE
 #include "salsa/core/plugins/plugin_host.hpp"
@@ -77,6 +78,23 @@ inline QStringList non_empty_lines(const QString& text) {
   for (const QString& line : text.split('\n'))
     if (!line.trimmed().isEmpty()) out << line;
   return out;
+}
+
+/// A CSV file's rows (the header first), split at commas: for files of plain fields.
+inline std::vector<std::vector<std::string>> rows_of(const QString& file) {
+  std::vector<std::vector<std::string>> rows;
+  for (const QString& line : non_empty_lines(read_file(file))) {
+    std::vector<std::string> fields;
+    for (const QString& f : line.split(',')) fields.push_back(f.toStdString());
+    rows.push_back(fields);
+  }
+  return rows;
+}
+/// The index of column `name` in rows_of's header; the test stops when there is none.
+inline std::size_t column(const std::vector<std::vector<std::string>>& rows, const std::string& name) {
+  for (std::size_t c = 0; c < rows[0].size(); ++c)
+    if (rows[0][c] == name) return c;
+  qFatal("no column %s", name.c_str());
 }
 
 struct CliResult {

@@ -87,15 +87,6 @@ SimulationSetup field(std::size_t drones, double size, std::shared_ptr<Behavior>
   return s;
 }
 
-std::vector<std::vector<std::string>> rows_of(const QString& file) {
-  std::vector<std::vector<std::string>> rows;
-  for (const QString& line : non_empty_lines(read_file(file))) {
-    std::vector<std::string> fields;
-    for (const QString& f : line.split(',')) fields.push_back(f.toStdString());
-    rows.push_back(fields);
-  }
-  return rows;
-}
 
 const QStringList data_files{"config.json", "map.json", "summary.csv", "drones.csv", "targets.csv", "outcome.csv"};
 

@@ -98,20 +98,6 @@ std::size_t first(const Trace& t, Errand e, std::size_t from = 0) {
   return t.errand.size();
 }
 
-std::vector<std::vector<std::string>> rows_of(const QString& file) {
-  std::vector<std::vector<std::string>> rows;
-  for (const QString& line : non_empty_lines(read_file(file))) {
-    std::vector<std::string> fields;
-    for (const QString& f : line.split(',')) fields.push_back(f.toStdString());
-    rows.push_back(fields);
-  }
-  return rows;
-}
-std::size_t column(const std::vector<std::vector<std::string>>& rows, const std::string& name) {
-  for (std::size_t c = 0; c < rows[0].size(); ++c)
-    if (rows[0][c] == name) return c;
-  qFatal("no column %s", name.c_str());
-}
 
 }  // namespace
 
