@@ -124,7 +124,8 @@ class TestSuite : public QObject {
 
     std::set<QString> references;
     for (const auto& r : suite["references"].toArray()) references.insert(r.isString() ? r.toString() : r.toObject()["name"].toString());
-    for (const auto& entry : builtin_host()->behaviors()) QVERIFY2(references.count(q(entry.factory.name)), entry.factory.name.c_str());
+    const auto host = builtin_host();  // kept alive: behaviors() is a view into it
+    for (const auto& entry : host->behaviors()) QVERIFY2(references.count(q(entry.factory.name)), entry.factory.name.c_str());
 
     const auto rows = csv_rows(q(source_dir() / "suite" / "v1" / "references.csv"));
     const qsizetype expected = tasks.size() * suite["conditions"].toArray().size() * suite["references"].toArray().size() * suite["repeats"].toInt();
