@@ -14,6 +14,8 @@ packages=(
   libbenchmark-dev
   clang libclang-rt-14-dev
   python3-dev pybind11-dev python3-numpy python3-pandas python3-pytest python3-matplotlib python3-scipy  # the Python package and its examples (docs/python.md)
+  libnetcdf-dev python3-h5py python3-xarray python3-netcdf4  # the trajectory archive (netCDF-4 on HDF5) and reading it from Python (docs/replay.md)
+  ffmpeg chromium nodejs  # salsa export --video; the web page's and the MCAP reader's tests; this machine's nodejs brings npm (docs/replay.md)
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -25,4 +27,9 @@ if ((${#missing[@]})); then
   export DEBIAN_FRONTEND=noninteractive
   "${sudo_cmd[@]}" apt-get update -qq
   "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+# Debian's nodejs comes without npm (package npm); a NodeSource nodejs has it and conflicts with that package.
+if ! command -v npm > /dev/null; then
+  sudo_cmd=(); [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends npm
 fi
