@@ -2,6 +2,7 @@
 // salsa export: a finished test shared without salsa (export.cpp reads the folder once; one file
 // per format writes it).
 #include <filesystem>
+#include <string>
 
 #include "salsa/core/replay/recording.hpp"
 
@@ -12,6 +13,8 @@ void export_mcap(const Recording& recording, const std::filesystem::path& file);
 
 /// The run as a self-contained web page: DIR/index.html, its script and the data (export_html.cpp).
 void export_html(const Recording& recording, const std::filesystem::path& dir);
+/// The text of cli/web/<path> (the page's static files), embedded when salsa is built (embed.cmake).
+const std::string& web_file(const std::string& path);
 
 struct VideoOptions {
   int width = 1280, height = 720;  ///< px
