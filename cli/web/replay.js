@@ -180,7 +180,7 @@
   const seek = (s) => { t = Math.min(end, Math.max(times[0] || 0, s)); draw(); };
   function setPlaying(on) {
     playing = on && F > 1;
-    $("play").textContent = playing ? "⏸" : "▶";
+    $("play").textContent = playing ? "❚❚" : "▶";
     if (playing) {
       if (t >= end) t = times[0];
       lastTick = performance.now();
