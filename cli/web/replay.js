@@ -2,7 +2,7 @@
 // canvas in the desktop view's colours (gui-qt/frame/view_*.cpp). Hand-written, no library: the page
 // works offline from file://. The URL may say where to start: index.html#t=12.5&speed=5&trails=0&play
 //
-// Map → page: px = ox + scale·x, py = oy − scale·y (CSS pixels from the canvas's top left, the page's),
+// Map → page: px = ox + scale·x, py = oy − scale·y (CSS pixels; the canvas's top left is the page's),
 // with ox, oy and scale kept in <body>'s data-ox, data-oy and data-scale (and the window's size they are
 // for in data-viewport, WxH), as are data-time, data-frame and data-found after each picture, and
 // data-ready once the run is read.
@@ -161,21 +161,35 @@
     Object.assign(body.dataset, { time: t, frame: f, found: shown });
   }
 
-  /// Fits the map into the canvas (20 px around it) and draws the still layer at the screen's resolution.
+  /// Sizes the canvas to the window at the screen's resolution and fits the map into it (20 px around).
   function resize() {
     const w = canvas.clientWidth, h = canvas.clientHeight, dpr = window.devicePixelRatio || 1;
     canvas.width = Math.round(w * dpr), canvas.height = Math.round(h * dpr);
+    ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     const [x0, y0, x1, y1] = run.bounds;
     const scale = Math.max(1e-9, Math.min((w - 40) / (x1 - x0), (h - 40) / (y1 - y0)));
-    view = { scale, ox: (w - (x1 - x0) * scale) / 2 - x0 * scale, oy: (h + (y1 - y0) * scale) / 2 + y0 * scale };
+    moved({ scale, ox: (w - (x1 - x0) * scale) / 2 - x0 * scale, oy: (h + (y1 - y0) * scale) / 2 + y0 * scale });
+  }
+  /// The view is now `v`: the still layer is drawn again and kept, then the picture.
+  function moved(v) {
+    view = v;
     Object.assign(body.dataset, view, { viewport: `${innerWidth}x${innerHeight}` });
-    ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     drawStill();
-    still = document.createElement("canvas");
+    still = still || document.createElement("canvas");
     still.width = canvas.width, still.height = canvas.height;
     still.getContext("2d").drawImage(canvas, 0, 0);
     draw();
   }
+  // The wheel zooms about the pointer, a drag pans, a double click fits the map again.
+  canvas.addEventListener("wheel", (e) => {
+    e.preventDefault();
+    const k = Math.exp(-e.deltaY / 500), x = e.offsetX, y = e.offsetY;
+    moved({ scale: view.scale * k, ox: x - (x - view.ox) * k, oy: y - (y - view.oy) * k });
+  }, { passive: false });
+  canvas.addEventListener("pointermove", (e) => {
+    if (e.buttons & 1) moved({ scale: view.scale, ox: view.ox + e.movementX, oy: view.oy + e.movementY });
+  });
+  canvas.addEventListener("dblclick", resize);
 
   const seek = (s) => { t = Math.min(end, Math.max(times[0] || 0, s)); draw(); };
   function setPlaying(on) {
