@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <algorithm>
 #include <fstream>
 #include <iostream>
 #include <numbers>
@@ -19,8 +20,10 @@ namespace fs = std::filesystem;
 namespace salsa::cli {
 namespace {
 
-/// Past this data.js warns: browsers open it, slowly (1,000 drones for 20 minutes logged each second: ~18 MB).
-constexpr std::uintmax_t large_page = 200u << 20;
+/// The most drone-frames a page holds: ~15 bytes each in data.js, so ~180 MB, where a string past
+/// 512 MB is more than Chromium's JavaScript holds. A run with more keeps one frame in k (and the
+/// last), with a warning.
+constexpr std::size_t most_drone_frames = 12'000'000;
 
 /// Bytes as base64 (RFC 4648): the page decodes them with atob() into typed arrays. Written here, as
 /// neither the standard library nor a library salsa links has an encoder it exports.
@@ -62,8 +65,15 @@ nlohmann::json page_data(const Recording& r) {
   const RecordedColumn* position = r.column("position");
   const RecordedColumn *velocity = r.column("velocity"), *group = r.column("group"), *camera = r.column("camera_works");
   if (!position) throw InputError("--html: " + r.source.string() + " has no positions");
+  std::vector<std::size_t> frames;
+  const std::size_t stride = r.drones == 0 ? 1 : std::max<std::size_t>(1, (r.frames() * r.drones + most_drone_frames - 1) / most_drone_frames);
+  for (std::size_t f = 0; f < r.frames(); f += stride) frames.push_back(f);
+  if (!frames.empty() && frames.back() != r.frames() - 1) frames.push_back(r.frames() - 1);
+  if (stride > 1)
+    std::cerr << "salsa: warning: --html: " << r.drones << " drones over " << r.frames() << " frames is more than a browser opens quickly: "
+              << "the page keeps one frame in " << stride << " (a longer log_interval keeps them all)\n";
   std::vector<std::uint8_t> times, xy, heading, look, groups, targets, found;
-  for (std::size_t f = 0; f < r.frames(); ++f) {
+  for (const std::size_t f : frames) {
     put<double>(times, r.times[f]);
     for (std::size_t d = 0; d < r.drones; ++d) {
       const Vec2 p = r.position(f, d);
@@ -97,7 +107,7 @@ nlohmann::json page_data(const Recording& r) {
           {"lines", polylines(r.map.lines)},
           {"groups", std::move(g)},
           {"drones", r.drones},
-          {"frames", r.frames()},
+          {"frames", frames.size()},
           {"times", base64(times)},
           {"position", base64(xy)},
           {"heading", base64(heading)},
@@ -130,9 +140,6 @@ void export_html(const Recording& recording, const fs::path& dir) {
   fs::create_directories(dir, ec);
   if (ec) throw InputError("--html: cannot make the folder " + dir.string() + " (" + ec.message() + ")");
   const std::string data = "// The run replay.js shows, written by salsa export --html.\nwindow.SALSA_RUN = " + page_data(recording).dump() + ";\n";
-  if (data.size() > large_page)
-    std::cerr << "salsa: warning: " << (dir / "data.js").string() << " holds " << (data.size() >> 20)
-              << " MB: a browser takes a while to open it (a shorter run, or a longer log_interval, is lighter)\n";
   write(dir / "data.js", data);
   for (const char* file : {"replay.js", "index.html"}) write(dir / file, web_file(file));
 }
