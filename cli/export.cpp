@@ -46,7 +46,9 @@ int cmd_export(int argc, char** argv) {
     throw InputError("export: nothing to write (allowed: --mcap FILE, --html DIR, --video FILE.mp4)");
   const fs::path folder = vm["folder"].as<std::string>();
   for (const char* option : {"mcap", "html", "video"})
-    if (vm.count(option) && inside(vm[option].as<std::string>(), folder))
+    if (vm.count(option) && vm[option].as<std::string>().empty())
+      throw InputError(std::string("--") + option + ": an empty path (allowed: a path outside " + folder.string() + ")");
+    else if (vm.count(option) && inside(vm[option].as<std::string>(), folder))
       throw InputError(std::string("--") + option + ": " + vm[option].as<std::string>() + " is inside " + folder.string() +
                        " (nothing is written into the folder being read: name a path outside it)");
   salsa::cli::VideoOptions video;

@@ -2,7 +2,8 @@
 // offline. It loads and says which frame it shows; seeking to a time puts each drone where drones.csv
 // has it, in its group's colour (pixels read from a screenshot, through the map → page transform the
 // page keeps in <body>'s data-ox, data-oy, data-scale); the drones move between two times; a found
-// target turns from grey to green at its found time. Bad destinations are refused in one line.
+// target turns from grey to green at its found time. Bad destinations are refused in one line, and
+// nothing is written.
 #include <QImage>
 #include <QRegularExpression>
 #include <QStandardPaths>
@@ -178,13 +179,20 @@ class TestExportHtml : public QObject {
     QVERIFY2(checked[0] >= 3 && checked[1] >= 3, qPrintable(QString("%1 targets grey and %2 green looked at").arg(checked[0]).arg(checked[1])));
   }
 
-  void refuses_a_file_as_the_folder() {
+  void refuses_bad_destinations() {
     const QString file = dir_.path() + "/a-file";
     QVERIFY(write_file(file, "kept"));
-    const CliResult r = run_salsa({"export", test_, "--html", file});
+    CliResult r = run_salsa({"export", test_, "--html", file});
     QCOMPARE(r.exit_code, 2);
     QVERIFY2(r.err.contains("--html: " + file + " is a file"), qPrintable(r.err));
     QCOMPARE(read_file(file), QByteArray("kept"));
+    r = run_salsa({"export", test_, "--html", ""});
+    QCOMPARE(r.exit_code, 2);
+    QVERIFY2(r.err.contains("--html: an empty path"), qPrintable(r.err));
+    r = run_salsa({"export", test_, "--html", test_ + "/page"});
+    QCOMPARE(r.exit_code, 2);
+    QVERIFY2(r.err.contains("is inside"), qPrintable(r.err));
+    QVERIFY(!QFile::exists(test_ + "/page"));
   }
 };
 
