@@ -68,7 +68,7 @@
     ctx.fill();
   };
 
-  /// What does not move, drawn again when the page is resized: the map, every target unfound, the bases.
+  /// What does not move, drawn again when the view does: the map, every target unfound, the bases.
   function drawStill() {
     const [x0, y0, x1, y1] = run.bounds, s = view.scale;
     ctx.fillStyle = colour.outside;
