@@ -1,0 +1,70 @@
+// Reads an MCAP file with @mcap/core, the format's reference TypeScript reader, twice: from start to end
+// (McapStreamReader, every chunk's CRC checked) and through the summary (McapIndexedReader, the summary's
+// CRC checked, messages found through chunk and message indexes). Prints one JSON object: the summary,
+// what each pass found, and every message decoded as JSON. Exits 1 with the reader's error otherwise.
+// Usage: node read.mjs FILE.mcap
+import { McapIndexedReader, McapStreamReader } from "@mcap/core";
+import { readFile } from "node:fs/promises";
+import { crc32 } from "node:zlib";
+
+const file = process.argv[2];
+if (!file) {
+  console.error("usage: node read.mjs FILE.mcap");
+  process.exit(2);
+}
+const bytes = new Uint8Array(await readFile(file));
+const str = (v) => (typeof v === "bigint" ? v.toString() : v);
+const decoder = new TextDecoder();
+
+// Pass 1: the stream, record by record.
+const stream = new McapStreamReader({ validateCrcs: true });
+stream.append(bytes);
+const streamed = { records: {}, messages: 0, dataEnd: null };
+let dataEndAt = 0;
+for (let record; (record = stream.nextRecord()); ) {
+  streamed.records[record.type] = (streamed.records[record.type] ?? 0) + 1;
+  if (record.type === "Message") streamed.messages++;
+  if (record.type === "DataEnd") streamed.dataEnd = record.dataSectionCrc;
+}
+if (!stream.done()) throw new Error("the stream ended before the footer's magic");
+// The data section's CRC: every byte before the Data End record (magic and header included).
+const footerStart = bytes.length - 8 - (1 + 8 + 20);
+const summaryStart = Number(new DataView(bytes.buffer).getBigUint64(footerStart + 9, true));
+dataEndAt = (summaryStart || footerStart) - 13;
+streamed.dataSectionCrcMatches = streamed.dataEnd === crc32(bytes.subarray(0, dataEndAt));
+
+// Pass 2: through the summary.
+const reader = await McapIndexedReader.Initialize({
+  readable: {
+    size: async () => BigInt(bytes.length),
+    read: async (offset, length) => bytes.subarray(Number(offset), Number(offset + length)),
+  },
+});
+const topicOf = new Map([...reader.channelsById].map(([id, c]) => [id, c.topic]));
+const stats = reader.statistics;
+const out = {
+  header: reader.header,
+  schemas: [...reader.schemasById.values()].map((s) => ({ id: s.id, name: s.name, encoding: s.encoding, schema: JSON.parse(decoder.decode(s.data)) })),
+  channels: [...reader.channelsById.values()].map((c) => ({ id: c.id, topic: c.topic, schemaId: c.schemaId, messageEncoding: c.messageEncoding })),
+  statistics: stats && {
+    messageCount: str(stats.messageCount), schemaCount: stats.schemaCount, channelCount: stats.channelCount,
+    chunkCount: stats.chunkCount, messageStartTime: str(stats.messageStartTime), messageEndTime: str(stats.messageEndTime),
+    channelMessageCounts: Object.fromEntries([...stats.channelMessageCounts].map(([id, n]) => [topicOf.get(id), str(n)])),
+  },
+  chunkIndexes: reader.chunkIndexes.length,
+  summaryOffsets: [...reader.summaryOffsetsByOpcode.keys()],
+  stream: streamed,
+  messages: [],
+};
+for await (const m of reader.readMessages({ validateCrcs: true })) {
+  out.messages.push({
+    topic: topicOf.get(m.channelId), sequence: m.sequence, logTime: str(m.logTime), publishTime: str(m.publishTime),
+    data: JSON.parse(decoder.decode(m.data)),
+  });
+}
+// A seek: the messages of the last second only, found through the indexes.
+const end = stats ? stats.messageEndTime : 0n;
+let late = 0;
+for await (const m of reader.readMessages({ startTime: end > 1_000_000_000n ? end - 1_000_000_000n : 0n })) late += m.logTime >= 0n ? 1 : 0;
+out.lastSecondMessages = late;
+process.stdout.write(JSON.stringify(out));
