@@ -66,6 +66,8 @@ class TestExportMcap : public QObject {
     QCOMPARE(read_[u"messages"].toArray().size(), expected);
     QCOMPARE(read_[u"stream"][u"messages"].toInt(), expected);
     QVERIFY(read_[u"stream"][u"dataSectionCrcMatches"].toBool());
+    // Every message is what its schema declares: no undeclared field, no value of another type.
+    QVERIFY2(read_[u"schemaDepartures"].toArray().isEmpty(), QJsonDocument(read_[u"schemaDepartures"].toArray()).toJson().constData());
     QCOMPARE(read_[u"statistics"][u"messageCount"].toString().toLongLong(), expected);
     QCOMPARE(read_[u"statistics"][u"channelMessageCounts"][u"/drones"].toString().toLongLong(), static_cast<qint64>(rec.frames()));
     QCOMPARE(read_[u"statistics"][u"channelMessageCounts"][u"/map"].toString(), QString("1"));

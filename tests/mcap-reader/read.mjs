@@ -1,11 +1,39 @@
 // Reads an MCAP file with @mcap/core, the format's reference TypeScript reader, twice: from start to end
 // (McapStreamReader, every chunk's CRC checked) and through the summary (McapIndexedReader, the summary's
 // CRC checked, messages found through chunk and message indexes). Prints one JSON object: the summary,
-// what each pass found, and every message decoded as JSON. Exits 1 with the reader's error otherwise.
+// what each pass found, every message decoded as JSON, and where messages depart from their channel's
+// JSON schema. Exits 1 with the reader's error otherwise.
 // Usage: node read.mjs FILE.mcap
 import { McapIndexedReader, McapStreamReader } from "@mcap/core";
 import { readFile } from "node:fs/promises";
 import { crc32 } from "node:zlib";
+
+// Where `value` departs from the JSON Schema `schema` (the subset Foxglove's schemas use: object
+// properties, arrays, number, integer, string, boolean, oneOf consts): a field the schema does not
+// declare, a value of another type, an enum value not listed.
+function departures(value, schema, path, out) {
+  if (schema.oneOf) {
+    if (!schema.oneOf.some((o) => o.const === value)) out.push(`${path}: ${JSON.stringify(value)} is none of the schema's values`);
+    return out;
+  }
+  const type = schema.type;
+  const ok = {
+    object: () => value !== null && typeof value === "object" && !Array.isArray(value),
+    array: () => Array.isArray(value),
+    number: () => typeof value === "number" && Number.isFinite(value),
+    integer: () => Number.isInteger(value),
+    string: () => typeof value === "string",
+    boolean: () => typeof value === "boolean",
+  }[type];
+  if (!ok || !ok()) return out.push(`${path}: ${JSON.stringify(value)?.slice(0, 40)} is not of type ${type}`), out;
+  if (type === "object")
+    for (const [k, v] of Object.entries(value)) {
+      if (!schema.properties?.[k]) out.push(`${path}.${k}: not in the schema`);
+      else departures(v, schema.properties[k], `${path}.${k}`, out);
+    }
+  if (type === "array") value.forEach((v, i) => departures(v, schema.items, `${path}[${i}]`, out));
+  return out;
+}
 
 const file = process.argv[2];
 if (!file) {
@@ -56,10 +84,14 @@ const out = {
   stream: streamed,
   messages: [],
 };
+const schemaOf = new Map([...reader.channelsById].map(([id, c]) => [id, JSON.parse(decoder.decode(reader.schemasById.get(c.schemaId).data))]));
+out.schemaDepartures = [];
 for await (const m of reader.readMessages({ validateCrcs: true })) {
+  const data = JSON.parse(decoder.decode(m.data));
+  out.schemaDepartures.push(...departures(data, schemaOf.get(m.channelId), topicOf.get(m.channelId), []).slice(0, 5));
   out.messages.push({
     topic: topicOf.get(m.channelId), sequence: m.sequence, logTime: str(m.logTime), publishTime: str(m.publishTime),
-    data: JSON.parse(decoder.decode(m.data)),
+    data,
   });
 }
 // A seek: the messages of the last second only, found through the indexes.
