@@ -22,7 +22,12 @@ json integer() { return {{"type", "integer"}}; }
 json string() { return {{"type", "string"}}; }
 json boolean() { return {{"type", "boolean"}}; }
 json array(json items) { return {{"type", "array"}, {"items", std::move(items)}}; }
-json object(const char* title, json properties) { return {{"title", title}, {"type", "object"}, {"properties", std::move(properties)}}; }
+/// An object whose every field is required, as in Foxglove's schemas.
+json object(const char* title, json properties) {
+  json required = json::array();
+  for (const auto& [key, value] : properties.items()) required.push_back(key);
+  return {{"title", title}, {"type", "object"}, {"properties", std::move(properties)}, {"required", std::move(required)}};
+}
 json time_schema(const char* title) { return object(title, {{"sec", integer()}, {"nsec", integer()}}); }
 json enumeration(const char* title, std::initializer_list<const char*> names) {
   json values = json::array();

@@ -9,8 +9,8 @@ import { readFile } from "node:fs/promises";
 import { crc32 } from "node:zlib";
 
 // Where `value` departs from the JSON Schema `schema` (the subset Foxglove's schemas use: object
-// properties, arrays, number, integer, string, boolean, oneOf consts): a field the schema does not
-// declare, a value of another type, an enum value not listed.
+// properties and required fields, arrays, number, integer, string, boolean, oneOf consts): a field
+// missing or not declared, a value of another type, an enum value not listed.
 function departures(value, schema, path, out) {
   if (schema.oneOf) {
     if (!schema.oneOf.some((o) => o.const === value)) out.push(`${path}: ${JSON.stringify(value)} is none of the schema's values`);
@@ -26,11 +26,13 @@ function departures(value, schema, path, out) {
     boolean: () => typeof value === "boolean",
   }[type];
   if (!ok || !ok()) return out.push(`${path}: ${JSON.stringify(value)?.slice(0, 40)} is not of type ${type}`), out;
-  if (type === "object")
+  if (type === "object") {
+    for (const k of schema.required ?? []) if (!(k in value)) out.push(`${path}.${k}: required, missing`);
     for (const [k, v] of Object.entries(value)) {
       if (!schema.properties?.[k]) out.push(`${path}.${k}: not in the schema`);
       else departures(v, schema.properties[k], `${path}.${k}`, out);
     }
+  }
   if (type === "array") value.forEach((v, i) => departures(v, schema.items, `${path}[${i}]`, out));
   return out;
 }
