@@ -8,6 +8,8 @@
 #include <QtTest>
 
 #include <cmath>
+#include <map>
+#include <set>
 
 #include "common.hpp"
 #include "salsa/core/replay/recording.hpp"
@@ -208,6 +210,39 @@ class TestExportMcap : public QObject {
     for (const auto& p : rec.map.obstacles) edges += p.size();
     QCOMPARE(lines[1][u"type"].toInt(), 2);  // LINE_LIST
     QCOMPARE(lines[1][u"points"].toArray().size(), static_cast<qsizetype>(2 * edges));
+  }
+
+  void removed_and_added_drones() {
+    // 6 drones, 3 from 2 s, 5 from 4 s (two new ids): each frame shows the drones drones.csv has then.
+    const QString file = dir_.path() + "/drop.json";
+    QVERIFY(write_file(file, R"({"name": "drop", "behavior": {"name": "random_walk"}, "drones": 6,
+      "map": {"name": "forest", "params": {"size": 200}}, "targets": {"kind": "tree", "count": 50}, "time": 6, "seed": 3,
+      "changes": [{"time": 2, "set": {"drones": 3}}, {"time": 4, "set": {"drones": 5}}]})"));
+    CliResult r = run_salsa({"run", file, "--out", dir_.path() + "/drop"});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    r = run_salsa({"export", dir_.path() + "/drop/drop", "--mcap", dir_.path() + "/drop.mcap"});
+    QVERIFY2(r.exit_code == 0, describe(r));
+    const QJsonObject read = read_back(dir_.path() + "/drop.mcap");
+    QVERIFY(read[u"schemaDepartures"].toArray().isEmpty());
+    std::map<qint64, std::vector<std::pair<double, double>>> by_time;  // ns → positions in id order
+    const auto rows = rows_of(dir_.path() + "/drop/drop/drones.csv");
+    const std::size_t t = column(rows, "time"), x = column(rows, "x"), y = column(rows, "y");
+    for (std::size_t k = 1; k < rows.size(); ++k) by_time[ns(std::stod(rows[k][t]))].emplace_back(std::stod(rows[k][x]), std::stod(rows[k][y]));
+    std::set<std::size_t> counts;
+    for (const auto m : read[u"messages"].toArray()) {
+      const qint64 at = m[u"logTime"].toString().toLongLong();
+      if (m[u"topic"].toString() == u"/drones")
+        QCOMPARE(m[u"data"][u"entities"][0][u"spheres"].toArray().size(), static_cast<qsizetype>(by_time.at(at).size()));
+      if (m[u"topic"].toString() != u"/drones/poses") continue;
+      const QJsonArray poses = m[u"data"][u"poses"].toArray();
+      QCOMPARE(poses.size(), static_cast<qsizetype>(by_time.at(at).size()));
+      for (qsizetype i = 0; i < poses.size(); ++i) {
+        QCOMPARE(poses[i][u"position"][u"x"].toDouble(), by_time.at(at)[static_cast<std::size_t>(i)].first);
+        QCOMPARE(poses[i][u"position"][u"y"].toDouble(), by_time.at(at)[static_cast<std::size_t>(i)].second);
+      }
+      counts.insert(static_cast<std::size_t>(poses.size()));
+    }
+    QCOMPARE(counts, (std::set<std::size_t>{3, 5, 6}));
   }
 
   void writing_again_replaces_the_file_whole() {
