@@ -84,6 +84,7 @@ class TestExportMcap : public QObject {
     for (const auto s : read_[u"schemas"].toArray()) {
       QCOMPARE(s[u"encoding"].toString(), QString("jsonschema"));
       QCOMPARE(s[u"schema"][u"title"].toString(), s[u"name"].toString());  // the schema is JSON and names itself
+      QVERIFY2(s[u"problems"].toArray().isEmpty(), QJsonDocument(s[u"problems"].toArray()).toJson().constData());
       schemas << s[u"name"].toString();
     }
     QCOMPARE(schemas, QStringList({"foxglove.SceneUpdate", "foxglove.PosesInFrame"}));

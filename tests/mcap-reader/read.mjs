@@ -37,6 +37,26 @@ function departures(value, schema, path, out) {
   return out;
 }
 
+// Where a schema uses what a viewer cannot turn into message fields: every field needs a type among
+// object (with properties), array (with typed items), number, integer, string, boolean, or a oneOf of
+// numeric consts (an enum), and the root is an object.
+function schemaProblems(schema, path, out) {
+  if (schema.oneOf) {
+    if (!schema.oneOf.every((o) => typeof o.const === "number")) out.push(`${path}: oneOf without numeric consts`);
+    return out;
+  }
+  if (!["object", "array", "number", "integer", "string", "boolean"].includes(schema.type)) out.push(`${path}: type ${JSON.stringify(schema.type)}`);
+  if (schema.type === "object") {
+    if (typeof schema.properties !== "object") out.push(`${path}: an object without properties`);
+    for (const [k, v] of Object.entries(schema.properties ?? {})) schemaProblems(v, `${path}.${k}`, out);
+  }
+  if (schema.type === "array") {
+    if (!schema.items) out.push(`${path}: an array without items`);
+    else schemaProblems(schema.items, `${path}[]`, out);
+  }
+  return out;
+}
+
 const file = process.argv[2];
 if (!file) {
   console.error("usage: node read.mjs FILE.mcap");
@@ -74,7 +94,11 @@ const topicOf = new Map([...reader.channelsById].map(([id, c]) => [id, c.topic])
 const stats = reader.statistics;
 const out = {
   header: reader.header,
-  schemas: [...reader.schemasById.values()].map((s) => ({ id: s.id, name: s.name, encoding: s.encoding, schema: JSON.parse(decoder.decode(s.data)) })),
+  schemas: [...reader.schemasById.values()].map((s) => {
+    const schema = JSON.parse(decoder.decode(s.data));
+    const problems = schema.type === "object" ? schemaProblems(schema, s.name, []) : [`${s.name}: the root is not an object`];
+    return { id: s.id, name: s.name, encoding: s.encoding, schema, problems };
+  }),
   channels: [...reader.channelsById.values()].map((c) => ({ id: c.id, topic: c.topic, schemaId: c.schemaId, messageEncoding: c.messageEncoding })),
   statistics: stats && {
     messageCount: str(stats.messageCount), schemaCount: stats.schemaCount, channelCount: stats.channelCount,
