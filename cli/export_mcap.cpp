@@ -112,8 +112,9 @@ constexpr std::uint32_t found_rgb = 0x2e9e48, unfound_rgb = 0x9a9a9a, wall_rgb =
 std::uint64_t nanoseconds(double t) { return static_cast<std::uint64_t>(std::llround(t * 1e9)); }
 json stamp(std::uint64_t ns) { return {{"sec", ns / 1'000'000'000}, {"nsec", ns % 1'000'000'000}}; }
 json point(double x, double y, double z = 0) { return {{"x", x}, {"y", y}, {"z", z}}; }
-json pose_at(double x, double y, double yaw = 0) {
-  return {{"position", point(x, y)}, {"orientation", {{"x", 0.0}, {"y", 0.0}, {"z", std::sin(yaw / 2)}, {"w", std::cos(yaw / 2)}}}};
+/// At (x, y, z) turned by `yaw` about z (a unit quaternion).
+json pose_at(double x, double y, double yaw = 0, double z = 0) {
+  return {{"position", point(x, y, z)}, {"orientation", {{"x", 0.0}, {"y", 0.0}, {"z", std::sin(yaw / 2)}, {"w", std::cos(yaw / 2)}}}};
 }
 
 /// An entity in "world" holding only the given primitives (Foxglove needs every list, empty or not).
@@ -197,7 +198,7 @@ void export_mcap(const Recording& rec, const std::filesystem::path& file) {
       const std::size_t g = std::isfinite(g_value) && g_value >= 0 && g_value < static_cast<double>(spheres.size()) ? static_cast<std::size_t>(g_value) : 0;
       const double size = 2 * (g < rec.groups.size() ? rec.groups[g].radius : 1);
       const std::uint8_t status = rec.status(f, i);
-      spheres[g].push_back({{"pose", pose_at(p.x, p.y, yaw)},
+      spheres[g].push_back({{"pose", pose_at(p.x, p.y, 0, size / 2)},  // resting on the ground, above the targets
                             {"size", point(size, size, size)},
                             {"color", status == 2 ? rgba(failed_rgb) : rgba(group_rgb(g, rec.groups.size()), status == 1 ? 0.35 : 1)}});
     }

@@ -157,6 +157,7 @@ class TestExportMcap : public QObject {
           QVERIFY(k < spheres.size());
           const QJsonValue s = spheres[k++];
           QCOMPARE(s[u"pose"][u"position"][u"x"].toDouble(), rec.position(f, i).x);
+          QCOMPARE(s[u"pose"][u"position"][u"z"].toDouble(), rec.groups[g].radius);  // resting on the ground
           QCOMPARE(s[u"size"][u"x"].toDouble(), 2 * rec.groups[g].radius);
           const std::uint8_t status = rec.status(f, i);
           QCOMPARE(rgb(s[u"color"]), status == 2 ? 0u : g == 0 ? 0xE69F00u : 0x0072B2u);  // the desktop's group colours
