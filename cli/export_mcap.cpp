@@ -127,7 +127,7 @@ json entity(const std::string& id, std::uint64_t ns, json primitives) {
 
 /// Lines in the map's walls colour: LINE_LOOP (1) for closed outlines, LINE_LIST (2) for segment pairs.
 json lines(int type, json points) {
-  return {{"type", type},           {"pose", pose_at(0, 0)}, {"thickness", 2.0}, {"scale_invariant", true},
+  return {{"type", type},          {"pose", pose_at(0, 0)},   {"thickness", 2.0},          {"scale_invariant", true},  // 2 px
           {"points", std::move(points)}, {"color", rgba(wall_rgb)}, {"colors", json::array()}, {"indices", json::array()}};
 }
 
