@@ -82,7 +82,7 @@ void export_video(const Recording& recording, const std::filesystem::path& file,
     sent = writer.write(image);  // false: ffmpeg stopped, and finish says why
   }
   if (!writer.finish(&error)) throw std::runtime_error("--video: " + error.toStdString());
-  std::cout << "wrote " << file.string() << ": " << frames << " frames of " << options.width << "x" << options.height << " at "
+  std::cout << "wrote " << file.string() << ": " << frames << " frames of " << writer.video_size().width() << "x" << writer.video_size().height() << " at "
             << options.fps << " fps, " << options.speed << " s of the run per second\n";
 }
 

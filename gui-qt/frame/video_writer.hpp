@@ -25,6 +25,8 @@ class VideoWriter {
   bool write(const QImage& frame);
   /// Ends the video and waits for ffmpeg; false with `error` ending in ffmpeg's last line, and no file.
   bool finish(QString* error);
+  /// The video's frame size: the size given to open, each side rounded down to even.
+  QSize video_size() const { return {size_.width() / 2 * 2, size_.height() / 2 * 2}; }
 
  private:
   QProcess ffmpeg_;
