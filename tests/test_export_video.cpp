@@ -55,6 +55,13 @@ class TestExportVideo : public QObject {
     QCOMPARE(probe, QString("h264,640,480,yuv420p,41"));
   }
 
+  void an_odd_size_loses_a_row_and_a_column() {
+    const QString file = dir_.path() + "/odd.mp4";
+    const CliResult r = run_salsa({"export", test_, "--video", file, "--size", "65x49", "--speed", "20"});
+    QVERIFY2(r.exit_code == 0 && r.out.contains("31 frames of 64x48"), describe(r));  // floor(20 × 30 / 20) + 1
+    QCOMPARE(output(ffprobe_, {"-v", "error", "-show_entries", "stream=width,height", "-of", "csv=p=0", file}).trimmed(), QByteArray("64,48"));
+  }
+
   void drones_in_their_colours_where_the_run_put_them() {
     // Frame 20 shows the run at 10 s: each flying drone's centre is its group's colour (of two: blue,
     // orange), give or take the compression.
