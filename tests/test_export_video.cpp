@@ -110,6 +110,16 @@ class TestExportVideo : public QObject {
     QVERIFY(!QFile::exists(file) && !QFile::exists(file + ".partial"));
   }
 
+  void an_unwritable_file_is_one_line() {
+    for (const QString& file : {dir_.path() + "/no-such-folder/run.mp4", dir_.path()}) {
+      const CliResult r = run_salsa({"export", test_, "--video", file});
+      QCOMPARE(r.exit_code, 2);
+      QCOMPARE(non_empty_lines(r.err).size(), 1);
+      QVERIFY2(r.err.contains(file) && (r.err.contains("cannot write") || r.err.contains("is a folder")), describe(r));
+    }
+    QVERIFY(!QFile::exists(dir_.path() + ".partial"));
+  }
+
   void ffmpeg_failing_leaves_what_was_there() {
     // An ffmpeg that writes half a file and fails: its last line is the message, and the video
     // already at that name is left as it was.

@@ -1,6 +1,7 @@
 #include "video_writer.hpp"
 
 #include <QFile>
+#include <QFileInfo>
 #include <QStandardPaths>
 #include <filesystem>
 #include <system_error>
@@ -21,12 +22,22 @@ bool VideoWriter::open(const QString& file, QSize size, double fps, QString* err
     return false;
   }
   file_ = file, partial_ = file + ".partial", size_ = size;
+  // A folder, or one that cannot be written to, is said here in the user's words, not in ffmpeg's.
+  if (QFileInfo(file).isDir()) {
+    if (error) *error = file + " is a folder (allowed: a file to write, e.g. run.mp4)";
+    return false;
+  }
+  if (QFile partial(partial_); !partial.open(QIODevice::WriteOnly)) {
+    if (error) *error = "cannot write " + file + " (" + partial.errorString() + ")";
+    return false;
+  }
   // -f mp4: the format is not guessed from the partial file's name.
   ffmpeg_.start(ffmpeg, {"-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24", "-s",
                          QString("%1x%2").arg(size.width()).arg(size.height()), "-r", QString::number(fps, 'g', 12), "-i", "-",
                          "-vf", "crop=trunc(iw/2)*2:trunc(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-f", "mp4", partial_});
   if (!ffmpeg_.waitForStarted(30000)) {
     if (error) *error = ffmpeg + ": did not start (" + ffmpeg_.errorString() + ")";
+    QFile::remove(partial_);
     return false;
   }
   open_ = true;

@@ -19,7 +19,7 @@ class VideoWriter {
 
   /// Starts ffmpeg on `file`, `size` px frames at `fps` per second. An odd width or height loses its
   /// last column or row (H.264's colour planes are half size). False with a one-line `error`: ffmpeg
-  /// not installed (and how to get it), or it did not start.
+  /// not installed (and how to get it), `file` a folder or not writable, or ffmpeg did not start.
   bool open(const QString& file, QSize size, double fps, QString* error);
   /// Sends one frame (drawn at the size given to open). False when ffmpeg has stopped: finish says why.
   bool write(const QImage& frame);
