@@ -1,6 +1,7 @@
 #pragma once
 // salsa export: a finished test shared without salsa (export.cpp reads the folder once; one file
 // per format writes it).
+#include <cstddef>
 #include <filesystem>
 #include <string>
 
@@ -21,6 +22,10 @@ struct VideoOptions {
   double fps = 30;                 ///< frames per second of video
   double speed = 1;                ///< simulated seconds per second of video
 };
+
+/// How many frames a video of a run recorded until `duration` s has: frame k shows the run at
+/// k × speed / fps s, from 0 to `duration`, so floor(duration × fps / speed) + 1.
+std::size_t video_frames(double duration, const VideoOptions& options);
 
 /// The run drawn as the desktop draws it into an MP4 with ffmpeg, without a display (export_video.cpp).
 void export_video(const Recording& recording, const std::filesystem::path& file, const VideoOptions& options);

@@ -192,6 +192,14 @@ class GuiView : public QObject {
     } else {
       QVERIFY2(!video.isEmpty(), qPrintable(why));
       QVERIFY(QFileInfo(video).size() > 1000);
+      QVERIFY(!QFile::exists(video + ".partial"));
+      const QString ffprobe = QStandardPaths::findExecutable("ffprobe");
+      if (!ffprobe.isEmpty()) {  // a video frame per PNG frame, the PNGs' size
+        QProcess probe;
+        probe.start(ffprobe, {"-v", "error", "-count_frames", "-show_entries", "stream=nb_read_frames,width,height", "-of", "csv=p=0", video});
+        QVERIFY(probe.waitForFinished(60000));
+        QCOMPARE(QString::fromUtf8(probe.readAllStandardOutput()).trimmed(), QString("160,120,8"));
+      }
     }
   }
 };

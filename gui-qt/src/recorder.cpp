@@ -2,8 +2,8 @@
 
 #include <QDir>
 #include <QFileInfo>
-#include <QProcess>
-#include <QStandardPaths>
+
+#include "video_writer.hpp"
 
 namespace salsa::gui {
 
@@ -49,25 +49,25 @@ void Recorder::stop() {
 QString Recorder::error() const { return error_; }
 
 QString Recorder::make_video(QString* error) const {
-  const QString ffmpeg = QStandardPaths::findExecutable("ffmpeg");
-  if (ffmpeg.isEmpty()) {
-    if (error) *error = "ffmpeg not found: install it with `apt install ffmpeg` to get an MP4; the PNG frames are in " + folder_;
-    return {};
-  }
   if (frames_ == 0) {
     if (error) *error = "no frames were recorded";
     return {};
   }
   const QString video = QDir(folder_).filePath("recording.mp4");
-  QProcess p;
-  p.start(ffmpeg, {"-y", "-loglevel", "error", "-framerate", "30", "-i", QDir(folder_).filePath("frame_%05d.png"),
-                   "-vf", "scale=trunc(iw/2)*2:trunc(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", video});
-  if (!p.waitForFinished(600000) || p.exitStatus() != QProcess::NormalExit || p.exitCode() != 0) {
-    if (error) *error = "ffmpeg failed: " + QString::fromUtf8(p.readAllStandardError()).trimmed().section('\n', -1) +
-                        "; the PNG frames are in " + folder_;
-    return {};
+  VideoWriter writer;
+  QString why;
+  if (writer.open(video, size_, 30, &why)) {
+    bool unreadable = false;
+    for (int n = 1; n <= frames_ && !unreadable; ++n) {
+      const QString path = QDir(folder_).filePath(QString("frame_%1.png").arg(n, 5, 10, QChar('0')));
+      const QImage frame(path);
+      if ((unreadable = frame.isNull())) why = path + ": cannot read the PNG";
+      else if (!writer.write(frame)) break;  // ffmpeg stopped: finish says why
+    }
+    if (!unreadable && writer.finish(&why)) return video;
   }
-  return video;
+  if (error) *error = why + "; the PNG frames are in " + folder_;
+  return {};
 }
 
 }  // namespace salsa::gui

@@ -1,36 +1,15 @@
 // Session.render: the simulation drawn as the desktop draws it (salsa_frame, gui-qt/frame/), into a numpy
-// RGB array. QtGui needs a QGuiApplication for its fonts: without one in the process, one on the
-// offscreen platform is made and kept, so nothing opens a window or needs a display.
+// RGB array, on the offscreen platform when the process has no QGuiApplication (offscreen.hpp).
 #include <pybind11/numpy.h>
 
-#include <QGuiApplication>
 #include <QImage>
 #include <cstring>
 
 #include "bindings.hpp"
 #include "frame_renderer.hpp"
+#include "offscreen.hpp"
 
 namespace salsa::python {
-
-namespace {
-
-void ensure_gui_application() {
-  if (QCoreApplication* app = QCoreApplication::instance()) {
-    if (!qobject_cast<QGuiApplication*>(app))
-      throw py::value_error("render: this process has a QCoreApplication without a GUI, which cannot draw text (allowed: "
-                            "none, or a QGuiApplication or QApplication)");
-    return;
-  }
-  static int argc = 3;
-  static char name[] = "salsa", option[] = "-platform", platform[] = "offscreen";
-  static char* argv[] = {name, option, platform, nullptr};
-  // Its start-up notes (no XDG_RUNTIME_DIR, ...) are about a desktop session this process does not have.
-  const QtMessageHandler previous = qInstallMessageHandler([](QtMsgType, const QMessageLogContext&, const QString&) {});
-  new QGuiApplication(argc, argv);  // never destroyed: it lives as long as the process, as Qt expects
-  qInstallMessageHandler(previous);
-}
-
-}  // namespace
 
 py::array render_session(const Session& session, int width, int height) {
   constexpr int most = 16384;
@@ -38,7 +17,9 @@ py::array render_session(const Session& session, int width, int height) {
     if (v < 1 || v > most)
       throw py::value_error(std::string(name) + ": " + std::to_string(v) + " is out of range (allowed: whole number of pixels in [1, " +
                             std::to_string(most) + "])");
-  ensure_gui_application();
+  if (!gui::ensure_gui_application())
+    throw py::value_error("render: this process has a QCoreApplication without a GUI, which cannot draw text (allowed: "
+                          "none, or a QGuiApplication or QApplication)");
   const Simulation& sim = session.simulation();
   gui::Snapshot snap;
   snap.scene = gui::scene_of(sim);
