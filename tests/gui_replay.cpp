@@ -212,8 +212,17 @@ class GuiReplay : public QObject {
     QCOMPARE(bench_replay(a_.toStdString(), out, 20), 0);
     const QString report = QString::fromStdString(out.str());
     QVERIFY2(report.contains("recording: 18 drones, 21 frames over 20.00 s from drones.csv"), qPrintable(report));
-    QVERIFY2(report.contains(QRegularExpression("\nseek: 20 random times; [^\n]* max [0-9.]+ ms \\(budget 100 ms\\)\n")), qPrintable(report));
-    QVERIFY2(report.contains(QRegularExpression("\nplayback: 21 consecutive frames; [^\n]* [0-9]+ FPS drawable \\(budget 60\\)\n")), qPrintable(report));
+    QVERIFY2(report.contains("trails of 31 frames"), qPrintable(report));  // 30 s at 1 s a frame
+    QVERIFY2(report.contains(QRegularExpression("\nseek: 20 random times; [^\n]* max [0-9.]+ ms \\(budget 100 ms\\); CPU time mean [0-9.]+ ms, max [0-9.]+ ms\n")), qPrintable(report));
+    QVERIFY2(report.contains(QRegularExpression("\nplayback: 21 consecutive frames; [^\n]* [0-9]+ FPS drawable \\(budget 60\\), [0-9]+ on its CPU time\n")), qPrintable(report));
+    // A big swarm draws shorter trails (each frame redraws them all): 60,000 points at most.
+    Recording big;
+    big.drones = 10000;
+    big.log_interval = 1;
+    QCOMPARE(trail_frames(big), std::size_t{6});
+    big.log_interval = 0.1;
+    big.drones = 10;
+    QCOMPARE(trail_frames(big), std::size_t{300});
     std::ostringstream bad;
     QCOMPARE(bench_replay((dir_.path() + "/a").toStdString(), bad, 20), 2);
   }

@@ -25,12 +25,6 @@ namespace salsa::gui {
 namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-/// This thread's CPU time: on a shared machine a frame's wall time also holds the time others had the core.
-double thread_cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) / 1e6;
-}
 
 /// 12345 → "12,345", as the docs write counts.
 std::string grouped(long long n) {
@@ -56,6 +50,12 @@ Workload workload(int drones) {
 }
 
 }  // namespace
+
+double thread_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) / 1e6;
+}
 
 BenchStats bench_stats(const std::vector<double>& times) {
   std::vector<double> sorted = times;

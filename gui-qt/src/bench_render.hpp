@@ -22,6 +22,9 @@ struct BenchRenderOptions {
 /// start spread uniformly over it.
 std::string bench_render_test(const BenchRenderOptions& options);
 
+/// This thread's CPU time, ms: on a shared machine a frame's wall time also holds the time others had the core.
+double thread_cpu_ms();
+
 /// Mean, median, 95th percentile and largest of `times` (not empty).
 struct BenchStats {
   double mean, median, p95, max;

@@ -28,6 +28,7 @@
 namespace salsa::gui {
 namespace {
 constexpr double trail_seconds = 30;   // each drone's last half minute, whatever the log interval
+constexpr std::size_t trail_points = 60000;  // at most, over all drones
 constexpr int timeline_ticks = 1000;   // per second: the slider moves in ms
 constexpr double speeds[] = {0.25, 0.5, 1, 2, 4, 8, 16, 32, 64};
 constexpr int charts_every_ms = 250;   // playing, the plots redraw this often (a seek redraws them at once)
@@ -69,7 +70,10 @@ std::vector<StatsRow> recorded_stats(const Recording& r) {
 }
 
 std::size_t trail_frames(const Recording& r) {
-  return r.log_interval > 0 ? std::clamp<std::size_t>(static_cast<std::size_t>(std::lround(trail_seconds / r.log_interval)) + 1, 2, 300) : 30;
+  const std::size_t frames = r.log_interval > 0 ? static_cast<std::size_t>(std::lround(trail_seconds / r.log_interval)) + 1 : 31;
+  // Each new frame redraws every trail (the samples all move on): past trail_points, fewer frames each,
+  // so that a big swarm still plays at 60 FPS (docs/replay.md).
+  return std::clamp<std::size_t>(std::min(frames, trail_points / std::max<std::size_t>(1, r.drones)), 2, 300);
 }
 
 struct ReplayPage::Run {

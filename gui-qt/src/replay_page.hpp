@@ -31,7 +31,8 @@ class LiveCharts;
 /// recording itself gives (targets found and mean speed at each frame).
 std::vector<StatsRow> recorded_stats(const Recording& recording);
 
-/// How many frames of trail replay draws for `recording`: its drones' last 30 s.
+/// How many frames of trail replay draws for `recording`: its drones' last 30 s, fewer when that
+/// would be more than 100,000 points in all (at least 2).
 std::size_t trail_frames(const Recording& recording);
 
 class ReplayPage : public QWidget {
