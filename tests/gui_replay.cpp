@@ -178,9 +178,10 @@ class GuiReplay : public QObject {
     page.select(2);
     QVERIFY(page.shown(0)->selected && page.shown(1)->selected);
     QCOMPARE(page.inspector()->toPlainText().count("drone 2"), 2);
-    // Open starts over with one run.
+    // Open starts over with one run, nothing selected.
     QCOMPARE(page.open(b_), std::string());
     QCOMPARE(page.runs(), std::size_t{1});
+    QVERIFY(!page.shown(0)->selected);
     QCOMPARE(page.charts()->series(0, 1)->count(), 0);
   }
 

@@ -133,8 +133,9 @@ ReplayPage::ReplayPage(QWidget* parent) : QWidget(parent) {
   auto* side = new QSplitter(Qt::Vertical);
   side->addWidget(charts_);
   side->addWidget(inspector_);
+  side->setMinimumWidth(320);  // as the sandbox's plots dock: tick labels readable
   side->setStretchFactor(0, 3);
-  side->setStretchFactor(1, 1);
+  side->setStretchFactor(1, 2);
   auto* body = new QSplitter(Qt::Horizontal);
   body->addWidget(views_);
   body->addWidget(side);
@@ -210,13 +211,13 @@ std::string ReplayPage::load(const QString& folder, std::size_t run) {
   r->pane = new QWidget;
   r->title = new QLabel;
   r->title->setObjectName("replay_title");
-  r->title->setText(QString("<b>%1</b> — %2 drones, %3 s, logged every %4 s — %5")
-                        .arg(QString::fromStdString(rec.test_name))
+  r->title->setText(QString("<b>%1</b> — %2 drones, %3 s, logged every %4 s")
+                        .arg(QString::fromStdString(rec.test_name).toHtmlEscaped())
                         .arg(rec.drones)
                         .arg(rec.times.empty() ? 0.0 : rec.times.back())
-                        .arg(rec.log_interval)
-                        .arg(QString::fromStdString(rec.folder.string()).toHtmlEscaped()));
+                        .arg(rec.log_interval));
   r->title->setToolTip(QString::fromStdString(rec.source.string()));
+  r->title->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);  // a long name never widens the pane
   r->view = new SwarmView;
   r->view->set_options(options_);
   connect(r->view, &SwarmView::drone_clicked, this, [this](std::optional<std::uint32_t> id) { select(id); });
@@ -225,16 +226,18 @@ std::string ReplayPage::load(const QString& folder, std::size_t run) {
   layout->addWidget(r->title);
   layout->addWidget(r->view, 1);
 
-  if (run == 0) {  // Open: the only run, from the start
+  if (run == 0) {  // Open: the only run, from the start, nothing selected
     for (auto& old : runs_) delete old->pane;
     runs_.clear();
     player_.pause();
+    selected_.reset();
   } else if (runs_.size() > 1) {
     delete runs_[1]->pane;
     runs_.pop_back();
   }
   views_->addWidget(r->pane);
   runs_.push_back(std::move(r));
+  views_->setSizes(QList<int>(views_->count(), 1000));  // the runs side by side at one size
   if (selected_ && *selected_ >= runs_.back()->recording->drones) selected_.reset();
   runs_changed();
   if (run == 0) player_.seek(0);
