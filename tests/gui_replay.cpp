@@ -208,6 +208,19 @@ class GuiReplay : public QObject {
     QVERIFY(page->note()->isHidden());
   }
 
+  // Two runs side by side still fit a 1366 x 768 laptop screen.
+  void side_by_side_fits_a_laptop_screen() {
+    MainWindow window(*host_);
+    window.show();
+    QCOMPARE(window.replay_page()->open(a_), std::string());
+    QCOMPARE(window.replay_page()->compare(b_), std::string());
+    window.set_mode(MainWindow::Mode::replay);
+    QCOMPARE(window.windowTitle(), QString("salsa — replay"));
+    QApplication::processEvents();
+    const QSize min = window.minimumSizeHint().expandedTo(window.minimumSize());
+    QVERIFY2(min.width() <= 1366 && min.height() <= 720, qPrintable(QString("the window needs %1 x %2 px").arg(min.width()).arg(min.height())));
+  }
+
   void benchmark_reports_seek_and_playback() {
     std::ostringstream out;
     QCOMPARE(bench_replay(a_.toStdString(), out, 20), 0);

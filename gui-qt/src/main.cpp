@@ -40,7 +40,7 @@ options:
   --start              start running at once
   --view LIST          what the view shows, e.g. heat,camera,-trails (camera, obstacle, detection,
                        targets, trails, heat, obstacles, spawn, links, wind; a leading - hides)
-  --select ID          inspect drone ID
+  --select ID          inspect drone ID (with --replay: in the runs replayed)
   --mode MODE          start in sandbox, queue, map (the map creator), tune or replay
   --queue FILE         open a queue file in queue mode (implies --mode queue)
   --run-queue DIR      run the opened queue into DIR at once
@@ -287,6 +287,7 @@ int main(int argc, char** argv) {
       }
     }
     if (seek) window.replay_page()->player().seek(*seek);
+    if (select) window.replay_page()->select(select);
     if (mode.empty()) mode = "replay";
   }
   if (mode == "replay") window.set_mode(Mode::replay);
