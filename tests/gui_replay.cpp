@@ -127,8 +127,22 @@ class GuiReplay : public QObject {
     p.advance(100);  // past the end: stops there
     QCOMPARE(p.time(), 20.0);
     QVERIFY(!p.playing());
-    // The slider follows the playhead and drives it.
     QCOMPARE(page.timeline()->value(), 20000);
+    // The keys, with the view focused: Left and Right step a frame, Space plays and pauses.
+    page.show();
+    page.activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(&page));
+    page.view(0)->setFocus();
+    QTest::keyClick(page.view(0), Qt::Key_Left);
+    QCOMPARE(p.time(), 19.0);
+    QTest::keyClick(page.view(0), Qt::Key_Right);
+    QCOMPARE(p.time(), 20.0);
+    QTest::keyClick(page.view(0), Qt::Key_Space);  // at the end: from the start
+    QVERIFY(p.playing());
+    QCOMPARE(p.time(), 0.0);
+    QTest::keyClick(page.view(0), Qt::Key_Space);
+    QVERIFY(!p.playing());
+    // The slider follows the playhead and drives it.
     page.timeline()->setValue(9300);
     QCOMPARE(p.time(), 9.3);
     QCOMPARE(page.shown(0)->time, 9.0);
