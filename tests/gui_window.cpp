@@ -238,7 +238,8 @@ class GuiWindow : public QObject {
   // The window fits a 1366 x 768 laptop screen in every mode, and tabbing through the sandbox's panel
   // never scrolls it sideways.
   void the_window_fits_a_laptop_screen() {
-    for (auto m : {MainWindow::Mode::sandbox, MainWindow::Mode::queue, MainWindow::Mode::map_creator, MainWindow::Mode::tune}) {
+    for (auto m : {MainWindow::Mode::sandbox, MainWindow::Mode::queue, MainWindow::Mode::map_creator, MainWindow::Mode::tune,
+                   MainWindow::Mode::replay}) {
       window_->set_mode(m);
       QApplication::processEvents();
       const QSize min = window_->minimumSizeHint().expandedTo(window_->minimumSize());

@@ -70,6 +70,9 @@ struct Inspection {
   std::optional<std::vector<std::uint32_t>> heard;
   /// With position noise: where the drone will perceive itself at its next decision (m).
   std::optional<Vec2> perceived;
+  /// Read back from a finished test (recorded_inspection): what a run does not record (obstacle hits,
+  /// messages, memory) is not known rather than none.
+  bool recorded = false;
   /// The state line named `name`, or nullptr (its model is off).
   const StateLine* line(std::string_view name) const;
 };

@@ -25,12 +25,6 @@ namespace salsa::gui {
 namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-/// This thread's CPU time: on a shared machine a frame's wall time also holds the time others had the core.
-double thread_cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) / 1e6;
-}
 
 /// 12345 → "12,345", as the docs write counts.
 std::string grouped(long long n) {
@@ -55,16 +49,20 @@ Workload workload(int drones) {
   return {std::round(forest_side * std::sqrt(grow)), std::llround(forest_trees * grow)};
 }
 
-struct Stats {
-  double mean, median, p95, max;
-};
-Stats stats_of(const std::vector<double>& times) {
+}  // namespace
+
+double thread_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) / 1e6;
+}
+
+BenchStats bench_stats(const std::vector<double>& times) {
   std::vector<double> sorted = times;
   std::sort(sorted.begin(), sorted.end());
   const auto at = [&](double q) { return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(q * static_cast<double>(sorted.size())))]; };
   return {std::accumulate(times.begin(), times.end(), 0.0) / static_cast<double>(times.size()), at(0.5), at(0.95), sorted.back()};
 }
-}  // namespace
 
 std::string bench_render_test(const BenchRenderOptions& options) {
   const Workload w = workload(options.drones);
@@ -129,13 +127,13 @@ int bench_render(const PluginHost& host, std::ostream& out, const BenchRenderOpt
       std::this_thread::sleep_until(frame + std::chrono::microseconds(16'667));
     }
     engine.pause();
-    const Stats s = stats_of(times);
+    const BenchStats s = bench_stats(times);
     out << std::setprecision(2) << "frames: " << options.frames << "; frame time mean " << s.mean << " ms, median " << s.median
         << " ms, p95 " << s.p95 << " ms, max " << s.max << " ms; " << std::setprecision(0) << 1000 / s.mean
         << " FPS drawable; static layer drawn " << renderer.static_redraws() << " times\n";
-    const Stats c = stats_of(cpu);
+    const BenchStats c = bench_stats(cpu);
     out << std::setprecision(2) << "drawing thread's CPU time per frame: mean " << c.mean << " ms, median " << c.median << " ms, p95 " << c.p95 << " ms, max " << c.max << " ms\n";
-    const Stats m = stats_of(made), k = stats_of(taken);
+    const BenchStats m = bench_stats(made), k = bench_stats(taken);
     out << std::setprecision(2) << "snapshots: " << made.size() << " new in " << options.frames << " frames, made on the engine's thread in mean "
         << m.mean << " ms, max " << m.max << " ms; taken by the drawing thread in mean " << k.mean << " ms, max " << k.max << " ms\n";
   }

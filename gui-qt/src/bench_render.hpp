@@ -4,6 +4,7 @@
 // GUI against headless (docs/gui.md).
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "salsa/core/plugins/plugin_host.hpp"
 
@@ -20,6 +21,15 @@ struct BenchRenderOptions {
 /// the map's area and the trees grow with them (10,000 drones and 50,000 trees per 4 km²) and the drones
 /// start spread uniformly over it.
 std::string bench_render_test(const BenchRenderOptions& options);
+
+/// This thread's CPU time, ms: on a shared machine a frame's wall time also holds the time others had the core.
+double thread_cpu_ms();
+
+/// Mean, median, 95th percentile and largest of `times` (not empty).
+struct BenchStats {
+  double mean, median, p95, max;
+};
+BenchStats bench_stats(const std::vector<double>& times);
 
 /// Prints the report to `out`; returns the process exit status.
 int bench_render(const PluginHost& host, std::ostream& out, const BenchRenderOptions& options = {});

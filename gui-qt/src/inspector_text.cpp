@@ -66,8 +66,10 @@ QString inspection_text(const Snapshot& snap) {
       if (l.model == model) text += "\n  " + state_line(l);
   }
   text += QString("\nneighbours (%1 within %2 m):").arg(in.neighbours.size()).arg(snap.drone_of(in.id).detection_range) + ids(in.neighbours);
-  text += QString("\nobstacle hits: %1").arg(in.hits.size());
-  for (const ObstacleHit& h : in.hits) text += QString(" %1 m").arg(h.distance, 0, 'f', 1);
+  if (!in.recorded) {
+    text += QString("\nobstacle hits: %1").arg(in.hits.size());
+    for (const ObstacleHit& h : in.hits) text += QString(" %1 m").arg(h.distance, 0, 'f', 1);
+  }
   if (in.perceived)
     text += QString("\nperceived position %1 m, %2 m off").arg(q(format::point({rounded(in.perceived->x), rounded(in.perceived->y)})))
                 .arg(distance(*in.perceived, in.position), 0, 'f', 2);

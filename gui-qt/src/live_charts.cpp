@@ -2,10 +2,13 @@
 
 #include <QChart>
 #include <QChartView>
+#include <QLegend>
+#include <QLegendMarker>
 #include <QLineSeries>
 #include <QScrollArea>
 #include <QValueAxis>
 #include <QVBoxLayout>
+#include <algorithm>
 #include <cmath>
 
 namespace salsa::gui {
@@ -48,9 +51,12 @@ LiveCharts::LiveCharts(QWidget* parent) : QWidget(parent) {
     QFont title = chart->titleFont();
     title.setPointSizeF(title.pointSizeF() * 0.9);
     chart->setTitleFont(title);
-    c.series = new QLineSeries;
-    c.series->setPen(QPen(QColor(0x1f, 0x4e, 0x9c), 1.6));
-    chart->addSeries(c.series);
+    const QColor colours[] = {QColor(0x1f, 0x4e, 0x9c), QColor(0xd5, 0x5e, 0x00)};
+    for (std::size_t run = 0; run < 2; ++run) {
+      c.series[run] = new QLineSeries;
+      c.series[run]->setPen(QPen(colours[run], 1.6));
+      chart->addSeries(c.series[run]);
+    }
     c.x = new QValueAxis;
     c.y = new QValueAxis;
     c.x->setTitleText("time (s)");
@@ -67,8 +73,7 @@ LiveCharts::LiveCharts(QWidget* parent) : QWidget(parent) {
     c.y->setRange(0, specs[i].fixed_max > 0 ? specs[i].fixed_max : 1);
     chart->addAxis(c.x, Qt::AlignBottom);
     chart->addAxis(c.y, Qt::AlignLeft);
-    c.series->attachAxis(c.x);
-    c.series->attachAxis(c.y);
+    for (QLineSeries* s : c.series) s->attachAxis(c.x), s->attachAxis(c.y);
     c.view = new QChartView(chart);
     c.view->setRenderHint(QPainter::Antialiasing);
     c.view->setMinimumHeight(min_chart_height);
@@ -76,27 +81,39 @@ LiveCharts::LiveCharts(QWidget* parent) : QWidget(parent) {
   }
 }
 
-void LiveCharts::show_rows(const std::shared_ptr<const std::vector<StatsRow>>& rows) {
-  if (!rows || rows == shown_) return;
-  shown_ = rows;
-  const double end = rows->empty() ? 0 : rows->back().time;
+void LiveCharts::show_rows(const std::shared_ptr<const std::vector<StatsRow>>& rows, int run) {
+  const auto r = static_cast<std::size_t>(run);
+  if ((!rows && r == 0) || rows == shown_[r]) return;
+  shown_[r] = rows;
+  ends_[r] = !rows || rows->empty() ? 0 : rows->back().time;
+  const double end = std::max(ends_[0], ends_[1]);
   for (std::size_t i = 0; i < specs.size(); ++i) {
     QList<QPointF> points;
-    points.reserve(static_cast<qsizetype>(rows->size()));
-    double top = 0;
-    for (const StatsRow& r : *rows) {
-      const double v = r.*specs[i].field;
-      if (!std::isfinite(v)) continue;
-      points.append({r.time, v});
-      top = std::max(top, v);
+    if (rows) {
+      points.reserve(static_cast<qsizetype>(rows->size()));
+      for (const StatsRow& row : *rows)
+        if (const double v = row.*specs[i].field; std::isfinite(v)) points.append({row.time, v});
     }
-    charts_[i].series->replace(points);  // one update of the whole series
+    charts_[i].series[r]->replace(points);  // one update of the whole series
     charts_[i].x->setRange(0, std::max(10.0, end));
     charts_[i].x->applyNiceNumbers();  // ticks at round times
     if (specs[i].fixed_max == 0) {
+      double top = 0;
+      for (QLineSeries* s : charts_[i].series)
+        for (const QPointF& p : s->points()) top = std::max(top, p.y());
       charts_[i].y->setRange(0, top > 0 ? top * 1.1 : 1);
       charts_[i].y->applyNiceNumbers();
     }
+  }
+}
+
+void LiveCharts::set_names(const QString& first, const QString& second) {
+  for (Chart& c : charts_) {
+    c.series[0]->setName(first);
+    c.series[1]->setName(second);
+    QLegend* legend = c.view->chart()->legend();
+    legend->markers(c.series[1]).first()->setVisible(!second.isEmpty());
+    legend->setVisible(!second.isEmpty());
   }
 }
 

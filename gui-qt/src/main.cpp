@@ -1,5 +1,5 @@
-// salsa-gui: the desktop (sandbox, queue mode, map creator, tune mode); `--headless FILE...` runs tests like `salsa run`; `--bench-render`
-// measures drawing. Plugins come from the same folders as the CLI's.
+// salsa-gui: the desktop (sandbox, queue mode, map creator, tune mode, replay); `--headless FILE...` runs tests like `salsa run`;
+// `--bench-render` measures drawing, `--bench-replay` replay's seeks and playback. Plugins come from the same folders as the CLI's.
 #include <unistd.h>
 
 #include <QApplication>
@@ -8,6 +8,7 @@
 #include <QScreen>
 #include <QTimer>
 #include <QWindow>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
@@ -17,9 +18,11 @@
 #include <vector>
 
 #include "bench_render.hpp"
+#include "bench_replay.hpp"
 #include "main_window.hpp"
 #include "map_editor.hpp"
 #include "queue_page.hpp"
+#include "replay_page.hpp"
 #include "tune_page.hpp"
 #include "salsa/core/plugins/plugin_host.hpp"
 
@@ -30,18 +33,22 @@ constexpr const char* usage = R"(usage: salsa-gui [TEST.json] [options]
        salsa-gui --bench-render [--frames N] [--drones N] [--physics box2d|light]
                                                                 frame times at 1920x1080, 1,000 drones (default; up to
                                                                 100,000), 50,000 trees on 2 km x 2 km (grown past 10,000 drones)
+       salsa-gui --bench-replay FOLDER                          replay of a finished test: seek time and playback FPS at 1920x1080
 
 options:
   --plugin-dir DIR     also search DIR for plugins (repeatable, searched first)
   --start              start running at once
   --view LIST          what the view shows, e.g. heat,camera,-trails (camera, obstacle, detection,
                        targets, trails, heat, obstacles, spawn, links, wind; a leading - hides)
-  --select ID          inspect drone ID
-  --mode MODE          start in sandbox, queue, map (the map creator) or tune
+  --select ID          inspect drone ID (with --replay: in the runs replayed)
+  --mode MODE          start in sandbox, queue, map (the map creator), tune or replay
   --queue FILE         open a queue file in queue mode (implies --mode queue)
   --run-queue DIR      run the opened queue into DIR at once
   --yes                allow queues of more than 10,000 tests (open, sweep and run them; salsa run gets --yes)
   --edit-map FILE      open a map file in the map creator (implies --mode map)
+  --replay FOLDER [FOLDER2]
+                       play back a finished test's folder (implies --mode replay); a second folder side by side
+  --seek SECONDS       with --replay: put the playhead there
   --run-tune DIR       tune the sandbox's test with tune mode's settings into DIR at once (implies --mode tune)
   --show-plugins       open the Plugins dialog
   --screenshot FILE    save a screenshot of the window (or, under X, of the screen) after --after seconds, then quit
@@ -73,7 +80,9 @@ int main(int argc, char** argv) {
   }
 
   std::vector<std::filesystem::path> plugin_dirs;
-  std::string test, screenshot, view, mode, queue, run_queue, edit_map, run_tune;
+  std::string test, screenshot, view, mode, queue, run_queue, edit_map, run_tune, bench_replay;
+  std::vector<std::string> replay;
+  std::optional<double> seek;
   bool show_plugins = false, yes = false;
   std::optional<std::uint32_t> select;
   double after = 3;
@@ -107,15 +116,31 @@ int main(int argc, char** argv) {
         return 2;
       }
     } else if (a == "--mode") {
-      mode = value("sandbox, queue, map or tune");
-      if (mode != "sandbox" && mode != "queue" && mode != "map" && mode != "tune") {
-        std::cerr << "salsa-gui: --mode: '" << mode << "' is not a mode (allowed: sandbox, queue, map, tune)\n";
+      mode = value("sandbox, queue, map, tune or replay");
+      if (mode != "sandbox" && mode != "queue" && mode != "map" && mode != "tune" && mode != "replay") {
+        std::cerr << "salsa-gui: --mode: '" << mode << "' is not a mode (allowed: sandbox, queue, map, tune, replay)\n";
         return 2;
       }
     } else if (a == "--queue") {
       queue = value("a queue file");
     } else if (a == "--run-queue") {
       run_queue = value("an output folder");
+    } else if (a == "--replay") {
+      replay = {value("a finished test's folder")};
+      if (i + 1 < args.size() && !args[i + 1].empty() && args[i + 1][0] != '-') replay.push_back(args[++i]);
+    } else if (a == "--seek") {
+      const std::string v = value("seconds");
+      try {
+        seek = std::stod(v);
+      } catch (const std::exception&) {
+        seek = -1;
+      }
+      if (!(*seek >= 0 && std::isfinite(*seek))) {
+        std::cerr << "salsa-gui: --seek: '" << v << "' is out of range (allowed: seconds ≥ 0)\n";
+        return 2;
+      }
+    } else if (a == "--bench-replay") {
+      bench_replay = value("a finished test's folder");
     } else if (a == "--run-tune") {
       run_tune = value("an output folder");
     } else if (a == "--edit-map") {
@@ -173,12 +198,17 @@ int main(int argc, char** argv) {
     }
   }
 
+  if (seek && replay.empty()) {
+    std::cerr << "salsa-gui: --seek goes with --replay\n";
+    return 2;
+  }
   if (bench_only && !bench) {
     std::cerr << "salsa-gui: --frames, --drones and --physics go with --bench-render (a test's own physics is its \"physics\" field)\n";
     return 2;
   }
 
   QApplication app(argc, argv);
+  if (!bench_replay.empty()) return salsa::gui::bench_replay(bench_replay, std::cout);  // no plugin: a recording needs none
   QApplication::setOrganizationName("salsa");
   QApplication::setApplicationName("salsa-gui");
   auto shared_host = std::make_shared<salsa::PluginHost>();
@@ -247,6 +277,20 @@ int main(int argc, char** argv) {
   if (!run_tune.empty() && mode.empty()) mode = "tune";
   if (mode == "tune") window.set_mode(Mode::tune);
   if (!run_tune.empty() && !window.tune_page()->run(QString::fromStdString(run_tune)).empty() && !screenshot.empty()) return 1;
+  if (!replay.empty()) {
+    for (std::size_t k = 0; k < replay.size(); ++k) {
+      salsa::gui::ReplayPage* page = window.replay_page();
+      const QString folder = QString::fromStdString(replay[k]);
+      if (const std::string why = k == 0 ? page->open(folder) : page->compare(folder); !why.empty()) {
+        std::cerr << "salsa-gui: " << why << "\n";  // shown in the window too, which stays up
+        if (!screenshot.empty()) return 2;
+      }
+    }
+    if (seek) window.replay_page()->player().seek(*seek);
+    if (select) window.replay_page()->select(select);
+    if (mode.empty()) mode = "replay";
+  }
+  if (mode == "replay") window.set_mode(Mode::replay);
   if (show_plugins) window.show_plugins();
   if (!screenshot.empty()) {
     QTimer::singleShot(static_cast<int>(after * 1000), &window, [&] {

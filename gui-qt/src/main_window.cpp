@@ -23,6 +23,7 @@
 #include "number_field.hpp"
 #include "plugins.hpp"
 #include "queue_page.hpp"
+#include "replay_page.hpp"
 #include "tune_page.hpp"
 
 namespace salsa::gui {
@@ -63,7 +64,9 @@ const char* const shortcuts[][2] = {
     {"+ / −, wheel", "zoom"},         {"0, F", "fit the map"},          {"drag", "pan"},
     {"click a drone", "inspect it"},  {"Ctrl+O", "open a test"},        {"Ctrl+M", "open a map"},
     {"Ctrl+S", "save as test"},       {"Ctrl+P", "screenshot"},         {"Ctrl+R", "start / stop recording"},
-    {"Ctrl+1 / 2 / 3 / 4", "sandbox / queue / map creator / tune"}, {"F5", "rescan plugin folders"},
+    {"Ctrl+Shift+O", "open results (replay)"},
+    {"Space, Left / Right", "replay: play / pause, frame back / on (the replay page focused)"},
+    {"Ctrl+1 / 2 / 3 / 4 / 5", "sandbox / queue / map creator / tune / replay"}, {"F5", "rescan plugin folders"},
     {"V L P O S B", "map creator: select, line, polygon, hollow, spawn, bounds"},
     {"Ctrl+Z / Ctrl+Shift+Z", "map creator: undo / redo"}, {"Delete / Esc", "map creator: delete the selection / drop the polygon being drawn"},
     {"Ctrl+Q", "quit"},
@@ -104,16 +107,20 @@ MainWindow::MainWindow(std::shared_ptr<const PluginHost> host, std::vector<std::
   connect(map_editor_, &MapEditor::use_in_sandbox, this, [this](const QString& file) {
     if (sandbox_->open_map(file).empty()) set_mode(Mode::sandbox);
   });
+  replay_ = new ReplayPage;
+  connect(replay_, &ReplayPage::message, this, &MainWindow::show_status);
   pages_ = new QStackedWidget;
   pages_->addWidget(sandbox_);
   pages_->addWidget(queue_);
   pages_->addWidget(map_editor_);
   pages_->addWidget(tune_);
+  pages_->addWidget(replay_);
   for (int i = 1; i < pages_->count(); ++i) pages_->widget(i)->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Ignored);
   setCentralWidget(pages_);
   build_docks();
   build_menus();
   restore_settings();
+  replay_->set_view_options(sandbox_->view()->options());
 }
 
 MainWindow::MainWindow(const PluginHost& host, QWidget* parent)
@@ -171,7 +178,7 @@ void MainWindow::set_mode(Mode m) {
   for (QAction* a : sandbox_actions_) a->setEnabled(m == Mode::sandbox);
   sandbox_->set_active(m == Mode::sandbox);  // the sandbox's figures
   mode_actions_[static_cast<std::size_t>(m)]->setChecked(true);
-  static const char* const titles[] = {"salsa — sandbox", "salsa — queue", "salsa — map creator", "salsa — tune"};
+  static const char* const titles[] = {"salsa — sandbox", "salsa — queue", "salsa — map creator", "salsa — tune", "salsa — replay"};
   // Tune mode starts from the sandbox's test the first time it is shown.
   if (m == Mode::tune && tune_->parameters()->rowCount() == 0) tune_->from_sandbox();
   setWindowTitle(titles[static_cast<int>(m)]);
@@ -198,6 +205,15 @@ void MainWindow::build_menus() {
   file->addAction("&Open test…", QKeySequence::Open, this, to_sandbox(&SandboxPage::ask_open_test));
   file->addAction("Open &map…", QKeySequence(Qt::CTRL | Qt::Key_M), this, to_sandbox(&SandboxPage::ask_open_map));
   file->addAction("&Save as test…", QKeySequence::Save, this, to_sandbox(&SandboxPage::ask_save_test));
+  // Replay: a finished test's folder played back (docs/replay.md); opening one switches to replay.
+  file->addAction("Open &results…", QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_O), this, [this] {
+    set_mode(Mode::replay);
+    replay_->ask_open();
+  });
+  file->addAction("&Compare with…", this, [this] {
+    set_mode(Mode::replay);
+    replay_->ask_compare();
+  });
   file->addSeparator();
   file->addAction("Screens&hot…", QKeySequence(Qt::CTRL | Qt::Key_P), this, to_sandbox(&SandboxPage::ask_screenshot));
   record_action_ = file->addAction("Start &recording…", QKeySequence(Qt::CTRL | Qt::Key_R), sandbox_, &SandboxPage::toggle_recording);
@@ -242,16 +258,17 @@ void MainWindow::build_menus() {
       ViewOptions o = sandbox_->view()->options();
       o.*flag = on;
       sandbox_->view()->set_options(o);
+      replay_->set_view_options(o);
     });
     view_toggles_.emplace_back(a, t.flag);
   }
 
-  // Modes: a tool bar of four, Ctrl+1/2/3/4; each keeps its state while the others are shown.
+  // Modes: a tool bar of five, Ctrl+1…5; each keeps its state while the others are shown.
   QToolBar* modes = addToolBar("Mode");
   modes->setObjectName("mode_toolbar");
   modes->setMovable(false);
   auto* group = new QActionGroup(this);
-  const std::pair<const char*, Mode> mode_list[] = {{"Sandbox", Mode::sandbox}, {"Queue", Mode::queue}, {"Map creator", Mode::map_creator}, {"Tune", Mode::tune}};
+  const std::pair<const char*, Mode> mode_list[] = {{"Sandbox", Mode::sandbox}, {"Queue", Mode::queue}, {"Map creator", Mode::map_creator}, {"Tune", Mode::tune}, {"Replay", Mode::replay}};
   for (const auto& [text, m] : mode_list) {
     QAction* a = modes->addAction(text, this, [this, m = m] { set_mode(m); });
     a->setCheckable(true);
@@ -298,6 +315,7 @@ void MainWindow::set_view_options(const ViewOptions& options) {
     action->setChecked(options.*flag);
   }
   sandbox_->view()->set_options(options);
+  replay_->set_view_options(options);
 }
 
 void MainWindow::show_shortcuts() {

@@ -1,7 +1,7 @@
 #pragma once
-// The main window: the shell around four pages that keep their state when you switch (toolbar,
-// Ctrl+1/2/3/4): the sandbox (SandboxPage), queue mode (QueuePage), the map creator (MapEditor) and
-// tune mode (TunePage). It
+// The main window: the shell around five pages that keep their state when you switch (toolbar,
+// Ctrl+1…5): the sandbox (SandboxPage), queue mode (QueuePage), the map creator (MapEditor), tune
+// mode (TunePage) and replay (ReplayPage). It
 // owns the menus, the mode switch, the docks the sandbox's panels sit in, the status bar and the
 // plugin manager; what each page does is in the page.
 #include <QMainWindow>
@@ -23,6 +23,7 @@ class PluginManager;
 class QueuePage;
 class MapEditor;
 class TunePage;
+class ReplayPage;
 
 /// A one-line label that elides what does not fit (the full text in its tooltip), so a long message
 /// never runs into the figures beside it.
@@ -37,7 +38,7 @@ class MainWindow : public QMainWindow {
   explicit MainWindow(const PluginHost& host, QWidget* parent = nullptr);
   ~MainWindow() override;
 
-  enum class Mode { sandbox, queue, map_creator, tune };
+  enum class Mode { sandbox, queue, map_creator, tune, replay };
   void set_mode(Mode mode);
   Mode mode() const { return mode_; }
 
@@ -52,6 +53,7 @@ class MainWindow : public QMainWindow {
   QueuePage* queue_page() const { return queue_; }
   MapEditor* map_editor() const { return map_editor_; }
   TunePage* tune_page() const { return tune_; }
+  ReplayPage* replay_page() const { return replay_; }
   PluginManager* plugins() const { return plugins_; }
   std::shared_ptr<const PluginHost> host() const { return host_; }
   /// The status line's full text (shown elided).
@@ -78,6 +80,7 @@ class MainWindow : public QMainWindow {
   QueuePage* queue_ = nullptr;
   MapEditor* map_editor_ = nullptr;
   TunePage* tune_ = nullptr;
+  ReplayPage* replay_ = nullptr;
   ElidedLabel* status_ = nullptr;
   Mode mode_ = Mode::sandbox;
   std::vector<QAction*> mode_actions_;
