@@ -1,5 +1,6 @@
 // The sandbox view: a fixed scene draws like its golden image (antialiasing aside), clicking a drone
-// selects it, the static layer is cached, and a recording holds one frame per interval of simulated time.
+// selects it, the static layer is cached, moving targets are drawn where they are, and a recording holds
+// one frame per interval of simulated time.
 #include "common.hpp"
 
 #include <QDir>
@@ -159,6 +160,43 @@ class GuiView : public QObject {
     heat->heat = std::make_shared<HeatMap>(*moved->heat);
     draw(*heat, t);
     QCOMPARE(renderer.static_redraws(), std::size_t(3));
+  }
+
+  // Moving targets (Snapshot::targets) are drawn where the snapshot says, frame after frame, not where
+  // the scene placed them, and without redrawing the static layer.
+  void moving_targets_are_drawn_where_they_are() {
+    auto scene = std::make_shared<Scene>();
+    scene->map.bounds = {{0, 0}, {200, 150}};
+    scene->map.spawn = {100, 75};
+    scene->target_radius = 5;
+    scene->targets = {{40, 40}, {160, 110}};  // where they started
+    auto snap = std::make_shared<Snapshot>();
+    snap->scene = scene;
+    snap->found = {1, 0};
+    snap->targets = {{60, 100}, {140, 30}};  // where they are now
+    ViewOptions options;
+    options.trails = false;
+    const QSize size(400, 300);
+    const QTransform t = fit_transform(scene->map.bounds, QSizeF(size));
+    auto colour_at = [&](const QImage& image, Vec2 p) { return QColor(image.pixel(t.map(QPointF(p.x, p.y)).toPoint())); };
+    const QColor found(0x2e, 0x9e, 0x48), unfound(0x9a, 0x9a, 0x9a);
+    FrameRenderer renderer;
+    QImage frame(size, QImage::Format_ARGB32_Premultiplied);
+    for (int k = 0; k < 2; ++k) {
+      {
+        QPainter p(&frame);
+        renderer.draw(p, size, *snap, options, t);
+      }
+      for (const QImage& image : {frame, render_frame(*snap, options, size, t)}) {
+        QCOMPARE(colour_at(image, snap->targets[0]), found);
+        QCOMPARE(colour_at(image, snap->targets[1]), unfound);
+        for (const Vec2 start : scene->targets) QCOMPARE(colour_at(image, start), QColor(0xf4, 0xf1, 0xea));  // the map's background
+      }
+      auto next = std::make_shared<Snapshot>(*snap);  // they walk on
+      for (Vec2& p : next->targets) p += Vec2{15, -10};
+      snap = next;
+    }
+    QCOMPARE(renderer.static_redraws(), std::size_t(1));
   }
 
   // One frame per 0.25 s of simulated time, each of the asked size.

@@ -293,7 +293,7 @@ class TestBadInput : public QObject {
     const QStringList warnings = non_empty_lines(r.err);
     QCOMPARE(warnings.size(), 3);  // one line per refused file
     for (const QString& w : warnings) QVERIFY2(w.startsWith("salsa: warning: plugin " + plugins + "/"), describe(r));
-    QVERIFY2(r.err.contains("libtest_abi99.so skipped: built for salsa ABI 99, this is 10"), describe(r));
+    QVERIFY2(r.err.contains("libtest_abi99.so skipped: built for salsa ABI 99, this is 11"), describe(r));
     QVERIFY2(r.err.contains("notalib.so skipped: not a shared library"), describe(r));
     QVERIFY2(r.err.contains("libtest_noentry.so skipped: no entry point"), describe(r));
     QVERIFY2(QFileInfo(dir.filePath("out/test/config.json")).size() > 0, describe(r));

@@ -153,6 +153,12 @@ class TestSuite : public QObject {
       QVERIFY(read_file(out + "/plots/suite_" + task + ".png").startsWith("\x89PNG"));
     }
     QVERIFY(QString::fromUtf8(read_file(out + "/report.md")).contains("**my_behavior (defaults)**"));
+    // The search task's people walk: its tests' targets.csv says where each was found.
+    const QStringList searched = QDir(out + "/search").entryList(QDir::Dirs | QDir::NoDotAndDotDot);
+    QVERIFY(!searched.isEmpty());
+    for (const QString& test : searched)
+      if (test != "plots")
+        QVERIFY2(read_file(out + "/search/" + test + "/targets.csv").startsWith("id,x,y,found_time,found_by,observations,found_x,found_y\n"), qPrintable(test));
 
     // One difference by hand: forest-health under wind, the behavior against pheromone avoidance.
     const auto summary = csv_rows(out + "/forest-health/summary.csv");

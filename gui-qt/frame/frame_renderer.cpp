@@ -1,4 +1,5 @@
-// A frame: the static layer (cached by the FrameRenderer), then trails, wind, links, ranges, drones, selection, legend.
+// A frame: the static layer (cached by the FrameRenderer), then trails, moving targets, wind, links, ranges, drones,
+// selection, legend.
 #include <QPainter>
 #include <algorithm>
 #include <cstring>
@@ -36,6 +37,7 @@ void draw_dynamic(QPainter& painter, const Snapshot& snap, const ViewOptions& op
   painter.setRenderHint(QPainter::Antialiasing, true);
   const double px = px_per_m(world_to_px);
   if (!trails_drawn && shows_trails(snap, options)) draw_trails(painter, snap, layout, world_to_px, cache);
+  if (options.targets && !snap.targets.empty()) draw_moving_targets(painter, snap, world_to_px);
   if (options.wind && !snap.wind.empty()) draw_wind(painter, snap, world_to_px);
   if (options.links && !snap.links.empty()) draw_links(painter, snap, layout);
   draw_ranges(painter, snap, options, layout, px);
@@ -81,7 +83,7 @@ void FrameRenderer::draw(QPainter& painter, QSize size, const Snapshot& snap, co
     drawn_found_ = snap.found;
     ++static_redraws_;
     ++layer_version_;
-  } else if (found_version_ != snap.found_version && options.targets && snap.scene) {
+  } else if (found_version_ != snap.found_version && options.targets && snap.scene && snap.targets.empty()) {
     // Targets found since: stamped over the layer, not a redraw of 50,000.
     QPainter p(&layer_);
     drawn_found_.resize(snap.found.size(), 0);

@@ -47,6 +47,8 @@ void fill_snapshot(Snapshot& snap, const Simulation& sim, bool wind) {
   snap.status.assign(status.begin(), status.end());
   snap.camera.resize(p.size());
   for (std::uint32_t id = 0; id < p.size(); ++id) snap.camera[id] = sim.camera_works(id) ? 1 : 0;
+  if (sim.targets_move())
+    for (const TargetState& t : sim.targets()) snap.targets.push_back(t.position);
   if (wind) {
     const Rect b = sim.bounds();
     const double t = sim.time();

@@ -21,7 +21,7 @@ namespace salsa::gui {
 struct Scene {
   MapData map;
   std::vector<Vec2> bases;    ///< each group's base (spawn point), in group order
-  std::vector<Vec2> targets;  ///< target positions, by id
+  std::vector<Vec2> targets;  ///< target positions, by id, where they started when they move (Snapshot::targets)
   double target_radius = 0;   ///< m
 };
 
@@ -98,6 +98,9 @@ struct Snapshot {
   std::vector<DroneStatus> status;          ///< by id (empty: all flying)
   std::vector<std::uint8_t> camera;         ///< by id: 1 while its camera works (empty: all work)
   std::vector<std::uint8_t> found;     ///< per target: 1 once found
+  /// Moving targets (Simulation::targets_move): where each is now, by id, drawn over the static layer
+  /// rather than in it; empty: the targets are the scene's, static.
+  std::vector<Vec2> targets;
   std::size_t targets_found = 0;
   std::uint64_t found_version = 0;     ///< changes whenever `found` does (the static layer redraws)
   /// Trails: trail_length samples per drone, drone d's at [d × trail_length, (d + 1) × trail_length),
@@ -133,7 +136,7 @@ struct Snapshot {
 std::shared_ptr<const Scene> scene_of(const Simulation& sim);
 
 /// Fills what `sim` itself shows now into `snap`: step, time, dt, the groups, the drones' positions,
-/// velocities, groups, status and cameras, the wind on a grid (when `wind`: the test has wind) and the
+/// velocities, groups, status and cameras, moving targets' positions, the wind on a grid (when `wind`: the test has wind) and the
 /// messages delivered for the next step (with comm). Its scene, found targets, trails, heat map, stats and
 /// selection are the caller's.
 void fill_snapshot(Snapshot& snap, const Simulation& sim, bool wind);

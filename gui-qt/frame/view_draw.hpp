@@ -85,6 +85,8 @@ struct Visible {
 
 // ---- The static layer (view_static.cpp)
 
+/// Moving targets (Snapshot::targets) where they are now, found ones green; the painter has no transform.
+void draw_moving_targets(QPainter& painter, const Snapshot& snap, const QTransform& world_to_px);
 /// Stamps over a static layer the targets whose found flag in `found` differs from `drawn` (the flags
 /// the layer shows, as long as `found`). The painter has no transform (pixels).
 void draw_found_since(QPainter& painter, const Scene& scene, const std::vector<std::uint8_t>& found,

@@ -1,4 +1,5 @@
-// The static layer: background, heat map, obstacles, bases and targets, drawn again only when they change.
+// The static layer: background, heat map, obstacles, bases and static targets, drawn again only when they
+// change; moving targets, drawn in every frame.
 #include <QPainter>
 #include <algorithm>
 #include <cmath>
@@ -57,18 +58,18 @@ QImage disc(double diameter, const QColor& colour) {
   return image;
 }
 
-/// Targets `which(i)` of `scene`, found ones green and the others grey, those on screen only. The
-/// painter has no transform (pixels).
+/// Targets `which(i)` at `at` (by id) of `radius` m, found ones green and the others grey, those on
+/// screen only. The painter has no transform (pixels).
 template <class Which>
-void draw_targets(QPainter& painter, const Scene& scene, const std::vector<std::uint8_t>& found, const QTransform& world_to_px,
-                  Which which) {
-  const double diameter = std::max(2.0, 2 * scene.target_radius * px_per_m(world_to_px));
+void draw_targets(QPainter& painter, const std::vector<Vec2>& at, double radius, const std::vector<std::uint8_t>& found,
+                  const QTransform& world_to_px, Which which) {
+  const double diameter = std::max(2.0, 2 * radius * px_per_m(world_to_px));
   const QRectF visible = QRectF(painter.viewport()).adjusted(-diameter, -diameter, diameter, diameter);
   const QImage sprites[2] = {disc(diameter, unfound_colour), disc(diameter, found_colour)};
   const double half = sprites[0].width() / 2.0;
-  for (std::size_t i = 0; i < scene.targets.size(); ++i) {
+  for (std::size_t i = 0; i < at.size(); ++i) {
     if (!which(i)) continue;
-    const QPointF p = world_to_px.map(QPointF(scene.targets[i].x, scene.targets[i].y));
+    const QPointF p = world_to_px.map(QPointF(at[i].x, at[i].y));
     if (!visible.contains(p)) continue;
     painter.drawImage(QPointF(p.x() - half, p.y() - half), sprites[i < found.size() && found[i] ? 1 : 0]);
   }
@@ -78,7 +79,12 @@ void draw_targets(QPainter& painter, const Scene& scene, const std::vector<std::
 
 void draw_found_since(QPainter& painter, const Scene& scene, const std::vector<std::uint8_t>& found,
                       const std::vector<std::uint8_t>& drawn, const QTransform& world_to_px) {
-  draw_targets(painter, scene, found, world_to_px, [&](std::size_t i) { return i < found.size() && found[i] != drawn[i]; });
+  draw_targets(painter, scene.targets, scene.target_radius, found, world_to_px,
+               [&](std::size_t i) { return i < found.size() && found[i] != drawn[i]; });
+}
+
+void draw_moving_targets(QPainter& painter, const Snapshot& snap, const QTransform& world_to_px) {
+  draw_targets(painter, snap.targets, snap.scene ? snap.scene->target_radius : 0, snap.found, world_to_px, [](std::size_t) { return true; });
 }
 
 void render_static(QPainter& painter, const Snapshot& snap, const ViewOptions& options, const QTransform& world_to_px) {
@@ -113,9 +119,9 @@ void render_static(QPainter& painter, const Snapshot& snap, const ViewOptions& o
   }
   painter.setPen(QPen(obstacle_line, 2 / px));
   painter.drawRect(bounds);
-  if (options.targets && !scene.targets.empty()) {
+  if (options.targets && !scene.targets.empty() && snap.targets.empty()) {  // moving targets are drawn over the layer
     painter.resetTransform();
-    draw_targets(painter, scene, snap.found, world_to_px, [](std::size_t) { return true; });
+    draw_targets(painter, scene.targets, scene.target_radius, snap.found, world_to_px, [](std::size_t) { return true; });
     painter.setTransform(world_to_px);
   }
   if (options.spawn) {  // each group's base, in its colour when there are several

@@ -143,7 +143,14 @@ void read_drones(TestData& t, const fs::path& file) {
 void read_targets(TestData& t, const fs::path& file) {
   CsvReader in(file);
   const std::size_t c_x = in.column("x"), c_y = in.column("y"), c_found = in.column("found_time");
-  while (in.next()) (in[c_found].empty() ? t.targets_missed : t.targets_found).emplace_back(in.number(c_x), in.number(c_y));
+  // Moving targets: a found one where it was found (where the drones' paths met it), a missed one where it ended.
+  const auto c_found_x = in.find("found_x"), c_found_y = in.find("found_y");
+  const bool moving = c_found_x && c_found_y;
+  while (in.next()) {
+    if (in[c_found].empty()) t.targets_missed.emplace_back(in.number(c_x), in.number(c_y));
+    else if (moving) t.targets_found.emplace_back(in.number(*c_found_x), in.number(*c_found_y));
+    else t.targets_found.emplace_back(in.number(c_x), in.number(c_y));
+  }
 }
 
 Rect data_extent(const TestData& t) {

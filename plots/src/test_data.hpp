@@ -46,7 +46,7 @@ struct TestData {
   std::map<DroneKey, Stop> stops;
   struct Speeds { double time, mean, sd, min, max; };
   std::vector<Speeds> speeds;
-  Points targets_found, targets_missed;            // targets.csv
+  Points targets_found, targets_missed;            // targets.csv: moving targets found where found, missed where they ended
   bool by_group() const { return drone_groups && groups.size() > 1; }
 };
 

@@ -31,7 +31,7 @@ FILES = {
     "outcome.csv": _OUTCOME,
     "drones.csv": {"time": "s", "id": "", "x": "m", "y": "m", "vx": "m/s", "vy": "m/s", "group": "",
                    "status": "", "energy_used_Wh": "Wh", "charging_s": "s"},
-    "targets.csv": {"id": "", "x": "m", "y": "m", "found_time": "s", "found_by": "", "observations": ""},
+    "targets.csv": {"id": "", "x": "m", "y": "m", "found_time": "s", "found_by": "", "observations": "", "found_x": "m", "found_y": "m"},
     "fleet.csv": {"id": "", "group": "", "status": "", "since": "s", "energy_used_Wh": "Wh", "battery_left": "", "charging_s": "s"},
     "timing.csv": {"name": "", "wall_seconds": "s"},
     "queue": {

@@ -26,6 +26,7 @@ class Actions final : public ContactActions {
     if (targets_[target].found()) return;
     targets_[target].found_by = drone;
     targets_[target].found_time = time_;
+    targets_[target].found_position = targets_[target].position;
     ++found_;
   }
   bool is_found(std::uint32_t target) const override { return target < targets_.size() && targets_[target].found(); }

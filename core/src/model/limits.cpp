@@ -150,6 +150,18 @@ Problem check_view_range(const TargetKind& kind, const DroneConfig& drone) {
                             " m (allowed: a finite distance ≥ 0 m)"};
 }
 
+Problem check_target_motion(const TargetKind& kind, double dt) {
+  if (!plugin_call(target_kind, 0, [&] { return kind.moves(); })) return {};
+  const double speed = plugin_call(target_kind, 0, [&] { return kind.max_speed(); });
+  const double radius = plugin_call(target_kind, 0, [&] { return kind.radius(); });
+  if (!(std::isfinite(speed) && speed >= 0)) return {"max_speed", format::figure(speed) + " m/s (allowed: a finite speed ≥ 0 m/s)"};
+  if (speed * dt <= radius) return {};
+  const double most = radius / speed, digits = std::pow(10.0, 3 - std::floor(std::log10(most)));  // 4 figures, rounded down: itself allowed
+  return {"dt", format::figure(dt) + " s lets a target moving at up to " + format::figure(speed) + " m/s go " + format::figure(speed * dt) +
+                    " m in a step, more than its radius " + format::figure(radius) + " m: it could step through a wall (allowed: a time step of at most " +
+                    format::figure(std::floor(most * digits) / digits) + " s, a slower speed or a larger radius)"};
+}
+
 DroneProperties drone_properties(const DroneConfig& d) {
   DroneProperties p;
   p.camera_range = d.camera_range;
@@ -170,6 +182,7 @@ std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, con
   const double radius = plugin_call(target_kind, 0, [&] { return kind.radius(); });
   if (auto p = check_targets({}, 0, radius, map.bounds)) throw std::invalid_argument(p.text());
   if (auto p = check_view_range(kind, drone)) throw std::invalid_argument(p.text());
+  if (auto p = check_target_motion(kind, dt)) throw std::invalid_argument(p.text());
   const StateView view(map, geometry, drone_properties(drone), 0, dt);
   Rng rng(seed, targets_stream);
   std::vector<Vec2> positions = plugin_call(target_kind, 0, [&] { return kind.place(count, view, rng); });

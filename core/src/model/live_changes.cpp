@@ -82,7 +82,7 @@ void Simulation::set_drone_config(const DroneConfig& config, std::uint32_t group
   std::vector<Vec2> points;  // the cameras size the target grid
   points.reserve(targets_.states.size());
   for (const auto& t : targets_.states) points.push_back(t.position);
-  Targets regridded = make_targets(std::move(points), next_groups);
+  Targets regridded = make_targets(std::move(points), next_groups, nullptr, 0);
   // Nothing below throws. A battery keeps its charge as a fraction of the new capacity.
   const double old_capacity = setup_.groups[group].drone.battery_capacity * 3600, capacity = config.battery_capacity * 3600;
   for (std::uint32_t i = 0; i < drones_.positions.size(); ++i) {
@@ -100,6 +100,7 @@ void Simulation::set_drone_config(const DroneConfig& config, std::uint32_t group
   grid_range_ = 0;
   for (const GroupSetup& g : setup_.groups) grid_range_ = std::max(grid_range_, g.drone.detection_range);
   targets_.grid = std::move(regridded.grid);
+  targets_.cell = regridded.cell;
   for (Sensed& d : sensed_) d.reach = -1;  // their lists are in the old grid's order
   physics_->remove_drones_from(0);
   add_bodies();
@@ -111,6 +112,8 @@ void Simulation::set_dt(double dt) {
     if (auto p = check_resolution(setup_.map.bounds, g.drone, dt, setup_.physics)) throw std::invalid_argument("map: " + p.text());
     if (auto p = check_wind(setup_.wind, g.drone, dt)) throw std::invalid_argument(p.text());
   }
+  if (targets_.moving)
+    if (auto p = check_target_motion(*setup_.target_kind, dt)) throw std::invalid_argument("targets: " + p.text());
   dt_base_time_ = time();
   dt_base_steps_ = steps_;
   setup_.dt = dt;
@@ -165,7 +168,7 @@ void Simulation::set_targets(std::shared_ptr<TargetKind> kind, std::size_t count
   std::vector<Group> next_groups;
   for (std::uint32_t g = 0; g < setup_.groups.size(); ++g)
     next_groups.push_back(make_group(setup_.groups[g], groups_[g].base, kind.get(), !positions.empty()));
-  Targets next = make_targets(std::move(positions), next_groups);
+  Targets next = make_targets(std::move(positions), next_groups, kind.get(), setup_.seed);
   reset_handlers(*this);  // what a handler sees of the world (no targets) is as it will be
   // Nothing below throws.
   targets_ = std::move(next);

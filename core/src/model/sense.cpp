@@ -1,6 +1,7 @@
 // Sense: the drone grid, each drone's obstacle rays and the targets in its camera's view.
 #include "salsa/core/model/simulation.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "model/plugin_call.hpp"
@@ -16,20 +17,39 @@ using namespace detail;
 // made, in the grid's order; while the drone stays within the margin of that spot every target within
 // reach is on it (the triangle inequality, with 1 % to spare for rounding), so filtering it gives the
 // grid's answer: the same distances in the same order. At full speed a drone remakes its list about
-// every 30 steps. `Record` is a Simulation::Sensed.
-template <class Record, class Fn>
-void targets_in_reach(const PointGrid& grid, Record& d, Vec2 p, double reach, Fn&& fn) {
+// every 30 steps. Moving targets (rebuilt into the grid every step) may have come closer since: the
+// list then holds while the drone's distance from the spot plus the farthest a target went since
+// (Targets::travel) stays within the margin; it is read at the targets' positions now, in id order
+// (the grid's order changes as they move, and `sighted` needs one order from step to step).
+// `Record` is a Simulation::Sensed, `Targets` Simulation::Targets.
+template <class Record, class Targets, class Fn>
+void targets_in_reach(const Targets& targets, Record& d, Vec2 p, double reach, Fn&& fn) {
   if (!(reach > 0)) return;  // the grid finds nothing closer than 0
   const double margin = reach / 4;
-  if (d.reach != reach || !(distance_squared(p, d.anchor) <= 0.98 * margin * margin)) {
+  const double r2 = reach * reach;
+  if (!targets.moving) {
+    if (d.reach != reach || !(distance_squared(p, d.anchor) <= 0.98 * margin * margin)) {
+      d.anchor = p;
+      d.reach = reach;
+      d.near.clear();
+      targets.grid.query(p, reach + margin, [&](std::uint32_t t, Vec2 at, double) { d.near.push_back({at, t}); });
+    }
+    for (const auto& c : d.near)
+      if (const double d2 = distance_squared(c.at, p); d2 < r2) fn(c.id, c.at, d2);
+    return;
+  }
+  if (d.reach != reach || !(std::sqrt(distance_squared(p, d.anchor)) + (targets.travel - d.travel) <= 0.99 * margin)) {
     d.anchor = p;
     d.reach = reach;
+    d.travel = targets.travel;
     d.near.clear();
-    grid.query(p, reach + margin, [&](std::uint32_t t, Vec2 at, double) { d.near.push_back({at, t}); });
+    targets.grid.query(p, reach + margin, [&](std::uint32_t t, Vec2 at, double) { d.near.push_back({at, t}); });
+    std::sort(d.near.begin(), d.near.end(), [](const auto& a, const auto& b) { return a.id < b.id; });
   }
-  const double r2 = reach * reach;
-  for (const auto& c : d.near)
-    if (const double d2 = distance_squared(c.at, p); d2 < r2) fn(c.id, c.at, d2);
+  for (const auto& c : d.near) {
+    const Vec2 at = targets.positions[c.id];
+    if (const double d2 = distance_squared(at, p); d2 < r2) fn(c.id, at, d2);
+  }
 }
 
 // Sense: index the drones for neighbour queries, cast each flying drone's obstacle rays against static
@@ -88,13 +108,13 @@ void Simulation::sense() {
     };
     if (kind && drones_.fleet.camera[i] && noise.miss > 0) {
       Rng rng = noise_rng(setup_.seed, NoiseStream::misses, steps_, i);  // one draw per target in view, in grid order
-      targets_in_reach(targets_.grid, sensed, p, group.reach, [&](std::uint32_t t, Vec2 at, double d2) {
+      targets_in_reach(targets_, sensed, p, group.reach, [&](std::uint32_t t, Vec2 at, double d2) {
         const double d = std::sqrt(d2);
         if (plugin_call(target_kind, 0, [&] { return kind->in_view(d, cfg.camera_range); }) && !rng.chance(noise.miss))
           sighted(t, at, d);
       });
     } else if (kind && drones_.fleet.camera[i])
-      targets_in_reach(targets_.grid, sensed, p, group.reach, [&](std::uint32_t t, Vec2 at, double d2) {
+      targets_in_reach(targets_, sensed, p, group.reach, [&](std::uint32_t t, Vec2 at, double d2) {
         const double d = std::sqrt(d2);
         if (plugin_call(target_kind, 0, [&] { return kind->in_view(d, cfg.camera_range); })) sighted(t, at, d);
       });

@@ -109,6 +109,7 @@ void Simulation::step() {
     timed(Phase::act, [this] { act(); });  // last step's decisions
     parallel_->overlap(drones_.positions.size(), step_physics, [&] { think(), report(); });
   }
+  if (targets_.moving) timed(Phase::physics, [this] { move_targets(); });  // the targets' step, once nothing reads them
   ++steps_;
   read_back();
   timed(Phase::fleet, [this] { fleet(); });

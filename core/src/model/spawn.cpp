@@ -114,7 +114,7 @@ Simulation::World Simulation::build_world(const SimulationSetup& s, Parallel& pa
                                   " is inside an obstacle or outside the map bounds (it needs a free disc of the drone radius)");
     w.groups.push_back(make_group(g, base, s.target_kind.get(), !targets.empty()));
   }
-  w.targets = make_targets(std::move(targets), w.groups);
+  w.targets = make_targets(std::move(targets), w.groups, s.target_kind.get(), s.seed);
   if (s.physics == PhysicsMode::light) w.physics = std::make_unique<LightWorld>(parallel.arena);
   else w.physics = std::make_unique<PhysicsWorld>(w.geometry);
   w.spawn_rng = Rng(s.seed, spawn_stream);
@@ -159,14 +159,24 @@ Simulation::Drones Simulation::grown(Drones d, std::uint32_t group, std::size_t 
   return d;
 }
 
-Simulation::Targets Simulation::make_targets(std::vector<Vec2> positions, const std::vector<Group>& groups) {
+Simulation::Targets Simulation::make_targets(std::vector<Vec2> positions, const std::vector<Group>& groups, const TargetKind* kind,
+                                             std::uint64_t seed) {
   Targets t;
   double reach = 0;
   for (const Group& g : groups) reach = std::max(reach, g.reach);
   t.states.reserve(positions.size());
   for (Vec2 p : positions) t.states.push_back({p});
   // Cells of the query radius: a query touches 3 × 3 cells whatever the kind's view range.
-  t.grid.build(positions, std::max(reach, 1.0));
+  t.cell = std::max(reach, 1.0);
+  t.grid.build(positions, t.cell);
+  if (kind && !positions.empty() && plugin_call(target_kind, 0, [&] { return kind->moves(); })) {
+    t.moving = true;
+    t.radius = plugin_call(target_kind, 0, [&] { return kind->radius(); });
+    t.max_speed = plugin_call(target_kind, 0, [&] { return kind->max_speed(); });
+    t.velocities.assign(positions.size(), Vec2{});
+    t.positions = std::move(positions);
+    t.rng = Rng(seed, target_motion_stream);
+  }
   return t;
 }
 

@@ -8,8 +8,8 @@
 
 namespace salsa::detail {
 
-// Rng streams: a few fixed ones for set-up, then one per drone.
-constexpr std::uint64_t targets_stream = 1, spawn_stream = 2, first_drone_stream = 16;
+// Rng streams: a few fixed ones for set-up, the wind's gusts and the targets' motion, then one per drone.
+constexpr std::uint64_t targets_stream = 1, spawn_stream = 2, gust_stream = 3, target_motion_stream = 4, first_drone_stream = 16;
 /// A drone's failure draws: Exp(1) for the whole drone, then for its camera, from its own stream.
 constexpr std::uint64_t first_failure_stream = std::uint64_t{1} << 40;
 

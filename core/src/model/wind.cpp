@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "salsa/core/model/simulation.hpp"  // box2d_max_step
+#include "model/streams.hpp"
 
 namespace salsa {
 
@@ -24,11 +25,10 @@ const Schema<Wind>& wind_schema() {
 double wind_limit(const DroneConfig& d, double dt) { return std::min(d.radius, box2d_max_step) / dt - d.max_speed; }
 
 namespace {
-constexpr std::uint64_t gust_stream = 3;  // beside the map (0), targets (1) and spawn (2) streams of simulation.cpp
 Vec2 clamped(Vec2 v, double strength) { return v.clamped(gust_clamp * strength); }
 }  // namespace
 
-Gusts::Gusts(std::uint64_t seed, double strength) : rng_(seed, gust_stream) {
+Gusts::Gusts(std::uint64_t seed, double strength) : rng_(seed, detail::gust_stream) {
   if (strength <= 0) return;
   const double x = rng_.normal();  // x first, in its own statement: the order is not the compiler's
   value_ = clamped({strength * x, strength * rng_.normal()}, strength);

@@ -151,8 +151,10 @@ void write_fleet(const fs::path& file, const Simulation& sim, bool charging) {
   csv.close();
 }
 
+// targets.csv: each target at the end; moving targets (x, y: where they ended) also where they were found.
 void write_targets(const fs::path& file, const Simulation& sim) {
-  CsvWriter csv(file, "id,x,y,found_time,found_by,observations");
+  const bool moving = sim.targets_move();
+  CsvWriter csv(file, moving ? "id,x,y,found_time,found_by,observations,found_x,found_y" : "id,x,y,found_time,found_by,observations");
   const auto& targets = sim.targets();
   for (std::size_t i = 0; i < targets.size(); ++i) {
     const TargetState& t = targets[i];
@@ -160,6 +162,8 @@ void write_targets(const fs::path& file, const Simulation& sim) {
     if (t.found()) csv.field(t.found_time, 4).field(static_cast<std::uint64_t>(t.found_by));
     else csv.empty_field().empty_field();
     csv.field(t.observations);
+    if (moving && t.found()) csv.field(t.found_position.x, 4).field(t.found_position.y, 4);
+    else if (moving) csv.empty_field().empty_field();
     csv.end_row();
   }
   csv.close();

@@ -18,7 +18,8 @@ namespace salsa {
 
 /// One target's state.
 struct TargetState {
-  Vec2 position;                                                 ///< m
+  Vec2 position;                                                 ///< m, now (targets of a kind that moves() move)
+  Vec2 found_position{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};  ///< m, where it was when found; NaN until found
   double found_time = std::numeric_limits<double>::quiet_NaN();  ///< s, end of the step it was seen in; NaN until found
   std::int64_t found_by = -1;                                    ///< drone id, -1 until found
   std::uint64_t observations = 0;  ///< drone-steps during which it was in some drone's view

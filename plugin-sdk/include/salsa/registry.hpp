@@ -19,7 +19,7 @@
 namespace salsa {
 
 /// Bumped whenever a type a plugin sees changes layout or meaning.
-inline constexpr std::uint32_t abi_version = 10;  // 2: metrics, Behavior::senses; 3: Behavior::inspect; 4: Param members, plugin authors' kit; 5: groups, drone status, battery, Behavior::resize; 6: wind fields, Perception::air_velocity, messages (Perception::messages, broadcast, Behavior::message_size), TargetSeen::phantom; 7: Message::offset, range() and bearing() computed when asked; 8: ContactHandler::sightings; 9: Perception::wind; 10: Behavior::shared_state (docs/plugins.md#abi-policy)
+inline constexpr std::uint32_t abi_version = 11;  // 2: metrics, Behavior::senses; 3: Behavior::inspect; 4: Param members, plugin authors' kit; 5: groups, drone status, battery, Behavior::resize; 6: wind fields, Perception::air_velocity, messages (Perception::messages, broadcast, Behavior::message_size), TargetSeen::phantom; 7: Message::offset, range() and bearing() computed when asked; 8: ContactHandler::sightings; 9: Perception::wind; 10: Behavior::shared_state; 11: moving targets (TargetKind::moves, max_speed, move; TargetState::found_position) (docs/plugins.md#abi-policy)
 
 /// Types cross the library boundary (std::string, std::function, vectors), so plugin and host must
 /// agree on the C++ library ABI as well; this tag folds the relevant facts into one number. The loader

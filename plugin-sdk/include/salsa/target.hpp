@@ -1,7 +1,8 @@
 #pragma once
-// Target kinds: what drones search for (trees, people, hot spots). Targets are static points with a
-// radius; they are not physics bodies.
+// Target kinds: what drones search for (trees, people, hot spots). Targets are points with a radius,
+// static unless the kind moves them (people walking); they are not physics bodies.
 #include <cstddef>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -41,6 +42,25 @@ class TargetKind : public Configurable {
       if (world.is_free(p, radius())) out.push_back(p);
     }
     return out;
+  }
+
+  // ---- Moving targets. A kind that moves its targets says so in moves() and moves them in move();
+  // the other two members are then never called.
+  /// Whether the targets move: then the core calls move() once a step, after the drones moved.
+  virtual bool moves() const { return false; }
+  /// The fastest a target moves (m/s, finite, >= 0). The core refuses a move() that went farther in a
+  /// step, and a time step in which a target would move more than its radius (it could step through
+  /// a wall): at most radius() / max_speed() s.
+  virtual double max_speed() const { return 0; }
+  /// One step of `world.dt()` s: each target from `positions[i]` to where it is at the step's end
+  /// (written over it). `velocities[i]` (m/s) is the target's own state: zero before its first step,
+  /// kept between steps as move() left it (its heading when it stops, for instance). A target must stay
+  /// where it is or end on a free point (`world.is_free(p, radius())`: clear of obstacles, inside the
+  /// bounds); the core refuses anything else. `world` holds the map and the time but no drones, and `rng`
+  /// is the targets' own stream: the targets walk the same paths whatever the drones do, so the
+  /// behaviors of a repeat meet the same people in the same places. Found targets move on.
+  virtual void move(std::span<Vec2> positions, std::span<Vec2> velocities, const WorldView& world, Rng& rng) const {
+    (void)positions, (void)velocities, (void)world, (void)rng;
   }
 };
 

@@ -61,10 +61,16 @@ Problem check_targets(std::span<const Vec2> positions, std::size_t count, double
 /// looks for targets (TargetKind::view_range). Field "view_range".
 Problem check_view_range(const TargetKind& kind, const DroneConfig& drone);
 
+/// For a kind that moves its targets (TargetKind::moves): max_speed() finite and >= 0 (field
+/// "max_speed"), and a step of `dt` s short enough that no target moves more than its radius (field
+/// "dt"), so that one that ends a step clear of obstacles cannot have stepped through a wall. Nothing for
+/// a static kind.
+Problem check_target_motion(const TargetKind& kind, double dt);
+
 /// Where a Simulation puts `count` targets of `kind` on `map` at the start: on the map alone, before
 /// any drone is spawned (the kind's WorldView has the drone properties but no drones), with the
 /// targets' own Rng stream of `seed`. Throws what the plugin throws, or std::invalid_argument with
-/// check_targets' or check_view_range's problem.
+/// check_targets', check_view_range's or check_target_motion's problem.
 std::vector<Vec2> initial_targets(const TargetKind& kind, std::size_t count, const MapData& map,
                                   const StaticGeometry& geometry, const DroneConfig& drone, double dt,
                                   std::uint64_t seed);

@@ -178,7 +178,10 @@ class Simulation final : public WorldView {
     return id < drones_.errands.state.size() ? static_cast<Errand>(drones_.errands.state[id]) : Errand::none;
   }
   double charging_time(std::uint32_t id) const { return id < drones_.errands.charging.size() ? drones_.errands.charging[id] : 0.0; }
+  /// Each target's state, its position where it is now (targets of a kind that moves() move every step).
   const std::vector<TargetState>& targets() const { return targets_.states; }
+  /// The targets move: their kind moves() and there are some.
+  bool targets_move() const { return targets_.moving; }
   const Wind& wind() const { return setup_.wind; }
   const std::shared_ptr<WindField>& wind_field_ptr() const { return setup_.wind_field; }
   Vec2 gust() const { return gusts_.value(); }  ///< m/s, the gusts of the next step (the same everywhere)
@@ -256,6 +259,7 @@ class Simulation final : public WorldView {
   bool on_errand(std::uint32_t id) const { return id < drones_.errands.state.size() && drones_.errands.state[id] != 0; }
   void dispatch_sightings();  // detect, part 1
   void dispatch_contacts();   // detect, part 2
+  void move_targets();        // a kind that moves its targets: one step of theirs, after the drones' (move_targets.cpp)
   void observe();
   void run_models(ModelPhase phase);  // the DroneModels of that phase, in setup order
   void comm_changed();  // drones, sizes or the model changed: resize before the next decide, forget inbox()'s grid
@@ -322,7 +326,15 @@ class Simulation final : public WorldView {
   struct Targets {
     std::vector<TargetState> states;
     PointGrid grid;
+    double cell = 1;  ///< m, the grid's cell size
     std::size_t found = 0;
+    /// Moving targets only (TargetKind::moves): their positions (states' copied, for the grid and
+    /// move()), velocities (move()'s state), the seed's motion stream and the farthest any target may
+    /// have gone so far (m, max_speed × time: how much a drone's list of targets in reach may be off).
+    bool moving = false;
+    std::vector<Vec2> positions, velocities, before;
+    Rng rng;
+    double radius = 0, max_speed = 0, travel = 0;
   };
   struct World;  // everything a map change rebuilds
 
@@ -334,7 +346,8 @@ class Simulation final : public WorldView {
   static Group make_group(const GroupSetup& g, Vec2 base, const TargetKind* kind, bool with_targets);
   /// The behavior's message_size(), checked against max_message_size (a PluginFailure naming group g).
   static std::size_t message_size(const Behavior& behavior, std::uint32_t g);
-  static Targets make_targets(std::vector<Vec2> positions, const std::vector<Group>& groups);
+  /// `kind` (may be null) tells whether they move; their motion stream is the seed's.
+  static Targets make_targets(std::vector<Vec2> positions, const std::vector<Group>& groups, const TargetKind* kind, std::uint64_t seed);
   static std::size_t ray_slots(const std::vector<Group>& groups);
   /// Tells the contact handlers the drones or targets were (re)made; `world` is the state from now on.
   void reset_handlers(const WorldView& world) const;
@@ -373,7 +386,8 @@ class Simulation final : public WorldView {
     /// the positions in `seen` of those that were not in view before (Sightings::on_entry).
     std::vector<TargetSeen> seen, before;
     std::vector<std::uint32_t> entered;
-    /// The targets within reach + margin of `anchor`, in the target grid's order (targets_in_reach).
+    /// The targets within reach + margin of `anchor`, in the target grid's order, or by id when they
+    /// move (targets_in_reach); Targets::travel when it was made.
     struct Candidate {
       Vec2 at;
       std::uint32_t id;
@@ -381,6 +395,7 @@ class Simulation final : public WorldView {
     std::vector<Candidate> near;
     Vec2 anchor;
     double reach = -1;  ///< the reach `near` was made for; -1: none
+    double travel = 0;
   };
   std::vector<Sensed> sensed_;  ///< per drone; cleared: whatever is in view next comes into view
   /// Per drone: its false detections of this step, as offsets from its true position (sized only once a
