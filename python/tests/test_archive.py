@@ -62,7 +62,7 @@ def test_h5py_reads_the_hdf5_underneath(folder):
     assert len(drones) == int(((status != 3) & (status != 255)).sum())
 
 
-@pytest.mark.parametrize("engine,module", [(None, "netCDF4"), ("h5netcdf", "h5netcdf")]  # None: xarray's default)
+@pytest.mark.parametrize("engine,module", [(None, "netCDF4"), ("h5netcdf", "h5netcdf")])  # None: xarray's default
 def test_xarray_opens_it(folder, engine, module):
     if importlib.util.find_spec(module) is None:
         pytest.skip(f"{module} is not installed")
