@@ -344,7 +344,7 @@ class TestArchive : public QObject {
 
     const fs::path text = root / "text.nc";
     QVERIFY(write_file(q(text), "time,id,x,y\n"));
-    refused(text, "not a readable netCDF-4 file");
+    refused(text, "not a netCDF file");
     refused(root / "absent.nc", "missing");
 
     const fs::path newer = root / "newer.nc";

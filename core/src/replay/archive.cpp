@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string_view>
 #include <system_error>
 
@@ -366,7 +367,12 @@ struct Reading {
   }
   /// The whole of variable `id` as doubles, its fill value as NaN.
   std::vector<double> values(int id, const std::string& name, std::size_t count) const {
-    std::vector<double> out(count);
+    std::vector<double> out;
+    try {
+      out.resize(count);
+    } catch (const std::exception&) {  // a damaged file's dimensions can claim anything
+      fail("variable " + name + " holds " + std::to_string(count) + " values, more than this machine can hold");
+    }
     if (count == 0) return out;
     check(nc_get_var_double(nc, id, out.data()), "variable " + name);
     double fill = nan;
@@ -384,7 +390,8 @@ void read_archive(const fs::path& file, Recording& into) {
   if (!fs::is_regular_file(file, ec)) r.fail("missing (no such file)");
   if (const int s = nc_open(file.c_str(), NC_NOWRITE, &r.nc); s != NC_NOERR) {
     r.nc = -1;
-    r.fail("not a readable netCDF-4 file: corrupt or truncated (" + std::string(nc_strerror(s)) + ")");
+    if (s == NC_ENOTNC) r.fail("not a netCDF file (a trajectory archive is netCDF-4, written by salsa run --archive)");
+    r.fail("cannot be opened: corrupt or truncated (" + std::string(nc_strerror(s)) + ")");
   }
   int format = 0;
   r.check(nc_inq_format(r.nc, &format), "the file's format");
@@ -438,6 +445,8 @@ void read_archive(const fs::path& file, Recording& into) {
     c.unit = salsa_unit(r.text(id, "units"));
     c.meaning = r.text(id, "long_name");
     c.model = r.text(id, "salsa_model");
+    if (into.drones > 0 && frames > std::numeric_limits<std::size_t>::max() / 2 / into.drones)
+      r.fail("variable " + c.name + " claims " + std::to_string(frames) + " × " + std::to_string(into.drones) + " values, more than any file holds");
     c.values = r.values(id, c.name, frames * into.drones * c.width);
     into.columns.push_back(std::move(c));
   }
