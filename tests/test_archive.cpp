@@ -292,6 +292,10 @@ class TestArchive : public QObject {
     QVERIFY(QFile::exists(dir.filePath("out/p/trajectories.nc")));
     QCOMPARE(read_file(dir.filePath("out/p/config.json")), config);  // an output choice: not in config.json
     const QByteArray archive = read_file(dir.filePath("out/p/trajectories.nc"));
+    // Byte for byte the same from another run, on another thread count.
+    r = run_salsa({"run", "p.json", "--out", "again", "-q", "--no-plots", "--archive", "--threads", "1"}, dir.path());
+    QVERIFY2(r.exit_code == 0, qPrintable(r.err));
+    QCOMPARE(read_file(dir.filePath("again/p/trajectories.nc")), archive);
     r = run_salsa({"run", "p.json", "--out", "out", "-q", "--no-plots", "--resume", "--archive"}, dir.path());
     QVERIFY2(r.exit_code == 0, qPrintable(r.err));
     QCOMPARE(read_file(dir.filePath("out/p/trajectories.nc")), archive);
