@@ -25,6 +25,7 @@ constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 /// removed from frame 1, a "wind" column from frame `wind_from` on (a model that starts later).
 struct Synthetic {
   std::size_t frames = 4, base = 3, grown = 4, grow_at = 2, wind_from = 2;
+  std::size_t hint = 0;  ///< ArchiveProvenance::drones
 
   std::size_t drones(std::size_t f) const { return f >= grow_at ? grown : base; }
   static double time(std::size_t f) { return 0.25 * static_cast<double>(f); }
@@ -46,7 +47,7 @@ struct Synthetic {
 
   /// Writes the run to `file` through ArchiveWriter.
   void write(const fs::path& file) const {
-    salsa::ArchiveWriter w(file, {"synthetic", "9.8.7", "{\"name\": \"synthetic\"}\n", 9007199254740992ULL, 0.125, 0.25, {"scouts", "mappers"}});
+    salsa::ArchiveWriter w(file, {"synthetic", "9.8.7", "{\"name\": \"synthetic\"}\n", 9007199254740992ULL, 0.125, 0.25, {"scouts", "mappers"}, hint});
     for (std::size_t f = 0; f < frames; ++f) {
       const std::size_t n = drones(f);
       std::vector<salsa::Vec2> position(n), velocity(n), wind(n);
@@ -174,7 +175,8 @@ class TestArchive : public QObject {
  private Q_SLOTS:
   void every_column_and_attribute_round_trips() {
     QTemporaryDir dir;
-    for (const Synthetic& s : {Synthetic{}, Synthetic{50, 3000, 3500, 30, 10}}) {  // one chunk; many, growing between them
+    // One chunk; many, growing between them; a few drones growing to many (written before a chunk is full).
+    for (const Synthetic& s : {Synthetic{}, Synthetic{50, 3000, 3500, 30, 10, 3000}, Synthetic{5, 3, 270000, 2, 1, 270000}}) {
       const fs::path file = fs::path(dir.path().toStdString()) / fs::path(std::to_string(s.base)).replace_extension(".nc");
       s.write(file);
       QVERIFY(!fs::exists(fs::path(file) += ".part"));
@@ -189,7 +191,7 @@ class TestArchive : public QObject {
     QTemporaryDir dir;
     const fs::path file = fs::path(dir.path().toStdString()) / "t.nc";
     {
-      salsa::ArchiveWriter w(file, {"t", "1", "{}", 1, 0.1, 0.1, {"swarm"}});
+      salsa::ArchiveWriter w(file, {"t", "1", "{}", 1, 0.1, 0.1, {"swarm"}, 2});
       std::vector<salsa::Vec2> p(2);
       w.frame(0, {StateColumn::of("position", "m", "drone", "where", p)});
     }  // never closed: a crash or a stop

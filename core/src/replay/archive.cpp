@@ -29,6 +29,8 @@ constexpr int deflate_level = 1;
 /// Values per chunk (about 512 KB of doubles): the chunk holds as many frames as make it up.
 constexpr std::size_t chunk_values = 65536;
 constexpr std::size_t max_chunk_frames = 1024;
+/// Drone rows held before they are written, whatever the chunks (about 50 MB with every column).
+constexpr std::size_t max_pending_rows = 4 * chunk_values;
 
 /// The column's type in the file and its fill value, which marks "no value" (a removed drone, a frame
 /// before the column was kept) and reads back as NaN.
@@ -139,7 +141,7 @@ struct ArchiveWriter::Impl {
 
   Var& define(const StateColumn& c, std::size_t drones) {
     if (chunk_drones == 0) {  // the first column fixes the chunks' shape: whole frames while they fit
-      chunk_drones = std::clamp<std::size_t>(drones, 1, chunk_values);
+      chunk_drones = std::clamp<std::size_t>(std::max(drones, provenance.drones), 1, chunk_values);
       chunk_frames = std::clamp<std::size_t>(chunk_values / chunk_drones, 1, max_chunk_frames);
     }
     Var v{std::string(c.name), -1, c.type, c.width, {}};
@@ -177,12 +179,12 @@ struct ArchiveWriter::Impl {
       text(v.id, "flag_meanings", meanings);
     }
     check(nc_enddef(nc), "cannot write the definition of " + v.name);
-    v.pending.assign(pending_values() * v.width, fill_of(c.type));  // the frames pending from before it
+    v.pending.assign(pending_rows() * v.width, fill_of(c.type));  // the frames pending from before it
     return vars.emplace_back(std::move(v));
   }
 
-  /// Values of the frames pending so far (a column first seen now has the fill value in them).
-  std::size_t pending_values() const {
+  /// Drones over the frames pending so far (a column first seen now has the fill value in them).
+  std::size_t pending_rows() const {
     std::size_t n = 0;
     for (const std::size_t r : rows) n += r;
     return n;
@@ -264,7 +266,8 @@ void ArchiveWriter::frame(double time, const std::vector<StateColumn>& columns) 
     if (!seen[k]) m.vars[k].pending.insert(m.vars[k].pending.end(), drones * m.vars[k].width, fill_of(m.vars[k].type));
   m.times.push_back(time);
   m.rows.push_back(drones);
-  if (m.times.size() >= m.chunk_frames) m.flush();
+  // A chunk's frames, or fewer once the drones grew (a timed change) so much that they would fill memory.
+  if (m.times.size() >= m.chunk_frames || m.pending_rows() >= max_pending_rows) m.flush();
 }
 
 void ArchiveWriter::close(const std::vector<TargetState>& targets, double target_radius) {

@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "format.hpp"
+#include "salsa/core/experiments/changes.hpp"
 #include "salsa/core/experiments/test_models.hpp"
 #include "salsa/core/files/map_file.hpp"
 #include "salsa/core/run/metrics.hpp"
@@ -146,9 +147,20 @@ class ArchiveObserver final : public Observer {
 
  private:
   static ArchiveProvenance provenance(const TestSpec& test, const Simulation& sim, const std::string& config) {
-    ArchiveProvenance p{test.name, salsa_version(), config, test.seed, test.dt, test.log_interval, {}};
+    ArchiveProvenance p{test.name, salsa_version(), config, test.seed, test.dt, test.log_interval, {}, most_drones(test)};
     for (const auto& g : sim.setup().groups) p.groups.push_back(g.name);
     return p;
+  }
+  /// The most drone ids the test can have: every timed change that adds drones adds new ids.
+  static std::size_t most_drones(const TestSpec& test) {
+    TestSpec state = test;
+    std::size_t ids = test.drone_total();
+    for (const Change& c : test.changes) {
+      const std::size_t before = state.drone_total();
+      apply_to_test(state, c);
+      ids += state.drone_total() > before ? state.drone_total() - before : 0;
+    }
+    return ids;
   }
   ArchiveWriter archive_;
 };

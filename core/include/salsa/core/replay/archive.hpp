@@ -3,6 +3,7 @@
 // logged time, and the targets, in one compressed netCDF-4 file (HDF5 underneath, CF-1.8 attributes),
 // which xarray, h5py and the netCDF tools open directly (docs/output-format.md, "trajectories.nc").
 // Written here once, read back here once (read_archive, for load_recording).
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -27,6 +28,9 @@ struct ArchiveProvenance {
   std::uint64_t seed = 0;
   double dt = 0, log_interval = 0;  ///< s
   std::vector<std::string> groups;  ///< group names by index
+  /// The most drone ids the run can have (timed changes that add drones included): the chunks are
+  /// shaped for it. More is written correctly, only slower.
+  std::size_t drones = 0;
 };
 
 /// Writes one archive while its test runs: a frame per logged step, the targets at the end. The file
