@@ -1,6 +1,6 @@
 #pragma once
 // The subcommands, one file each: run.cpp, summarize.cpp, validate.cpp, queue_expand.cpp,
-// plugins.cpp (plugins, describe), bench.cpp, plot.cpp, new_plugin.cpp, tune.cpp, suite.cpp. Each takes the arguments
+// plugins.cpp (plugins, describe), bench.cpp, plot.cpp, new_plugin.cpp, tune.cpp, suite.cpp, export.cpp. Each takes the arguments
 // after its name and returns the exit status; bad input throws InputError (main prints it, status 2).
 #include <boost/program_options/variables_map.hpp>
 
@@ -20,6 +20,7 @@ int cmd_plot(int argc, char** argv);
 int cmd_new_plugin(int argc, char** argv);
 int cmd_tune(int argc, char** argv);
 int cmd_suite(int argc, char** argv);
+int cmd_export(int argc, char** argv);
 
 /// salsa bench queue FILE (cli/bench_queue.cpp).
 int bench_queue(const boost::program_options::variables_map& vm, const salsa::PluginHost& host, const std::string& cpu);

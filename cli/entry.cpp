@@ -22,6 +22,7 @@ commands:
   summarize OUT      write OUT/summary.csv (one row per test), comparison and plots from a queue's output folder
   tune FILE          tune a test's parameters (pagmo2, NLopt; racing, held-out validation): tune.csv, best.json
   suite BEHAVIOR     run a behavior on the benchmark suite's tasks and place it among the reference behaviors
+  export FOLDER      share a finished test: --mcap FILE, --html DIR (a web page), --video FILE.mp4
   validate FILE...   check test, queue and map files without running them
   queue expand FILE  print the tests a queue expands to (count, then one line each)
   plugins            list the plugins found, the folders searched and the files refused
@@ -57,6 +58,7 @@ int salsa::cli::run_command(int argc, char** argv) {
   try {
     if (command == "run") return cmd_run(argc - 1, argv + 1);
     if (command == "summarize") return cmd_summarize(argc - 1, argv + 1);
+    if (command == "export") return cmd_export(argc - 1, argv + 1);
     if (command == "validate") return cmd_validate(argc - 1, argv + 1);
     if (command == "queue") return cmd_queue(argc - 1, argv + 1);
     if (command == "plugins") return cmd_plugins(argc - 1, argv + 1);
@@ -66,7 +68,7 @@ int salsa::cli::run_command(int argc, char** argv) {
     if (command == "new-plugin") return cmd_new_plugin(argc - 1, argv + 1);
     if (command == "tune") return cmd_tune(argc - 1, argv + 1);
     if (command == "suite") return cmd_suite(argc - 1, argv + 1);
-    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, tune, suite, summarize, validate, queue, plugins, describe, bench, plot, new-plugin)\n";
+    std::cerr << "salsa: unknown command '" << command << "' (allowed: run, tune, suite, summarize, export, validate, queue, plugins, describe, bench, plot, new-plugin)\n";
     return 2;
   } catch (const po::error& e) {
     std::cerr << "salsa " << command << ": " << e.what() << " (see 'salsa " << command << " --help')\n";

@@ -8,6 +8,7 @@ packages=(
   libbox2d-dev
   libboost-dev libboost-program-options-dev libboost-filesystem-dev
   nlohmann-json3-dev libtbb-dev libssl-dev
+  zlib1g-dev  # salsa export --mcap's checksums
   qt6-base-dev qt6-charts-dev libqt6opengl6-dev libgl-dev
   libopenmpi-dev openmpi-bin
   libpagmo-dev libnlopt-cxx-dev  # salsa tune's algorithms (pagmo2, NLopt)
@@ -32,4 +33,11 @@ fi
 if ! command -v npm > /dev/null; then
   sudo_cmd=(); [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends npm
+fi
+# The independent MCAP reader the tests read salsa export --mcap's files with (@mcap/core, the version in
+# its package-lock.json): installed again only when the lock file changed.
+reader="$(cd "$(dirname "$0")/.." && pwd)/tests/mcap-reader"
+if [ "$reader/package-lock.json" -nt "$reader/node_modules/.package-lock.json" ]; then
+  echo "setup: installing @mcap/core into $reader/node_modules"
+  npm ci --prefix "$reader" --no-audit --no-fund
 fi
