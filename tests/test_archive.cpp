@@ -1,7 +1,8 @@
 // The trajectory archive (trajectories.nc, salsa/core/replay/archive.hpp): every column and attribute
-// round-trips through read_archive, a run's archive agrees with its drones.csv value for value, the
-// choice in the test file and on the command line (and --resume's check of it), and a damaged, newer
-// or incomplete archive is refused with one line naming the file, without writing anything.
+// round-trips through read_archive, a run's archive agrees with its drones.csv value for value (and is
+// what load_recording and salsa export read), the choice in the test file and on the command line (and
+// --resume's check of it), and a damaged, newer or incomplete archive is refused with one line naming
+// the file, without writing anything.
 #include <netcdf.h>
 
 #include <charconv>
@@ -10,6 +11,7 @@
 
 #include "salsa/core/files/input_error.hpp"
 #include "salsa/core/replay/archive.hpp"
+#include "salsa/core/replay/recording.hpp"
 #include "common.hpp"
 
 using namespace salsa_test;
@@ -279,6 +281,33 @@ class TestArchive : public QObject {
       }
     }
     QVERIFY(found > 0);
+
+    // load_recording reads the folder's archive, as read_archive does.
+    const Recording loaded = salsa::load_recording(folder);
+    QCOMPARE(loaded.source, folder / "trajectories.nc");
+    QCOMPARE(loaded.columns.size(), a.columns.size());
+    QCOMPARE(loaded.frames(), a.frames());
+    QCOMPARE(loaded.groups.size(), std::size_t{2});
+
+    // salsa export of a folder whose archive was damaged (the same size, so its manifest passes):
+    // exit 2, one line naming the archive, nothing written into the folder.
+    {
+      std::fstream f(folder / "trajectories.nc", std::ios::in | std::ios::out | std::ios::binary);
+      const auto size = static_cast<std::streamoff>(fs::file_size(folder / "trajectories.nc"));
+      for (std::streamoff at = size / 2; at < size / 2 + 256; ++at) {
+        f.seekg(at);
+        const char c = static_cast<char>(f.get() ^ 0x5a);
+        f.seekp(at);
+        f.put(c);
+      }
+    }
+    const QMap<QString, QByteArray> before = snapshot(q(folder));
+    const CliResult e = run_salsa({"export", "out/rec", "--mcap", "rec.mcap"}, dir.path());
+    QCOMPARE(e.exit_code, 2);
+    QCOMPARE(non_empty_lines(e.err).size(), 1);
+    QVERIFY2(e.err.contains("trajectories.nc: corrupt or truncated"), qPrintable(e.err));
+    QCOMPARE(snapshot(q(folder)), before);
+    QVERIFY(!QFile::exists(dir.filePath("rec.mcap")));
   }
 
   void chosen_in_the_file_or_on_the_command_line() {
