@@ -140,6 +140,19 @@ std::string refusal(const fs::path& file) {
   return {};
 }
 
+/// Flips 256 bytes at 7/8 of an archive, keeping its size: in its compressed data, which the writer
+/// puts after the definitions (the middle of a small archive is HDF5's unused space).
+void flip_data(const fs::path& file) {
+  std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+  const auto size = static_cast<std::streamoff>(fs::file_size(file));
+  for (std::streamoff byte = size / 8 * 7; byte < size / 8 * 7 + 256; ++byte) {
+    f.seekg(byte);
+    const char c = static_cast<char>(f.get() ^ 0x5a);
+    f.seekp(byte);
+    f.put(c);
+  }
+}
+
 void copy_over(const fs::path& from, const fs::path& to) { fs::copy_file(from, to, fs::copy_options::overwrite_existing); }
 
 /// netCDF calls that change an archive for the tests of bad archives.
@@ -291,16 +304,7 @@ class TestArchive : public QObject {
 
     // salsa export of a folder whose archive was damaged (the same size, so its manifest passes):
     // exit 2, one line naming the archive, nothing written into the folder.
-    {
-      std::fstream f(folder / "trajectories.nc", std::ios::in | std::ios::out | std::ios::binary);
-      const auto size = static_cast<std::streamoff>(fs::file_size(folder / "trajectories.nc"));
-      for (std::streamoff at = size / 2; at < size / 2 + 256; ++at) {
-        f.seekg(at);
-        const char c = static_cast<char>(f.get() ^ 0x5a);
-        f.seekp(at);
-        f.put(c);
-      }
-    }
+    flip_data(folder / "trajectories.nc");
     const QMap<QString, QByteArray> before = snapshot(q(folder));
     const CliResult e = run_salsa({"export", "out/rec", "--mcap", "rec.mcap"}, dir.path());
     QCOMPARE(e.exit_code, 2);
@@ -361,15 +365,7 @@ class TestArchive : public QObject {
 
     const fs::path flipped = root / "flipped.nc";
     copy_over(good, flipped);
-    {
-      std::fstream f(flipped, std::ios::in | std::ios::out | std::ios::binary);
-      for (std::size_t at = size / 2; at < size / 2 + 256; ++at) {
-        f.seekg(static_cast<std::streamoff>(at));
-        const char c = static_cast<char>(f.get() ^ 0x5a);
-        f.seekp(static_cast<std::streamoff>(at));
-        f.put(c);
-      }
-    }
+    flip_data(flipped);
     refused(flipped, "corrupt or truncated");
 
     const fs::path truncated = root / "truncated.nc";
