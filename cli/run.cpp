@@ -42,6 +42,7 @@ po::options_description run_options() {
       "log-interval", po::value<std::string>(), "seconds between logged rows (overrides the files)")(
       "threads", po::value<std::string>()->default_value("0"), "threads for each simulation's decide phase (0: all cores; default 1 when tests run side by side)")(
       "no-drones-csv", "do not write drones.csv (it is the largest file)")(
+      "archive", "also write trajectories.nc: every drone state column at every logged step, compressed (netCDF-4)")(
       "drone-columns", po::value<std::string>(), "more columns of drones.csv: drone state columns by name, comma-separated, e.g. battery_left,air_velocity (salsa describe columns)")(
       "resume", "skip tests whose output folder holds the identical finished test")(
       "force", "replace the output folders salsa wrote for these tests")(
@@ -77,6 +78,7 @@ std::vector<TestSpec> load_all(const po::variables_map& vm, const PluginHost& ho
         std::erase_if(t.changes, [&](const Change& c) { return c.time > t.time; });
       }
       if (vm.count("log-interval")) t.log_interval = seconds_option(vm, "log-interval", t);
+      if (vm.count("archive")) t.archive = true;
       if (const auto [it, fresh] = sources.emplace(t.name, t.source); !fresh)
         throw InputError(t.source + ": name: \"" + t.name + "\" is already used by " + it->second);
       all.push_back(std::move(t));

@@ -68,9 +68,10 @@ std::vector<Condition> read_conditions(const json& list, const Reader& r) {
     r.fail("conditions", show(list) + " must be a non-empty list of conditions, e.g. [{\"name\": \"baseline\"}, "
                                       "{\"name\": \"dropout\", \"changes\": [{\"time\": 200, \"set\": {\"drones\": 14}}]}]");
   std::vector<const char*> allowed{"name", "set"};
-  for (const char* key : detail::test_keys())  // the test's own: its name, seed, repeat and provenance are not a condition's
+  // the test's own: its name, seed, repeat, provenance and outputs are not a condition's
+  for (const char* key : detail::test_keys())
     if (std::string_view(key) != "name" && std::string_view(key) != "seed" && std::string_view(key) != "repeat" &&
-        std::string_view(key) != "condition" && std::string_view(key) != "versions")
+        std::string_view(key) != "condition" && std::string_view(key) != "versions" && std::string_view(key) != "archive")
       allowed.push_back(key);
   allowed.push_back("label");
   std::vector<Condition> out;

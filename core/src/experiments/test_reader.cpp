@@ -21,7 +21,7 @@ std::vector<const char*> test_keys() {
   for (const TestModel& m : test_models())
     if (m.section) keys.push_back(m.key.c_str());
   for (const char* k : {"map", "spawn", "targets", "contact_handlers", "metrics", "time", "dt", "log_interval", "velocity_iterations",
-                        "position_iterations", "decision_lag", "physics", "seed", "repeat", "changes", "condition", "versions"})
+                        "position_iterations", "decision_lag", "physics", "seed", "repeat", "changes", "condition", "versions", "archive"})
     keys.push_back(k);
   return keys;
 }
@@ -337,6 +337,10 @@ TestSpec parse_test(const json& j, const Reader& r, const PluginHost& host) {
     if (p == "box2d") t.physics = PhysicsMode::box2d;
     else if (p == "light") t.physics = PhysicsMode::light;
     else r.fail("physics", show(p) + " is not a physics (allowed: box2d, light)");
+  }
+  if (j.contains("archive")) {
+    if (!j["archive"].is_boolean()) r.fail("archive", show(j["archive"]) + " is not true or false");
+    t.archive = j["archive"].get<bool>();
   }
   if (j.contains("repeat")) t.repeat = r.integer(j["repeat"], "repeat", 0, 1'000'000);
   if (j.contains("condition")) {

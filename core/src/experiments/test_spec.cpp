@@ -85,7 +85,7 @@ std::size_t content_hash(const TestSpec& t) {
 std::optional<std::pair<std::size_t, std::size_t>> first_same_test(const std::vector<const TestSpec*>& tests) {
   auto same = [](const TestSpec& a, const TestSpec& b) {
     TestSpec x = a;
-    x.name = b.name, x.source = b.source, x.seed_given = b.seed_given;
+    x.name = b.name, x.source = b.source, x.seed_given = b.seed_given, x.archive = b.archive;
     return x == b;
   };
   std::unordered_multimap<std::size_t, std::size_t> seen;

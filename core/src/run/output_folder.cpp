@@ -19,6 +19,7 @@
 #include "salsa/core/files/names.hpp"
 #include "salsa/core/experiments/test_models.hpp"
 #include "salsa/core/model/simulation.hpp"
+#include "salsa/core/replay/archive.hpp"
 
 namespace salsa {
 
@@ -182,7 +183,7 @@ std::string refusal(const TestSpec& test, const std::string& config, const RunOp
     const std::string diff = resume_difference(folder, config);
     if (diff.empty()) {
       // The same test: kept when its data is whole, rerun (replaced) when salsa wrote it.
-      const std::string missing = data_problem(folder, options.drones_csv, options.drone_columns);
+      const std::string missing = data_problem(folder, options.drones_csv, options.drone_columns, test.archive);
       if (missing.empty()) return {};
       if (ours) return replaced();
       return missing + "; --resume would rerun the test, but " + replace;
@@ -241,7 +242,7 @@ void record_failure(const fs::path& out, const std::string& name, const std::str
 bool already_done(const TestSpec& test, const PluginHost& host, const RunOptions& options) {
   const fs::path folder = options.out / test.name;
   return options.resume && test_name_problem(test.name).empty() && exists_at_all(folder / "config.json") &&
-         resume_difference(folder, test_config(test, host)).empty() && data_problem(folder, options.drones_csv, options.drone_columns).empty();
+         resume_difference(folder, test_config(test, host)).empty() && data_problem(folder, options.drones_csv, options.drone_columns, test.archive).empty();
 }
 
 // ---- Locks, nesting and what a finished test holds
@@ -517,12 +518,12 @@ std::string lacking_columns(const fs::path& drones, const std::vector<std::strin
   return lacking;
 }
 
-std::string data_problem_at(const fs::path& folder, bool drones_wanted);
+std::string data_problem_at(const fs::path& folder, bool drones_wanted, bool archive_wanted);
 
 }  // namespace
 
-std::string data_problem(const fs::path& folder, bool drones_wanted, const std::vector<std::string>& drone_columns) {
-  if (std::string problem = data_problem_at(folder, drones_wanted); !problem.empty()) return problem;
+std::string data_problem(const fs::path& folder, bool drones_wanted, const std::vector<std::string>& drone_columns, bool archive_wanted) {
+  if (std::string problem = data_problem_at(folder, drones_wanted, archive_wanted); !problem.empty()) return problem;
   if (drones_wanted && !drone_columns.empty())
     if (const std::string lacking = lacking_columns(folder / "drones.csv", drone_columns); !lacking.empty())
       return (folder / "drones.csv").string() + " lacks " + lacking + " (asked for by --drone-columns)";
@@ -531,7 +532,7 @@ std::string data_problem(const fs::path& folder, bool drones_wanted, const std::
 
 namespace {
 
-std::string data_problem_at(const fs::path& folder, bool drones_wanted) {
+std::string data_problem_at(const fs::path& folder, bool drones_wanted, bool archive_wanted) {
   std::error_code ec;
   const fs::path manifest = folder / manifest_name;
   json files;
@@ -553,11 +554,14 @@ std::string data_problem_at(const fs::path& folder, bool drones_wanted) {
     }
     if (drones_wanted && !files.contains("drones.csv"))
       return folder.string() + ": was run with --no-drones-csv and drones.csv is wanted now";
+    if (archive_wanted && !files.contains(archive_name))
+      return folder.string() + ": was run without the archive and " + archive_name + " is wanted now";
     return {};
   }
   // A folder from before manifests: the data files must be there and hold their header at least.
   std::vector<std::string> wanted{"map.json", "summary.csv", "targets.csv", "outcome.csv"};
   if (drones_wanted) wanted.push_back("drones.csv");
+  if (archive_wanted) wanted.push_back(archive_name);
   for (const auto& name : wanted) {
     const fs::path file = folder / name;
     if (!fs::is_regular_file(fs::symlink_status(file, ec))) return file.string() + " is missing";

@@ -20,12 +20,14 @@
 #include <sstream>
 
 #include "format.hpp"
+#include "salsa/core/experiments/changes.hpp"
 #include "salsa/core/experiments/test_models.hpp"
 #include "salsa/core/files/map_file.hpp"
 #include "salsa/core/run/metrics.hpp"
 #include "salsa/core/run/session.hpp"
 #include "salsa/core/files/names.hpp"
 #include "salsa/core/run/output_folder.hpp"
+#include "salsa/core/replay/archive.hpp"
 #include "run/running_notes.hpp"
 
 namespace salsa {
@@ -130,6 +132,37 @@ class DroneObserver final : public Observer {
   bool fleet_, charging_;  ///< charging: return to base's time charged (s) after the energy
   std::vector<std::string> columns_;
   std::vector<std::size_t> widths_;
+};
+
+// trajectories.nc: every state column the simulation keeps, at every logged step.
+class ArchiveObserver final : public Observer {
+ public:
+  ArchiveObserver(const fs::path& file, const TestSpec& test, const Simulation& sim, const std::string& config)
+      : archive_(file, provenance(test, sim, config)) {}
+  void observe(const Simulation& sim) override { archive_.frame(sim.time(), sim.columns()); }
+  void close(const Simulation& sim) {
+    const auto& kind = sim.setup().target_kind;
+    archive_.close(sim.targets(), kind ? kind->radius() : 0);
+  }
+
+ private:
+  static ArchiveProvenance provenance(const TestSpec& test, const Simulation& sim, const std::string& config) {
+    ArchiveProvenance p{test.name, salsa_version(), config, test.seed, test.dt, test.log_interval, {}, most_drones(test)};
+    for (const auto& g : sim.setup().groups) p.groups.push_back(g.name);
+    return p;
+  }
+  /// The most drone ids the test can have: every timed change that adds drones adds new ids.
+  static std::size_t most_drones(const TestSpec& test) {
+    TestSpec state = test;
+    std::size_t ids = test.drone_total();
+    for (const Change& c : test.changes) {
+      const std::size_t before = state.drone_total();
+      apply_to_test(state, c);
+      ids += state.drone_total() > before ? state.drone_total() - before : 0;
+    }
+    return ids;
+  }
+  ArchiveWriter archive_;
 };
 
 // fleet.csv: each drone at the end, removed ones too: its status, since when, energy and battery.
@@ -243,14 +276,26 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     SummaryObserver summary(work / "summary.csv", session->metrics(), *session);
     std::optional<DroneObserver> drones;
     if (options.drones_csv) drones.emplace(work / "drones.csv", test.fleet(), test.return_to_base(), options.drone_columns);
+    std::optional<ArchiveObserver> archive;
+    try {
+      if (test.archive) archive.emplace(work / archive_name, test, sim, config);
+    } catch (const WriteError& e) {
+      throw write_failed(e);
+    }
     session->add_observer(&summary);
     if (drones) session->add_observer(&*drones);
+    if (archive) session->add_observer(&*archive);
     try {
       summary.observe(sim);  // time 0
     } catch (const MetricFailure& e) {
       throw failed(where + ": " + e.what() + rows_so_far);
     }
     if (drones) drones->observe(sim);
+    try {
+      if (archive) archive->observe(sim);
+    } catch (const WriteError& e) {
+      throw write_failed(e);
+    }
     const auto stepping = std::chrono::steady_clock::now();
     try {
       while (!session->finished()) {
@@ -282,6 +327,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     try {
       summary.close();
       if (drones) drones->close();
+      if (archive) archive->close(sim);
       write_targets(work / "targets.csv", sim);
       if (test.fleet()) write_fleet(work / "fleet.csv", sim, test.return_to_base());
       const ModelOutputs outputs(test);

@@ -80,6 +80,9 @@ struct TestSpec {
   /// changes from the queue's base in words ("drones → 14 at 200 s"). Labels for the summary and the
   /// plots: the run never reads them. Empty: none (config.json then has no "condition").
   std::string condition, condition_label;
+  /// "archive": also write the trajectory archive, trajectories.nc (salsa/core/replay/archive.hpp). An
+  /// output choice, like drones.csv: not in config.json, the seed or what makes two tests the same.
+  bool archive = false;
 
   std::size_t steps() const;
   std::size_t log_every() const;

@@ -122,10 +122,11 @@ std::string nested_results(const std::filesystem::path& folder);
 void write_manifest(const std::filesystem::path& work, const std::string& config);
 
 /// Why a finished test's folder does not hold its whole data ("" when it does): a file its manifest
-/// lists is missing or of another size, drones.csv is wanted and was not written; for a folder
-/// without a manifest, a data file missing or empty.
+/// lists is missing or of another size, drones.csv or the archive (trajectories.nc) is wanted and was
+/// not written; for a folder without a manifest, a data file missing or empty.
 /// With `drone_columns` (RunOptions::drone_columns), drones.csv must also hold those columns.
-std::string data_problem(const std::filesystem::path& folder, bool drones_wanted, const std::vector<std::string>& drone_columns = {});
+std::string data_problem(const std::filesystem::path& folder, bool drones_wanted, const std::vector<std::string>& drone_columns = {},
+                         bool archive_wanted = false);
 /// drones.csv's header for the state columns `names`: a vector's as <name>_x, <name>_y.
 std::vector<std::string> drone_column_headers(const std::vector<std::string>& names);
 
