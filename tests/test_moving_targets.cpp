@@ -113,8 +113,8 @@ class TestMovingTargets : public QObject {
     QVERIFY2(stayed * 100 < moved, qPrintable(QString("%1 of %2 walker-steps blocked").arg(stayed).arg(stayed + moved)));
     double straight = 0;
     for (std::size_t i = 0; i < start.size(); ++i) straight += salsa::distance(start[i], sim.targets()[i].position);
-    QVERIFY2(straight / start.size() < 0.8 * speed * 60, "walkers go straight: their heading does not wander");
-    QVERIFY2(straight / start.size() > 0.05 * speed * 60, "walkers stay where they were");
+    QVERIFY2(straight / static_cast<double>(start.size()) < 0.8 * speed * 60, "walkers go straight: their heading does not wander");
+    QVERIFY2(straight / static_cast<double>(start.size()) > 0.05 * speed * 60, "walkers stay where they were");
   }
 
   // The paths come from the seed alone: other behaviors and swarm sizes (which find other walkers at

@@ -44,6 +44,9 @@ class TestRecording : public QObject {
     QCOMPARE(rec.groups[0].name, std::string("surveyors"));
     QCOMPARE(rec.groups[0].radius, 2.5);
     QCOMPARE(rec.groups[0].base.x, 40.0);
+    // The inspectors start around the map's own spawn (the forest's centre, 250, 250), which map.json does
+    // not keep when the first group has a point of its own: their start gives it.
+    QVERIFY2(salsa::distance(rec.groups[1].base, {250, 250}) < 1, qPrintable(QString("%1, %2").arg(rec.groups[1].base.x).arg(rec.groups[1].base.y)));
     QCOMPARE(rec.drones, std::size_t{18});
     QCOMPARE(rec.frames(), std::size_t{21});  // 0, 1, …, 20 s
     QCOMPARE(rec.times.front(), 0.0);

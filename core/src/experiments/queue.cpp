@@ -94,7 +94,7 @@ void multiply(const Sweep& sweep, const Reader& r, Visit visit) {
           for (const Point& st : sets)
             for (const Condition& c : sweep.conditions)
             for (const Point& b : behaviors) {
-              Swept t{sweep.base, prefix, ""};
+              Swept t{sweep.base, prefix, "", "", ""};
               for (const Point* p : {&b, &n, &tg, &m, &dc}) {
                 for (const auto& [key, value] : p->set.items()) {
                   if (key == "targets" && value.size() == 1 && value.contains("count") && t.test.contains("targets") && t.test["targets"].is_object())

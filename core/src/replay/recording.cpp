@@ -76,11 +76,12 @@ std::vector<RecordedGroup> read_groups(const json& config, Vec2 map_spawn, std::
     r.camera_range = number_or(drone, "camera_range", 0);
     r.detection_range = number_or(drone, "detection_range", 0);
     r.obstacle_range = number_or(drone, "obstacle_range", 0);
-    r.base = map_spawn;
+    r.base = {nan, nan};  // the map's spawn: known only when the first group has it too (map.json's spawn is the first group's base)
     if (g.contains("spawn") && g["spawn"].is_object() && g["spawn"].contains("point")) {
       const json& p = g["spawn"]["point"];
       if (p.is_array() && p.size() == 2 && p[0].is_number() && p[1].is_number()) r.base = {p[0].get<double>(), p[1].get<double>()};
     }
+    if (groups.empty() && std::isnan(r.base.x)) r.base = map_spawn;
     counts.push_back(static_cast<std::size_t>(std::max(0.0, number_or(g, "drones", 0))));
     groups.push_back(std::move(r));
   };
@@ -292,6 +293,23 @@ Recording load_recording(const fs::path& folder) {
   } else {
     throw InputError(shown(folder) + ": has neither " + archive_name + " nor drones.csv (run it again with --archive, or without --no-drones-csv)");
   }
+  // A group started around the map's own spawn while the first group had a point of its own: the
+  // map's spawn is not in the folder, so its base is where its drones were at time 0 (the disc's centre).
+  std::map<std::size_t, std::pair<Vec2, double>> starts;
+  if (const RecordedColumn* group = r.column("group"); group && r.frames() > 0)
+    for (std::size_t id = 0; id < r.drones; ++id) {
+      const double g = r.at(*group, 0, id);
+      const Vec2 p = r.position(0, id);
+      if (std::isnan(g) || std::isnan(p.x)) continue;
+      auto& [sum, n] = starts[static_cast<std::size_t>(g)];
+      sum = sum + p, n += 1;
+    }
+  for (std::size_t g = 0; g < r.groups.size(); ++g)
+    if (std::isnan(r.groups[g].base.x)) {
+      const auto it = starts.find(g);
+      r.groups[g].base = it == starts.end() ? r.map.spawn : it->second.first / it->second.second;
+    }
+
   return r;
 }
 
