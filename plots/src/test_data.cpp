@@ -6,6 +6,7 @@
 
 #include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/core/files/csv_reader.hpp"
+#include "salsa/core/files/map_file.hpp"
 #include "strict_json.hpp"
 #include "plot_helpers.hpp"
 #include "test_data.hpp"
@@ -27,31 +28,14 @@ MapShape read_map(const fs::path& folder, const json& config) {
     file = config["map"]["file"].get<std::string>();
     if (!fs::exists(file, ec)) return m;
   }
-  const json j = read_json(file, "a map file (see docs/maps.md)");
-  const std::string name = name_of(file);
-  auto point = [&](const json& p, const std::string& at) {
-    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
-      throw InputError(name + ": " + at + ": " + strict_json::shown(p) + " is not a point [x, y]");
-    return QPointF(p[0].get<double>(), p[1].get<double>());
-  };
-  if (!j.is_object() || !j.contains("bounds") || !j["bounds"].is_object() || !j["bounds"].contains("min") || !j["bounds"].contains("max"))
-    throw InputError(name + ": bounds: missing (a map file has {\"bounds\": {\"min\": [x, y], \"max\": [x, y]}})");
-  const QPointF lo = point(j["bounds"]["min"], "bounds.min"), hi = point(j["bounds"]["max"], "bounds.max");
-  if (!(hi.x() > lo.x() && hi.y() > lo.y()))
-    throw InputError(name + ": bounds.max: " + strict_json::shown(j["bounds"]["max"]) + " must be greater than bounds.min " + strict_json::shown(j["bounds"]["min"]));
-  m.bounds = Rect{lo.x(), lo.y(), hi.x(), hi.y()};
-  for (auto [key, into] : {std::pair{"obstacles", &m.solid}, std::pair{"hollow", &m.hollow}, std::pair{"lines", &m.lines}}) {
-    if (!j.contains(key)) continue;
-    if (!j[key].is_array()) throw InputError(name + ": " + key + ": " + strict_json::shown(j[key]) + " is not a list of point lists");
-    for (std::size_t i = 0; i < j[key].size(); ++i) {
-      const json& shape = j[key][i];
-      const std::string at = std::string(key) + "[" + std::to_string(i) + "]";
-      if (!shape.is_array()) throw InputError(name + ": " + at + ": " + strict_json::shown(shape) + " is not a list of points");
+  const MapData map = read_map_file(file);
+  m.bounds = Rect{map.bounds.min.x, map.bounds.min.y, map.bounds.max.x, map.bounds.max.y};
+  for (auto [from, into] : {std::pair{&map.obstacles, &m.solid}, std::pair{&map.hollow, &m.hollow}, std::pair{&map.lines, &m.lines}})
+    for (const Polyline& line : *from) {
       QPolygonF poly;
-      for (std::size_t k = 0; k < shape.size(); ++k) poly << point(shape[k], at + "[" + std::to_string(k) + "]");
+      for (Vec2 p : line) poly << QPointF(p.x, p.y);
       into->push_back(poly);
     }
-  }
   return m;
 }
 
