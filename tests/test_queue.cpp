@@ -505,7 +505,7 @@ class TestQueue : public QObject {
     QTest::newRow("targets count") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "targets": [10, -1]}})")
                                    << QStringList{"q.json: sweep.targets[1]: -1 is out of range (allowed: whole number in [0, 10000000])"};
     QTest::newRow("target kind") << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "targets": [{"kind": "rock", "count": 3}]}})")
-                                 << QStringList{"q.json: sweep.targets[0].kind: unknown target 'rock' (known: tree)"};
+                                 << QStringList{"q.json: sweep.targets[0].kind: unknown target 'rock' (known: tree, walker)"};
     QTest::newRow("drone configuration")
         << QByteArray(R"({"sweep": {"behaviors": ["flocking"], "drone": ["small", {"name": "x", "max_speed": 5000}]}})")
         << QStringList{"q.json: sweep.drone[1].max_speed: 5000 is out of range (allowed: [0.001, 1000] m/s)"};
