@@ -115,7 +115,9 @@ int cmd_describe(int argc, char** argv) {
   }
   if (name == "columns") {  // the drones' state by name: what --drone-columns and the Python package read
     std::cout << "columns: each drone's state, one column per quantity, kept by the model named (the wind's once a test\n"
-                 "has had wind). salsa run --drone-columns NAME,... adds them to drones.csv (a vector as NAME_x, NAME_y).\n\n";
+                 "has had wind). salsa run --drone-columns NAME,... adds them to drones.csv (a vector as NAME_x, NAME_y)\n"
+                 "and to trajectories.nc (--archive), which holds position, velocity, group, status, status_since, camera_works,\n"
+                 "energy_used, battery_left, errand and charging_time without them.\n\n";
     std::cout << "  " << std::left << std::setw(26) << "COLUMN" << std::setw(8) << "UNIT" << std::setw(10) << "MODEL" << std::setw(9) << "VALUES" << "MEANING\n";
     for (const StateColumn& c : declared_drone_columns()) {
       const char* type = c.type == StateColumn::Type::f64 ? (c.width == 2 ? "2 x f64" : "f64") : c.type == StateColumn::Type::u32 ? "u32" : "u8";

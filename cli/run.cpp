@@ -42,8 +42,8 @@ po::options_description run_options() {
       "log-interval", po::value<std::string>(), "seconds between logged rows (overrides the files)")(
       "threads", po::value<std::string>()->default_value("0"), "threads for each simulation's decide phase (0: all cores; default 1 when tests run side by side)")(
       "no-drones-csv", "do not write drones.csv (it is the largest file)")(
-      "archive", "also write trajectories.nc: every drone state column at every logged step, compressed (netCDF-4)")(
-      "drone-columns", po::value<std::string>(), "more columns of drones.csv: drone state columns by name, comma-separated, e.g. battery_left,air_velocity (salsa describe columns)")(
+      "archive", "also write trajectories.nc: the drones' positions, velocities, groups, status, energy and battery (and --drone-columns) at every logged step, compressed (netCDF-4)")(
+      "drone-columns", po::value<std::string>(), "more columns of drones.csv and trajectories.nc: drone state columns by name, comma-separated, e.g. steering,air_velocity (salsa describe columns)")(
       "resume", "skip tests whose output folder holds the identical finished test")(
       "force", "replace the output folders salsa wrote for these tests")(
       "isolate", "run each test in its own process: a crashing plugin fails that test only")(
@@ -117,7 +117,8 @@ int cmd_run(int argc, char** argv) {
   options.threads = static_cast<int>(whole_option(vm, "threads", 1024, "; 0 means all cores"));
   options.drones_csv = !vm.count("no-drones-csv");
   if (vm.count("drone-columns")) {
-    if (!options.drones_csv) throw InputError("--drone-columns: not with --no-drones-csv (they are columns of drones.csv)");
+    if (!options.drones_csv && !vm.count("archive"))
+      throw InputError("--drone-columns: not with --no-drones-csv unless --archive (they are columns of drones.csv and trajectories.nc)");
     std::stringstream list(vm["drone-columns"].as<std::string>());
     for (std::string name; std::getline(list, name, ',');) options.drone_columns.push_back(name);
     if (const std::string why = drone_columns_problem(options.drone_columns); !why.empty()) throw InputError("--drone-columns: " + why);

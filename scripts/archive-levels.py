@@ -10,6 +10,7 @@ import time
 import netCDF4
 
 source = netCDF4.Dataset(sys.argv[1])
+source.set_auto_maskandscale(False)  # the stored values: packed millimetres stay integers
 columns = [v for v in source.variables.values() if "salsa_model" in v.ncattrs()]
 values = {v.name: v[...] for v in columns}
 print(f"{len(columns)} columns, {sum(a.nbytes for a in values.values())} bytes of values")
@@ -18,6 +19,7 @@ for level in [int(a) for a in sys.argv[2:]] or [1, 2, 4, 6, 9]:
         file = os.path.join(folder, "levels.nc")
         start = time.perf_counter()
         out = netCDF4.Dataset(file, "w")
+        out.set_auto_maskandscale(False)
         for name, size in source.dimensions.items():
             out.createDimension(name, None if size.isunlimited() else len(size))
         for v in columns:

@@ -1,5 +1,6 @@
 // The trajectory archive (trajectories.nc, salsa/core/replay/archive.hpp): every column and attribute
-// round-trips through read_archive, a run's archive agrees with its drones.csv value for value (and is
+// round-trips through read_archive (lengths and speeds to the millimetre, the rest exactly), a run's
+// archive holds the columns it should and agrees with its drones.csv value for value (and is
 // what load_recording and salsa export read), the choice in the test file and on the command line (and
 // --resume's check of it), and a damaged, newer or incomplete archive is refused with one line naming
 // the file, without writing anything.
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "salsa/core/files/csv_writer.hpp"  // WriteError
 #include "salsa/core/files/input_error.hpp"
 #include "salsa/core/replay/archive.hpp"
 #include "salsa/core/replay/recording.hpp"
@@ -40,11 +42,13 @@ struct Synthetic {
     if (c == "rate") return 1.0 / (3.0 + fi + ii);
     return (1 + kk) * (std::sqrt(2.0) * fi + ii / 7.0) + (c == "velocity" ? 0.1 : c == "wind" ? 100 : c == "energy" ? 1e6 : 0);
   }
-  /// What read_archive gives: the value, its status for a removed drone, NaN where there is none.
+  /// What read_archive gives: the value (a length or speed in whole millimetres), its status for a
+  /// removed drone, NaN where there is none.
   double expected(const std::string& c, std::size_t f, std::size_t i, std::size_t k) const {
     if (i >= drones(f) || (c == "wind" && f < wind_from)) return nan;
     if (removed(f, i)) return c == "status" ? 3 : nan;
-    return value(c, f, i, k);
+    const bool packed = c == "position" || c == "velocity" || c == "wind";
+    return packed ? std::nearbyint(value(c, f, i, k) / 1e-3) * 1e-3 : value(c, f, i, k);
   }
 
   /// Writes the run to `file` through ArchiveWriter.
@@ -140,20 +144,35 @@ std::string refusal(const fs::path& file) {
   return {};
 }
 
-/// Flips 256 bytes at 7/8 of an archive, keeping its size: in its compressed data, which the writer
-/// puts after the definitions (the middle of a small archive is HDF5's unused space).
+/// Flips 64 bytes at each sixteenth of an archive's second half, keeping its size: some land in its
+/// compressed data, which the writer puts after the definitions, wherever the variables' chunks lie.
 void flip_data(const fs::path& file) {
   std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
   const auto size = static_cast<std::streamoff>(fs::file_size(file));
-  for (std::streamoff byte = size / 8 * 7; byte < size / 8 * 7 + 256; ++byte) {
-    f.seekg(byte);
-    const char c = static_cast<char>(f.get() ^ 0x5a);
-    f.seekp(byte);
-    f.put(c);
-  }
+  for (std::streamoff at = 8; at < 16; ++at)
+    for (std::streamoff byte = size * at / 16; byte < size * at / 16 + 64 && byte < size; ++byte) {
+      f.seekg(byte);
+      const char c = static_cast<char>(f.get() ^ 0x5a);
+      f.seekp(byte);
+      f.put(c);
+    }
 }
 
 void copy_over(const fs::path& from, const fs::path& to) { fs::copy_file(from, to, fs::copy_options::overwrite_existing); }
+
+/// The type variable `name` has in `file` and its scale_factor (0 when none).
+std::pair<nc_type, double> stored_as(const fs::path& file, const char* name) {
+  int nc = -1, id = -1;
+  nc_type type = NC_NAT;
+  double scale = 0;
+  if (nc_open(file.c_str(), NC_NOWRITE, &nc) != NC_NOERR) return {NC_NAT, 0};
+  if (nc_inq_varid(nc, name, &id) == NC_NOERR) {
+    nc_inq_vartype(nc, id, &type);
+    nc_get_att_double(nc, id, "scale_factor", &scale);
+  }
+  nc_close(nc);
+  return {type, scale};
+}
 
 /// netCDF calls that change an archive for the tests of bad archives.
 void edit(const fs::path& file, const std::function<int(int)>& change) {
@@ -173,8 +192,8 @@ const QByteArray run_test = R"({"name": "rec", "groups": [
   "time": 6, "log_interval": 0.5, "failures": {"drone_mtbf": 20}, "seed": 3, "archive": true,
   "changes": [{"time": 2, "set": {"groups.scouts.drones": 2}}, {"time": 4, "set": {"groups.scouts.drones": 6}}]})";
 
-/// drones.csv's extra columns: written with all their digits, so they agree exactly.
-const QString exact_columns = "status_since,battery_left,energy_used,failure_due,obstacle_hits,camera_works,steering";
+/// drones.csv's extra columns, written with all their digits; the archive adds them to archive_columns.
+const QString drone_columns = "status_since,battery_left,energy_used,failure_due,obstacle_hits,camera_works,steering";
 
 double number(const std::string& text) {
   double v = nan;
@@ -199,7 +218,27 @@ class TestArchive : public QObject {
       salsa::read_archive(file, r);
       QCOMPARE(r.source, file);
       s.check(r);
+      // Lengths and speeds as whole millimetres (CF packing, which xarray undoes); the rest as it is.
+      QVERIFY((stored_as(file, "position") == std::pair<nc_type, double>{NC_INT, 1e-3}));
+      QVERIFY((stored_as(file, "wind") == std::pair<nc_type, double>{NC_INT, 1e-3}));
+      QVERIFY((stored_as(file, "energy") == std::pair<nc_type, double>{NC_DOUBLE, 0}));
     }
+  }
+
+  void a_length_beyond_32_bits_of_millimetres_is_refused() {
+    QTemporaryDir dir;
+    const fs::path file = fs::path(dir.path().toStdString()) / "far.nc";
+    salsa::ArchiveWriter w(file, {"far", "1", "{}", 1, 0.1, 0.1, {"swarm"}, 1});
+    std::vector<salsa::Vec2> p{{2.2e6, 0}};
+    w.frame(0, {StateColumn::of("position", "m", "drone", "where", p)});
+    try {
+      w.close({}, 1);
+      QFAIL("2,200 km was archived");
+    } catch (const salsa::WriteError& e) {
+      const std::string line = e.what();
+      QVERIFY2(line.find("far.nc.part: position 2.2e+06 is beyond") != std::string::npos && line.find("allowed: within ±2147483") != std::string::npos, e.what());
+    }
+    QVERIFY(!fs::exists(file));
   }
 
   void cut_short_leaves_no_archive() {
@@ -217,7 +256,7 @@ class TestArchive : public QObject {
   void a_run_agrees_with_drones_csv() {
     QTemporaryDir dir;
     QVERIFY(write_file(dir.filePath("rec.json"), run_test));
-    const CliResult r = run_salsa({"run", "rec.json", "--out", "out", "-q", "--no-plots", "--drone-columns", exact_columns}, dir.path());
+    const CliResult r = run_salsa({"run", "rec.json", "--out", "out", "-q", "--no-plots", "--drone-columns", drone_columns}, dir.path());
     QVERIFY2(r.exit_code == 0, qPrintable(r.err));
     const fs::path folder = fs::path(dir.path().toStdString()) / "out" / "rec";
     QVERIFY(read_file(q(folder / "manifest.json")).contains("\"trajectories.nc\""));
@@ -227,6 +266,12 @@ class TestArchive : public QObject {
     QCOMPARE(a.test_name, std::string("rec"));
     QCOMPARE(a.seed, std::uint64_t{3});
     QCOMPARE(a.log_interval, 0.5);
+    // archive_columns, then those asked for by name, in the simulation's order; no others (commanded,
+    // failure_exposure).
+    std::vector<std::string> names;
+    for (const RecordedColumn& c : a.columns) names.push_back(c.name);
+    QCOMPARE(names, (std::vector<std::string>{"position", "velocity", "steering", "group", "status", "status_since", "camera_works", "energy_used",
+                                              "battery_left", "failure_due", "obstacle_hits"}));
     auto col = [&](const char* name) -> const RecordedColumn& {
       for (const RecordedColumn& c : a.columns)
         if (c.name == name) return c;
@@ -247,12 +292,12 @@ class TestArchive : public QObject {
       const std::size_t i = std::stoul(row[id]);
       QVERIFY(i < a.drones);
       ++listed[f];
-      // drones.csv's 4 decimals: the archive's double rounds to the same text.
+      // drones.csv's 4 decimals and the archive's millimetres: within both roundings.
       const std::pair<const char*, std::pair<const char*, std::size_t>> rounded[] = {
           {"x", {"position", 0}}, {"y", {"position", 1}}, {"vx", {"velocity", 0}}, {"vy", {"velocity", 1}}};
       for (const auto& [csv, where] : rounded) {
         const double v = at(col(where.first), f, i, where.second);
-        QVERIFY2(std::abs(v - number(row[column(rows, csv)])) <= 0.5e-4 * (1 + 1e-9), csv);
+        QVERIFY2(std::abs(v - number(row[column(rows, csv)])) <= (0.5e-3 + 0.5e-4) * (1 + 1e-9), csv);
       }
       QVERIFY(std::abs(at(col("energy_used"), f, i) / 3600 - number(row[column(rows, "energy_used_Wh")])) <= 0.5e-4 * (1 + 1e-9));
       QCOMPARE(row[group], std::string(groups[static_cast<std::size_t>(at(col("group"), f, i))]));
@@ -260,8 +305,8 @@ class TestArchive : public QObject {
       // The columns drones.csv writes with all their digits: exactly.
       for (const char* name : {"status_since", "battery_left", "energy_used", "failure_due", "obstacle_hits", "camera_works"})
         QCOMPARE(at(col(name), f, i), number(row[column(rows, name)]));
-      QCOMPARE(at(col("steering"), f, i, 0), number(row[column(rows, "steering_x")]));
-      QCOMPARE(at(col("steering"), f, i, 1), number(row[column(rows, "steering_y")]));
+      QCOMPARE(at(col("steering"), f, i, 0), std::nearbyint(number(row[column(rows, "steering_x")]) / 1e-3) * 1e-3);
+      QCOMPARE(at(col("steering"), f, i, 1), std::nearbyint(number(row[column(rows, "steering_y")]) / 1e-3) * 1e-3);
     }
     // Every drone drones.csv leaves out is removed (status 3) or not yet added (NaN) in the archive.
     bool removed = false, added = false;

@@ -35,7 +35,7 @@ def folder(tmp_path_factory, program):
     root = tmp_path_factory.mktemp("archive")
     (root / "rec.json").write_text(json.dumps(TEST))
     status, _, err = cli(program, "run", "rec.json", "--out", "out", "-q", "--no-plots", "--archive",
-                         "--drone-columns", "status_since,battery_left", cwd=root)
+                         "--drone-columns", "status_since,battery_left,energy_used", cwd=root)
     assert status == 0, err
     return root / "out" / "rec"
 
@@ -47,15 +47,22 @@ def test_h5py_reads_the_hdf5_underneath(folder):
         assert int(f.attrs["salsa_archive_version"][0]) == 1
         assert int(f.attrs["seed"][0]) == 3
         assert json.loads(f.attrs["config"])["name"] == "rec"
-        position, status, since = f["position"][...], f["status"][...], f["status_since"][...]
+        # Lengths and speeds are whole millimetres (CF packing): h5py gives the integers and the scale.
+        packed, scale = f["position"][...], f["position"].attrs["scale_factor"]
+        assert packed.dtype == np.int32 and scale == pytest.approx(1e-3)
+        assert f["position"].attrs["_FillValue"] == -2147483647
+        position = np.where(packed == -2147483647, np.nan, packed * scale)
+        status, since = f["status"][...], f["status_since"][...]
         assert f["position"].compression == "gzip" and f["position"].shuffle
+        assert "commanded" not in f and "energy_used" in f  # not asked for; asked for by --drone-columns
         assert f["velocity"].attrs["units"] in (b"m s-1", "m s-1")
         times = f["time"][...]
     assert position.shape == (len(times), status.shape[1], 2)
     frame = np.searchsorted(times, drones["time"].to_numpy() - 1e-9)
     ids = drones["id"].to_numpy()
-    assert np.abs(position[frame, ids, 0] - drones["x"]).max() <= 0.5e-4 + 1e-9
-    assert np.abs(position[frame, ids, 1] - drones["y"]).max() <= 0.5e-4 + 1e-9
+    # drones.csv's 4 decimals and the archive's millimetres: within both roundings
+    assert np.abs(position[frame, ids, 0] - drones["x"]).max() <= 0.5e-3 + 0.5e-4 + 1e-9
+    assert np.abs(position[frame, ids, 1] - drones["y"]).max() <= 0.5e-3 + 0.5e-4 + 1e-9
     assert (since[frame, ids] == drones["status_since"]).all()  # written with all their digits
     assert [STATUS[s] for s in status[frame, ids]] == list(drones["status"])
     # drones.csv lists exactly the drones that are there: neither removed (3) nor not yet added (fill 255)
@@ -81,7 +88,8 @@ def test_xarray_opens_it(folder, engine, module):
         # Selected by drones.csv's rows: the same values; a removed drone's are NaN.
         rows = ds.sel(time=xr.DataArray(drones["time"].to_numpy(), dims="row"), drone=xr.DataArray(drones["id"].to_numpy(), dims="row"),
                       method="nearest")
-        assert np.abs(rows["velocity"].sel(xy="x").values - drones["vx"]).max() <= 0.5e-4 + 1e-9
+        assert ds["velocity"].dtype == np.float64  # unpacked from millimetres
+        assert np.abs(rows["velocity"].sel(xy="x").values - drones["vx"]).max() <= 0.5e-3 + 0.5e-4 + 1e-9
         assert np.abs(rows["energy_used"].values / 3600 - drones["energy_used_Wh"]).max() <= 0.5e-4 + 1e-9
         groups = ds["group"].attrs["flag_meanings"].split()
         assert [groups[int(g)] for g in rows["group"].values] == list(drones["group"])

@@ -1,6 +1,7 @@
 // The trajectory archive through the netCDF-C library: one netCDF-4 file (HDF5 underneath) whose
 // variables are the drones' state columns over (time, drone), compressed with shuffle + deflate and
 // chunked along the unlimited time and drone dimensions (the drones may grow by a timed change).
+// Lengths and speeds are packed as whole millimetres (CF's scale_factor, which xarray undoes).
 #include "salsa/core/replay/archive.hpp"
 
 #include <netcdf.h>
@@ -8,6 +9,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string_view>
@@ -26,11 +28,19 @@ constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 /// Deflate level 1: levels 4 and 9 make the archive about 1% smaller at a multiple of the time
 /// (docs/benchmarks.md, "Trajectory archive"); the doubles' low bits do not compress at any level.
 constexpr int deflate_level = 1;
+/// A packed column's resolution: 1 mm (mm/s), five times finer than Box2D's contact tolerance (its
+/// linear slop, 5 mm). Doubles' last digits are noise that no compressor shrinks: as whole millimetres
+/// the archive is 5× smaller than drones.csv (docs/benchmarks.md, "Trajectory archive").
+constexpr double packed_resolution = 1e-3;
+constexpr int packed_fill = NC_FILL_INT;
 /// Values per chunk (about 512 KB of doubles): the chunk holds as many frames as make it up.
 constexpr std::size_t chunk_values = 65536;
 constexpr std::size_t max_chunk_frames = 1024;
 /// Drone rows held before they are written, whatever the chunks (about 50 MB with every column).
 constexpr std::size_t max_pending_rows = 4 * chunk_values;
+
+/// A length or a speed: packed as whole millimetres (per second).
+bool packed(const StateColumn& c) { return c.type == StateColumn::Type::f64 && (c.unit == "m" || c.unit == "m/s"); }
 
 /// The column's type in the file and its fill value, which marks "no value" (a removed drone, a frame
 /// before the column was kept) and reads back as NaN.
@@ -79,6 +89,7 @@ struct ArchiveWriter::Impl {
     int id = -1;
     StateColumn::Type type = StateColumn::Type::f64;
     std::size_t width = 1;
+    bool packed = false;          ///< stored as whole millimetres (packed_resolution)
     std::vector<double> pending;  ///< the pending frames' values, each frame rows[f] × width
   };
   std::vector<Var> vars;
@@ -144,15 +155,18 @@ struct ArchiveWriter::Impl {
       chunk_drones = std::clamp<std::size_t>(std::max(drones, provenance.drones), 1, chunk_values);
       chunk_frames = std::clamp<std::size_t>(chunk_values / chunk_drones, 1, max_chunk_frames);
     }
-    Var v{std::string(c.name), -1, c.type, c.width, {}};
+    Var v{std::string(c.name), -1, c.type, c.width, packed(c), {}};
     redef();
     const int dims[] = {time_dim, drone_dim, xy_dim};
     const int ndims = c.width == 2 ? 3 : 2;
-    check(nc_def_var(nc, v.name.c_str(), nc_type_of(c.type), ndims, dims, &v.id), "cannot define variable " + v.name);
+    check(nc_def_var(nc, v.name.c_str(), v.packed ? NC_INT : nc_type_of(c.type), ndims, dims, &v.id), "cannot define variable " + v.name);
     const std::size_t chunks[] = {chunk_frames, chunk_drones, 2};
     check(nc_def_var_chunking(nc, v.id, NC_CHUNKED, chunks), "cannot chunk variable " + v.name);
     check(nc_def_var_deflate(nc, v.id, 1, 1, deflate_level), "cannot compress variable " + v.name);
-    if (c.type == StateColumn::Type::f64) check(nc_def_var_fill(nc, v.id, NC_FILL, &nan), "cannot set the fill value of " + v.name);
+    if (v.packed) {
+      check(nc_def_var_fill(nc, v.id, NC_FILL, &packed_fill), "cannot set the fill value of " + v.name);
+      check(nc_put_att_double(nc, v.id, "scale_factor", NC_DOUBLE, 1, &packed_resolution), "cannot write attribute scale_factor");
+    } else if (c.type == StateColumn::Type::f64) check(nc_def_var_fill(nc, v.id, NC_FILL, &nan), "cannot set the fill value of " + v.name);
     else if (c.type == StateColumn::Type::u32) {
       const unsigned int fill = NC_FILL_UINT;
       check(nc_def_var_fill(nc, v.id, NC_FILL, &fill), "cannot set the fill value of " + v.name);
@@ -190,6 +204,20 @@ struct ArchiveWriter::Impl {
     return n;
   }
 
+  /// `value` of `v` in whole millimetres; NaN (no value) as the fill value.
+  int pack(const Var& v, double value) const {
+    if (std::isnan(value)) return packed_fill;
+    const double mm = std::nearbyint(value / packed_resolution);
+    if (!(std::abs(mm) < -static_cast<double>(packed_fill))) {
+      char shown[32];
+      std::snprintf(shown, sizeof shown, "%g", value);
+      throw WriteError(part.string() + ": " + v.name + " " + shown + " is beyond what the archive holds (allowed: within ±2147483, whole millimetres in 32 bits)");
+    }
+    return static_cast<int>(mm);
+  }
+
+  std::vector<int> packed_block;  ///< flush()'s block of a packed column
+
   void flush() {
     if (times.empty()) return;
     const std::size_t frames = times.size();
@@ -207,7 +235,12 @@ struct ArchiveWriter::Impl {
         at += rows[f] * v.width;
       }
       const std::size_t count[] = {frames, drones, 2};
-      check(nc_put_vara_double(nc, v.id, start, count, block.data()), "cannot write variable " + v.name);
+      if (v.packed) {
+        packed_block.resize(block.size());
+        for (std::size_t k = 0; k < block.size(); ++k) packed_block[k] = pack(v, block[k]);
+        check(nc_put_vara_int(nc, v.id, start, count, packed_block.data()), "cannot write variable " + v.name);
+      } else
+        check(nc_put_vara_double(nc, v.id, start, count, block.data()), "cannot write variable " + v.name);
       v.pending.clear();
     }
     written += frames;
@@ -368,7 +401,8 @@ struct Reading {
     if (nc_inq_varid(nc, name, &id) != NC_NOERR) fail(std::string("lacks the variable ") + name + " (every salsa archive has it)");
     return id;
   }
-  /// The whole of variable `id` as doubles, its fill value as NaN.
+  /// The whole of variable `id` as doubles, its fill value as NaN, packed values unpacked (CF's
+  /// scale_factor and add_offset).
   std::vector<double> values(int id, const std::string& name, std::size_t count) const {
     std::vector<double> out;
     try {
@@ -381,6 +415,12 @@ struct Reading {
     double fill = nan;
     if (nc_get_att_double(nc, id, "_FillValue", &fill) == NC_NOERR && !std::isnan(fill))
       std::replace(out.begin(), out.end(), fill, nan);
+    double scale = 1, offset = 0;
+    const bool scaled = has_att(id, "scale_factor"), offset_by = has_att(id, "add_offset");
+    if (scaled) check(nc_get_att_double(nc, id, "scale_factor", &scale), "attribute scale_factor of " + name);
+    if (offset_by) check(nc_get_att_double(nc, id, "add_offset", &offset), "attribute add_offset of " + name);
+    if (scaled || offset_by)
+      for (double& v : out) v = v * scale + offset;
     return out;
   }
 };
@@ -441,10 +481,10 @@ void read_archive(const fs::path& file, Recording& into) {
     if (ndims < 2 || ndims > 3 || dims[0] != time_dim || dims[1] != drone_dim || (ndims == 3 && dims[2] != xy_dim))
       r.fail("variable " + c.name + " is not over (time, drone) or (time, drone, xy)");
     c.width = ndims == 3 ? 2 : 1;
-    if (type == NC_DOUBLE) c.type = StateColumn::Type::f64;
+    if (type == NC_DOUBLE || (type == NC_INT && r.has_att(id, "scale_factor"))) c.type = StateColumn::Type::f64;
     else if (type == NC_UINT) c.type = StateColumn::Type::u32;
     else if (type == NC_UBYTE) c.type = StateColumn::Type::u8;
-    else r.fail("variable " + c.name + " is of a type salsa does not write (allowed: double, uint, ubyte)");
+    else r.fail("variable " + c.name + " is of a type salsa does not write (allowed: double, int with a scale_factor, uint, ubyte)");
     c.unit = salsa_unit(r.text(id, "units"));
     c.meaning = r.text(id, "long_name");
     c.model = r.text(id, "salsa_model");

@@ -134,12 +134,20 @@ class DroneObserver final : public Observer {
   std::vector<std::size_t> widths_;
 };
 
-// trajectories.nc: every state column the simulation keeps, at every logged step.
+// trajectories.nc: archive_columns and the columns asked for by name, at every logged step.
 class ArchiveObserver final : public Observer {
  public:
-  ArchiveObserver(const fs::path& file, const TestSpec& test, const Simulation& sim, const std::string& config)
-      : archive_(file, provenance(test, sim, config)) {}
-  void observe(const Simulation& sim) override { archive_.frame(sim.time(), sim.columns()); }
+  ArchiveObserver(const fs::path& file, const TestSpec& test, const Simulation& sim, const std::string& config, const std::vector<std::string>& columns)
+      : archive_(file, provenance(test, sim, config)), names_(std::begin(archive_columns), std::end(archive_columns)) {
+    for (const std::string& name : columns)
+      if (std::find(names_.begin(), names_.end(), name) == names_.end()) names_.push_back(name);
+  }
+  void observe(const Simulation& sim) override {
+    std::vector<StateColumn> kept;
+    for (const StateColumn& c : sim.columns())
+      if (std::find(names_.begin(), names_.end(), c.name) != names_.end()) kept.push_back(c);
+    archive_.frame(sim.time(), kept);
+  }
   void close(const Simulation& sim) {
     const auto& kind = sim.setup().target_kind;
     archive_.close(sim.targets(), kind ? kind->radius() : 0);
@@ -163,6 +171,7 @@ class ArchiveObserver final : public Observer {
     return ids;
   }
   ArchiveWriter archive_;
+  std::vector<std::string> names_;  ///< the columns it records
 };
 
 // fleet.csv: each drone at the end, removed ones too: its status, since when, energy and battery.
@@ -278,7 +287,7 @@ RunResult run_test(const TestSpec& test, const PluginHost& host, const RunOption
     if (options.drones_csv) drones.emplace(work / "drones.csv", test.fleet(), test.return_to_base(), options.drone_columns);
     std::optional<ArchiveObserver> archive;
     try {
-      if (test.archive) archive.emplace(work / archive_name, test, sim, config);
+      if (test.archive) archive.emplace(work / archive_name, test, sim, config, options.drone_columns);
     } catch (const WriteError& e) {
       throw write_failed(e);
     }

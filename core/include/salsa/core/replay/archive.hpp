@@ -1,6 +1,6 @@
 #pragma once
-// The trajectory archive, trajectories.nc: every drone state column the simulation keeps, at every
-// logged time, and the targets, in one compressed netCDF-4 file (HDF5 underneath, CF-1.8 attributes),
+// The trajectory archive, trajectories.nc: the drones' state columns (archive_columns and those asked
+// for by name) at every logged time, and the targets, in one compressed netCDF-4 file (HDF5 underneath, CF-1.8 attributes),
 // which xarray, h5py and the netCDF tools open directly (docs/output-format.md, "trajectories.nc").
 // Written here once, read back here once (read_archive, for load_recording).
 #include <cstddef>
@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "salsa/core/model/columns.hpp"
@@ -18,6 +19,11 @@ namespace salsa {
 
 /// The archive's name in a test's folder.
 inline constexpr const char* archive_name = "trajectories.nc";
+/// The state columns an archive holds (those the simulation keeps): drones.csv's, what a replay draws,
+/// and the battery. Any other is added by name (`salsa run --drone-columns`, as for drones.csv): the
+/// per-step ones, steering and commanded, would double the archive.
+inline constexpr std::string_view archive_columns[] = {"position",     "velocity",    "group",        "status", "status_since",
+                                                       "camera_works", "energy_used", "battery_left", "errand", "charging_time"};
 /// The archive format's version, its global attribute salsa_archive_version: a reader refuses a newer one.
 inline constexpr int archive_version = 1;
 
