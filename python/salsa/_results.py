@@ -17,6 +17,7 @@ _STATUSES = {"queue": QUEUE_STATUSES, "tune.csv": ["ok", "failed", "no value"],
              "candidates.csv": ["complete", "dropped", "failed", "cut"]}
 _PHASES = ["tuning", "validation"]
 ALLOWED = "allowed: a test's output folder OUT/<name>, a queue's output folder OUT or a tune's"
+ARCHIVE, ARCHIVE_VERSION = "trajectories.nc", 1  # core/include/salsa/core/replay/archive.hpp
 
 # Whole-number columns (counts and ids): int64, or pandas' nullable Int64 where a value may be empty.
 _WHOLE = {"targets", "targets_found", "collisions", "alive", "false_detections", "messages_sent",
@@ -145,6 +146,25 @@ class TestResult:
     def fleet(self):
         """fleet.csv: each drone at the end (with the fleet model only)."""
         return self._file("fleet.csv")
+
+    @cached_property
+    def trajectories(self):
+        """trajectories.nc (salsa run --archive) as an xarray.Dataset over (time, drone[, xy]), lengths
+        and speeds unpacked to metres; None without an archive. Needs xarray and netCDF4 (Debian:
+        python3-xarray python3-netcdf4)."""
+        file = self.folder / ARCHIVE
+        if not file.is_file():
+            return None
+        import xarray  # only here: most uses of load never need it
+        try:
+            ds = xarray.open_dataset(file)
+        except (OSError, ValueError) as e:
+            raise InputError(f"{file}: cannot be read as a trajectory archive ({e}) (allowed: the trajectories.nc salsa run --archive wrote)") from None
+        version = ds.attrs.get("salsa_archive_version")
+        if version is None or int(version) > ARCHIVE_VERSION:
+            ds.close()
+            raise InputError(f"{file}: salsa_archive_version {version} is not one this package reads (allowed: 1 ... {ARCHIVE_VERSION})")
+        return ds
 
     def __repr__(self):
         return f"<salsa test result {self.name!r} in {self.folder}>"

@@ -3,6 +3,7 @@ agree with drones.csv (docs/output-format.md, "trajectories.nc")."""
 
 import importlib.util
 import json
+import shutil
 
 import numpy as np
 import pandas as pd
@@ -99,3 +100,24 @@ def test_xarray_opens_it(folder, engine, module):
         found = targets["found_by"].notna()
         assert (ds["target_found_by"].values[found.to_numpy()] == targets["found_by"][found]).all()
         assert np.isnan(ds["target_found_time"].values[~found.to_numpy()]).all()
+
+
+def test_load_gives_the_archive_as_a_dataset(folder, tmp_path):
+    import salsa
+    if importlib.util.find_spec("netCDF4") is None:
+        pytest.skip("netCDF4 is not installed")
+    drones = pd.read_csv(folder / "drones.csv", float_precision="round_trip")
+    ds = salsa.load(folder).trajectories
+    assert ds["position"].dims == ("time", "drone", "xy") and ds["position"].dtype == np.float64
+    first = drones[drones["time"] == 0]
+    assert np.abs(ds["position"].sel(time=0).values[first["id"], 0] - first["x"]).max() <= 0.5e-3 + 0.5e-4 + 1e-9
+    ds.close()
+    # No archive: None. A damaged one: InputError naming the file.
+    plain = tmp_path / "plain"
+    shutil.copytree(folder, plain)
+    (plain / "trajectories.nc").unlink()
+    assert salsa.load(plain).trajectories is None
+    (plain / "trajectories.nc").write_bytes((folder / "trajectories.nc").read_bytes()[:4096])
+    with pytest.raises(salsa.InputError, match=r"plain/trajectories.nc: cannot be read as a trajectory archive"):
+        salsa.load(plain).trajectories
+
