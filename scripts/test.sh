@@ -12,7 +12,7 @@ ctest --preset release --parallel "$(nproc)"
 echo "== the suite under AddressSanitizer + UndefinedBehaviorSanitizer"
 cmake --preset asan-ubsan >/dev/null
 cmake --build --preset asan-ubsan --parallel "$(nproc)"
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS=suppressions="$PWD/tests/lsan.supp" UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS=suppressions="$PWD/tests/lsan.supp":print_suppressions=0 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
   ctest --preset asan-ubsan --parallel "$(nproc)"
 
 echo "== fuzz smoke run (scripts/fuzz.sh runs them long)"
