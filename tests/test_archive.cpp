@@ -53,7 +53,7 @@ struct Synthetic {
 
   /// Writes the run to `file` through ArchiveWriter.
   void write(const fs::path& file) const {
-    salsa::ArchiveWriter w(file, {"synthetic", "9.8.7", "{\"name\": \"synthetic\"}\n", 9007199254740992ULL, 0.125, 0.25, {"scouts", "mappers"}, hint});
+    salsa::ArchiveWriter w(file, {"synthetic", "9.8.7", "{\"name\": \"synthetic\"}\n", 9007199254740992ULL, 0.125, 0.25, {"scouts", "mappers"}, hint, {}});
     for (std::size_t f = 0; f < frames; ++f) {
       const std::size_t n = drones(f);
       std::vector<salsa::Vec2> position(n), velocity(n), wind(n);
@@ -228,7 +228,7 @@ class TestArchive : public QObject {
   void a_length_beyond_32_bits_of_millimetres_is_refused() {
     QTemporaryDir dir;
     const fs::path file = fs::path(dir.path().toStdString()) / "far.nc";
-    salsa::ArchiveWriter w(file, {"far", "1", "{}", 1, 0.1, 0.1, {"swarm"}, 1});
+    salsa::ArchiveWriter w(file, {"far", "1", "{}", 1, 0.1, 0.1, {"swarm"}, 1, {}});
     std::vector<salsa::Vec2> p{{2.2e6, 0}};
     w.frame(0, {StateColumn::of("position", "m", "drone", "where", p)});
     try {
@@ -245,7 +245,7 @@ class TestArchive : public QObject {
     QTemporaryDir dir;
     const fs::path file = fs::path(dir.path().toStdString()) / "t.nc";
     {
-      salsa::ArchiveWriter w(file, {"t", "1", "{}", 1, 0.1, 0.1, {"swarm"}, 2});
+      salsa::ArchiveWriter w(file, {"t", "1", "{}", 1, 0.1, 0.1, {"swarm"}, 2, {}});
       std::vector<salsa::Vec2> p(2);
       w.frame(0, {StateColumn::of("position", "m", "drone", "where", p)});
     }  // never closed: a crash or a stop
@@ -386,6 +386,17 @@ class TestArchive : public QObject {
     QVERIFY2(r.exit_code == 0, qPrintable(r.err));
     QVERIFY(QFile::exists(dir.filePath("q/a/trajectories.nc")) && !QFile::exists(dir.filePath("q/a/drones.csv")));
     QVERIFY(!QFile::exists(dir.filePath("q/b/trajectories.nc")));
+    // --resume keeps a test whose archive was asked for the columns named now, and reruns it for others
+    // (drones.csv not wanted: the archive alone decides).
+    r = run_salsa({"run", "q.json", "--out", "q", "--no-plots", "--no-drones-csv", "--archive", "--resume", "--drone-columns", "battery_left"}, dir.path());
+    QVERIFY2(r.exit_code == 0 && r.out.contains("a: already complete"), qPrintable(r.out + r.err));
+    r = run_salsa({"run", "q.json", "--out", "q", "--no-plots", "--no-drones-csv", "--archive", "--resume", "--drone-columns", "steering"}, dir.path());
+    QVERIFY2(r.exit_code == 0 && !r.out.contains("a: already complete"), qPrintable(r.out + r.err));
+    Recording steered;
+    salsa::read_archive(fs::path(dir.path().toStdString()) / "q" / "a" / "trajectories.nc", steered);
+    QVERIFY(std::any_of(steered.columns.begin(), steered.columns.end(), [](const RecordedColumn& c) { return c.name == "steering"; }));
+    r = run_salsa({"run", "q.json", "--out", "q", "--no-plots", "--no-drones-csv", "--archive", "--resume", "--drone-columns", "steering"}, dir.path());
+    QVERIFY2(r.exit_code == 0 && r.out.contains("a: already complete"), qPrintable(r.out + r.err));
     QVERIFY(write_file(dir.filePath("bad.json"), R"({"behavior": "random_walk", "archive": 1})"));
     r = run_salsa({"run", "bad.json", "--out", "bad", "-q"}, dir.path());
     QCOMPARE(r.exit_code, 2);

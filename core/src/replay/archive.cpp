@@ -144,6 +144,9 @@ struct ArchiveWriter::Impl {
     check(nc_put_att_double(nc, NC_GLOBAL, "dt", NC_DOUBLE, 1, &p.dt), "cannot write attribute dt");
     check(nc_put_att_double(nc, NC_GLOBAL, "log_interval", NC_DOUBLE, 1, &p.log_interval), "cannot write attribute log_interval");
     text(NC_GLOBAL, "config", p.config);
+    std::string columns;
+    for (const std::string& c : p.columns) columns += (columns.empty() ? "" : ",") + c;
+    if (!columns.empty()) text(NC_GLOBAL, "salsa_drone_columns", columns);
     check(nc_enddef(nc), "cannot write the file's definitions");
     const char* names[] = {"x", "y"};
     const std::size_t start = 0, count = 2;
@@ -509,6 +512,30 @@ void read_archive(const fs::path& file, Recording& into) {
     into.targets[i] = {xy[2 * i], xy[2 * i + 1]};
     into.found_by[i] = std::isnan(by[i]) ? -1 : static_cast<std::int64_t>(by[i]);
   }
+}
+
+std::string archive_lacks(const fs::path& file, const std::vector<std::string>& wanted) {
+  std::vector<std::string> asked(std::begin(archive_columns), std::end(archive_columns));
+  int nc = -1;
+  bool readable = nc_open(file.c_str(), NC_NOWRITE, &nc) == NC_NOERR;
+  if (readable) {
+    std::size_t length = 0;
+    if (nc_inq_attlen(nc, NC_GLOBAL, "salsa_drone_columns", &length) == NC_NOERR) {
+      std::string text(length, '\0');
+      readable = nc_get_att_text(nc, NC_GLOBAL, "salsa_drone_columns", text.data()) == NC_NOERR;
+      asked.clear();
+      for (std::size_t at = 0; at < text.size();) {
+        const std::size_t comma = std::min(text.find(',', at), text.size());
+        asked.push_back(text.substr(at, comma - at));
+        at = comma + 1;
+      }
+    }
+    nc_close(nc);
+  }
+  std::string lacks;
+  for (const std::string& name : wanted)
+    if (!readable || std::find(asked.begin(), asked.end(), name) == asked.end()) lacks += (lacks.empty() ? "" : ", ") + name;
+  return lacks;
 }
 
 }  // namespace salsa

@@ -527,6 +527,9 @@ std::string data_problem(const fs::path& folder, bool drones_wanted, const std::
   if (drones_wanted && !drone_columns.empty())
     if (const std::string lacking = lacking_columns(folder / "drones.csv", drone_columns); !lacking.empty())
       return (folder / "drones.csv").string() + " lacks " + lacking + " (asked for by --drone-columns)";
+  if (archive_wanted && !drone_columns.empty())
+    if (const std::string lacking = archive_lacks(folder / archive_name, drone_columns); !lacking.empty())
+      return (folder / archive_name).string() + " lacks " + lacking + " (asked for by --drone-columns)";
   return {};
 }
 

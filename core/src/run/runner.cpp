@@ -138,10 +138,7 @@ class DroneObserver final : public Observer {
 class ArchiveObserver final : public Observer {
  public:
   ArchiveObserver(const fs::path& file, const TestSpec& test, const Simulation& sim, const std::string& config, const std::vector<std::string>& columns)
-      : archive_(file, provenance(test, sim, config)), names_(std::begin(archive_columns), std::end(archive_columns)) {
-    for (const std::string& name : columns)
-      if (std::find(names_.begin(), names_.end(), name) == names_.end()) names_.push_back(name);
-  }
+      : names_(recorded(columns)), archive_(file, provenance(test, sim, config, names_)) {}
   void observe(const Simulation& sim) override {
     std::vector<StateColumn> kept;
     for (const StateColumn& c : sim.columns())
@@ -154,8 +151,15 @@ class ArchiveObserver final : public Observer {
   }
 
  private:
-  static ArchiveProvenance provenance(const TestSpec& test, const Simulation& sim, const std::string& config) {
-    ArchiveProvenance p{test.name, salsa_version(), config, test.seed, test.dt, test.log_interval, {}, most_drones(test)};
+  /// archive_columns, then those named that it lacks.
+  static std::vector<std::string> recorded(const std::vector<std::string>& named) {
+    std::vector<std::string> names(std::begin(archive_columns), std::end(archive_columns));
+    for (const std::string& name : named)
+      if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+    return names;
+  }
+  static ArchiveProvenance provenance(const TestSpec& test, const Simulation& sim, const std::string& config, const std::vector<std::string>& names) {
+    ArchiveProvenance p{test.name, salsa_version(), config, test.seed, test.dt, test.log_interval, {}, most_drones(test), names};
     for (const auto& g : sim.setup().groups) p.groups.push_back(g.name);
     return p;
   }
@@ -170,8 +174,8 @@ class ArchiveObserver final : public Observer {
     }
     return ids;
   }
-  ArchiveWriter archive_;
   std::vector<std::string> names_;  ///< the columns it records
+  ArchiveWriter archive_;
 };
 
 // fleet.csv: each drone at the end, removed ones too: its status, since when, energy and battery.

@@ -37,6 +37,10 @@ struct ArchiveProvenance {
   /// The most drone ids the run can have (timed changes that add drones included): the chunks are
   /// shaped for it. More is written correctly, only slower.
   std::size_t drones = 0;
+  /// The columns the run asked to record (archive_columns and those named), in the global attribute
+  /// salsa_drone_columns: `--resume` reruns a test whose archive was not asked for a column named now
+  /// (one asked for is in the file once the simulation kept it).
+  std::vector<std::string> columns;
 };
 
 /// Writes one archive while its test runs: a frame per logged step, the targets at the end. The file
@@ -66,5 +70,10 @@ class ArchiveWriter {
 /// the file and what is wrong (not a netCDF-4 file, corrupt or truncated, from a newer salsa, a
 /// variable missing or of the wrong shape). Writes nothing.
 void read_archive(const std::filesystem::path& file, Recording& into);
+
+/// Those of `wanted` (state column names) that `file`'s run was not asked to record, comma-separated;
+/// "" when it was asked for all. An archive without salsa_drone_columns recorded archive_columns. An
+/// unreadable file lacks them all.
+std::string archive_lacks(const std::filesystem::path& file, const std::vector<std::string>& wanted);
 
 }  // namespace salsa
