@@ -153,8 +153,8 @@ bool Engine::Worker::add_stats_row() {
 std::string Engine::Worker::load(TestSpec test) {
   std::unique_ptr<Session> next;
   try {
-    // All cores, as salsa run: the step's workers wait between steps, so the GUI thread still gets a
-    // core to draw on, and the results are the same for any thread count.
+    // All cores, as salsa run (the results are the same for any thread count): the step's workers
+    // idle between steps, and a swarm too big for real time is stepped as fast as the cores allow.
     next = std::make_unique<Session>(test, *host, SessionOptions{0, nullptr});
   } catch (const std::exception& e) {
     return e.what();
