@@ -153,8 +153,9 @@ bool Engine::Worker::add_stats_row() {
 std::string Engine::Worker::load(TestSpec test) {
   std::unique_ptr<Session> next;
   try {
-    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-    next = std::make_unique<Session>(test, *host, SessionOptions{static_cast<int>(std::max(1u, cores - 1)), nullptr});
+    // All cores, as salsa run (the results are the same for any thread count): the step's workers
+    // idle between steps, and a swarm too big for real time is stepped as fast as the cores allow.
+    next = std::make_unique<Session>(test, *host, SessionOptions{0, nullptr});
   } catch (const std::exception& e) {
     return e.what();
   }

@@ -30,9 +30,10 @@ namespace {
 
 constexpr const char* usage = R"(usage: salsa-gui [TEST.json] [options]
        salsa-gui --headless TEST.json... [salsa run options]   run tests without a window, exactly as `salsa run`
-       salsa-gui --bench-render [--frames N] [--drones N] [--physics box2d|light]
+       salsa-gui --bench-render [--frames N] [--drones N] [--physics box2d|light] [--behavior NAME] [--seconds S]
                                                                 frame times at 1920x1080, 1,000 drones (default; up to
-                                                                100,000), 50,000 trees on 2 km x 2 km (grown past 10,000 drones)
+                                                                100,000), 50,000 trees on 2 km x 2 km (grown past 10,000 drones);
+                                                                then FPS and real-time factor flying in real time for S s (default 10)
        salsa-gui --bench-replay FOLDER                          replay of a finished test: seek time and playback FPS at 1920x1080
 
 options:
@@ -180,6 +181,25 @@ int main(int argc, char** argv) {
       }
       (a == "--frames" ? bench_options.frames : bench_options.drones) = n;
       bench_only = true;
+    } else if (a == "--behavior") {
+      bench_options.behavior = value("a behavior's name");
+      bench_only = true;
+    } else if (a == "--seconds") {
+      const std::string v = value("seconds");
+      double s = -1;
+      std::size_t used = 0;
+      try {
+        s = std::stod(v, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      using O = salsa::gui::BenchRenderOptions;
+      if (used == 0 || used != v.size() || !(s >= O::min_seconds && s <= O::max_seconds)) {
+        std::cerr << "salsa-gui: --seconds: '" << v << "' is out of range (allowed: [" << O::min_seconds << ", " << O::max_seconds << "] s)\n";
+        return 2;
+      }
+      bench_options.seconds = s;
+      bench_only = true;
     } else if (a == "--physics") {
       bench_options.physics = value("box2d or light");
       if (bench_options.physics != "box2d" && bench_options.physics != "light") {
@@ -203,7 +223,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (bench_only && !bench) {
-    std::cerr << "salsa-gui: --frames, --drones and --physics go with --bench-render (a test's own physics is its \"physics\" field)\n";
+    std::cerr << "salsa-gui: --frames, --drones, --physics, --behavior and --seconds go with --bench-render (a test's own physics is its \"physics\" field)\n";
     return 2;
   }
 
@@ -221,7 +241,15 @@ int main(int argc, char** argv) {
     std::cerr << ")\n";
     return 1;
   }
-  if (bench) return salsa::gui::bench_render(host, std::cout, bench_options);
+  if (bench) {
+    try {
+      host.behavior(bench_options.behavior);
+    } catch (const std::exception& e) {
+      std::cerr << "salsa-gui: --behavior: " << e.what() << "\n";
+      return 2;
+    }
+    return salsa::gui::bench_render(host, std::cout, bench_options);
+  }
 
   salsa::gui::MainWindow window(shared_host, plugin_dirs);
   window.queue_page()->set_allow_large(yes);
