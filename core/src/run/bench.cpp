@@ -156,7 +156,7 @@ SimulationSetup abm_flocking(const PluginHost& host, bool large, std::uint64_t s
   s.physics = PhysicsMode::light;
   s.seed = seed;
   s.threads = 1;
-  s.log_every = 10;
+  s.log_every = 5;
   return s;
 }
 
