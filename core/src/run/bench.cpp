@@ -133,6 +133,33 @@ Workload scale(std::size_t drones, std::uint64_t seed, int threads) {
   return w;
 }
 
+SimulationSetup abm_flocking(const PluginHost& host, bool large, std::uint64_t seed) {
+  const double side = large ? 150 : 100, visual = large ? 15 : 5;
+  SimulationSetup s;
+  s.map.bounds = {{0, 0}, {side, side}};
+  s.map.spawn = {side / 2, side / 2};
+  GroupSetup& g = s.groups.front();
+  g.spawn_mode = SpawnMode::uniform;
+  g.drone = builtin_drone_configs().front();
+  g.drone.radius = 1;
+  g.drone.max_speed = 1;
+  g.drone.detection_range = visual;
+  g.drone.camera_range = 0;
+  g.drone.obstacle_range = 0;
+  g.drone.obstacle_rays = 0;
+  g.drones = large ? 400 : 200;
+  const auto& behavior = host.behavior("abm_flocking");
+  ParameterValues params(behavior.factory.parameters);
+  params.set("visual_distance", visual);
+  g.behavior = PluginHost::create(behavior, params);
+  s.dt = 1;
+  s.physics = PhysicsMode::light;
+  s.seed = seed;
+  s.threads = 1;
+  s.log_every = 5;
+  return s;
+}
+
 Floor::Floor(std::size_t drones, std::size_t steps) : drones_(drones) { commands_.reserve(2 * drones * steps); }
 
 void Floor::record(const Simulation& sim) {

@@ -39,6 +39,13 @@ SimulationSetup table1(const PluginHost& host, const Workload& w);
 /// per drone, spawned uniformly (a disc of N m would not fit the map at 100,000 drones).
 Workload scale(std::size_t drones, std::uint64_t seed, int threads);
 
+/// The ABM frameworks' flocking model (JuliaDynamics/ABMFrameworksComparison), as
+/// examples/abm-flocking-small.json and -large.json run it: `abm_flocking` with its defaults, light
+/// physics, one step of 1 s per step of theirs, drones of radius 1 m (the least a step of 1 m allows)
+/// spawned uniformly, no targets, obstacle rays or metrics. Small: 200 birds on 100 m × 100 m,
+/// visual distance 5 m; large: 400 on 150 m × 150 m, 15 m. Needs the abm_flocking plugin.
+SimulationSetup abm_flocking(const PluginHost& host, bool large, std::uint64_t seed);
+
 /// The Box2D floor of a run: the same walls, bodies, spawn and Box2D settings stepped in a bare Box2D
 /// world, each body given every step the velocity salsa commanded for it in that step (recorded during
 /// the run), with no sensing, behaviors or targets. So the floor moves exactly the same bodies the same
