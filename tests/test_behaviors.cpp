@@ -125,7 +125,8 @@ class TestBehaviors : public QObject {
         documented[current].push_back(m.captured(1).toStdString());
       }
     }
-    for (const char* name : {"flocking", "random_walk", "pheromone_avoidance", "dynamic_space_partitioning", "dynamic_space_partitioning_paper"}) {
+    for (const char* name : {"flocking", "random_walk", "pheromone_avoidance", "dynamic_space_partitioning", "dynamic_space_partitioning_paper",
+                             "abm_flocking"}) {
       QVERIFY2(documented.contains(name), name);
       std::vector<std::string> declared;
       for (const salsa::Parameter& p : host_->behavior(name).factory.parameters) declared.push_back(p.name);

@@ -48,9 +48,11 @@ def test_every_example_loads_typed(tmp_path, program, example):
     status, out, _ = cli(program, "validate", str(example))
     count = int(out.split("(")[1].split()[0])
     out_dir = tmp_path / "out"
-    # 0.5 s each; of a queue of more than 60 tests (the forest-health ones: 50,000 trees each) a share of 4.
+    # 0.5 s each (at least one step of a test's own dt); of a queue of more than 60 tests (the
+    # forest-health ones: 50,000 trees each) a share of 4.
     shard = ["--shard", f"0/{count // 4}"] if count > 60 else []
-    status, _, err = cli(program, "run", str(example), "--out", str(out_dir), "--time", "0.5", "--no-plots", "-q", "--jobs", "2", *shard)
+    seconds = max(0.5, json.loads(example.read_text()).get("dt", 0))
+    status, _, err = cli(program, "run", str(example), "--out", str(out_dir), "--time", str(seconds), "--no-plots", "-q", "--jobs", "2", *shard)
     assert status == 0, err
     result = salsa.load(out_dir)
     assert isinstance(result, salsa.QueueResult) and result.tests
