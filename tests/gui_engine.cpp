@@ -1,10 +1,11 @@
 // The sandbox's engine, driven as the window drives it: live changes are applied and recorded, "save
 // as test" replays byte for byte with `salsa run`, a drone-count change re-spawns, a refused start
-// state changes nothing, and a behavior that throws stops the run with a message naming the plugin.
+// state changes nothing, any number of stepping threads gives the same bytes, and a behavior that throws stops the run with a message naming the plugin.
 #include "common.hpp"
 
 #include <QTemporaryDir>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 
 #include "engine.hpp"
@@ -144,6 +145,25 @@ class GuiEngine : public QObject {
       QCOMPARE(QString::asprintf("%.6f", live.coverage_percent / 100), f[header.indexOf("coverage")]);
     }
     QCOMPARE(non_empty_lines(read_file(dir.path() + "/out/timed/drones.csv")).filter(QRegularExpression("^3\\.0000,")), rows_of(*snap));
+  }
+
+  // The sandbox steps on every core; a person's run must not depend on how many the machine has.
+  void any_thread_count_steps_the_same_bytes() {
+    const std::string big = R"({"name": "threads", "behavior": "flocking", "drones": 2000, "physics": "light",
+      "map": {"name": "empty", "params": {"size": 600}}, "targets": {"kind": "tree", "count": 500}, "time": 60, "seed": 3})";
+    auto run = [&](int threads) {
+      Engine engine(*host_);
+      engine.set_threads(threads);
+      [&] { QCOMPARE(engine.load(spec(big)).get(), std::string()); }();
+      steps(engine, 30);
+      return engine.snapshot();
+    };
+    const auto one = run(1), many = run(4);
+    QCOMPARE(many->step, one->step);
+    QCOMPARE(many->positions.size(), one->positions.size());
+    QVERIFY(std::memcmp(many->positions.data(), one->positions.data(), one->positions.size() * sizeof(Vec2)) == 0);
+    QVERIFY(std::memcmp(many->velocities.data(), one->velocities.data(), one->velocities.size() * sizeof(Vec2)) == 0);
+    QCOMPARE(many->targets_found, one->targets_found);
   }
 
   void drone_count_change_respawns() {

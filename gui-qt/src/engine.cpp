@@ -155,7 +155,7 @@ std::string Engine::Worker::load(TestSpec test) {
   try {
     // All cores, as salsa run (the results are the same for any thread count): the step's workers
     // idle between steps, and a swarm too big for real time is stepped as fast as the cores allow.
-    next = std::make_unique<Session>(test, *host, SessionOptions{0, nullptr});
+    next = std::make_unique<Session>(test, *host, SessionOptions{threads, nullptr});
   } catch (const std::exception& e) {
     return e.what();
   }
@@ -256,6 +256,10 @@ void Engine::Worker::start_running() {
 Engine::Engine(std::shared_ptr<const PluginHost> host) : worker_(std::make_unique<Worker>(std::move(host))) {}
 Engine::Engine(const PluginHost& host) : Engine(std::shared_ptr<const PluginHost>(&host, [](const PluginHost*) {})) {}
 Engine::~Engine() = default;
+
+void Engine::set_threads(int threads) {
+  worker_->post([w = worker_.get(), threads] { w->threads = std::max(0, threads); });
+}
 
 std::future<std::string> Engine::load(TestSpec test) {
   return worker_->ask<std::string>([w = worker_.get(), test = std::move(test)]() mutable { return w->load(std::move(test)); });

@@ -43,6 +43,9 @@ class Engine {
   /// A new start state: builds a session for `test` (paused, time 0); the test's own timed changes are
   /// the timeline and apply as it runs, exactly as in `salsa run`.
   std::future<std::string> load(TestSpec test);
+  /// Threads the simulation steps on from the next load or reset (0, the default: every core). Any
+  /// count gives the same results byte for byte.
+  void set_threads(int threads);
   /// Rebuilds the loaded test's start state (paused, time 0): live changes dropped, the test's own kept.
   std::future<std::string> reset();
   /// A live change (keys as in salsa/core/experiments/changes.hpp), recorded at the current time.

@@ -48,6 +48,7 @@ struct Engine::Worker {
   /// (exactly there, whatever the pacing); a Start after it runs on.
   bool pause_at_end = true;
   std::string error;
+  int threads = 0;  // 0: every core
   Pacing pacing;
   bool inexact_used = false;
   std::optional<double> reloaded_at;  // the behavior's code was swapped then: no test replays two versions
