@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
@@ -21,6 +22,15 @@
 namespace salsa {
 
 namespace fs = std::filesystem;
+
+namespace {
+/// netCDF-C is not thread-safe, and `salsa run --jobs` writes and checks archives from several worker
+/// threads at once: every call into it holds this lock (recursive: a writer's methods call each other).
+std::recursive_mutex& netcdf_lock() {
+  static std::recursive_mutex lock;
+  return lock;
+}
+}  // namespace
 
 namespace {
 
@@ -253,6 +263,7 @@ struct ArchiveWriter::Impl {
 };
 
 ArchiveWriter::ArchiveWriter(fs::path file, ArchiveProvenance provenance) : impl_(std::make_unique<Impl>()) {
+  const std::lock_guard lock(netcdf_lock());
   impl_->file = std::move(file);
   impl_->part = impl_->file;
   impl_->part += ".part";
@@ -261,14 +272,16 @@ ArchiveWriter::ArchiveWriter(fs::path file, ArchiveProvenance provenance) : impl
 }
 
 ArchiveWriter::~ArchiveWriter() {
-  if (impl_->nc < 0) return;
-  try {
-    impl_->flush();  // the frames so far, in the .part file
-  } catch (const WriteError&) {  // a full disk: the run reports its own failure
-  }
+  const std::lock_guard lock(netcdf_lock());
+  if (impl_->nc >= 0) try {
+      impl_->flush();  // the frames so far, in the .part file
+    } catch (const WriteError&) {  // a full disk: the run reports its own failure
+    }
+  impl_.reset();  // closes the file under the lock
 }
 
 void ArchiveWriter::frame(double time, const std::vector<StateColumn>& columns) {
+  const std::lock_guard lock(netcdf_lock());
   Impl& m = *impl_;
   std::size_t drones = 0;
   StateColumn status;
@@ -307,6 +320,7 @@ void ArchiveWriter::frame(double time, const std::vector<StateColumn>& columns) 
 }
 
 void ArchiveWriter::close(const std::vector<TargetState>& targets, double target_radius) {
+  const std::lock_guard lock(netcdf_lock());
   Impl& m = *impl_;
   m.flush();
   const int nc = m.nc;
@@ -431,6 +445,7 @@ struct Reading {
 }  // namespace
 
 void read_archive(const fs::path& file, Recording& into) {
+  const std::lock_guard lock(netcdf_lock());
   Reading r{file};
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) r.fail("missing (no such file)");
@@ -515,6 +530,7 @@ void read_archive(const fs::path& file, Recording& into) {
 }
 
 std::string archive_lacks(const fs::path& file, const std::vector<std::string>& wanted) {
+  const std::lock_guard lock(netcdf_lock());
   std::vector<std::string> asked(std::begin(archive_columns), std::end(archive_columns));
   int nc = -1;
   bool readable = nc_open(file.c_str(), NC_NOWRITE, &nc) == NC_NOERR;
