@@ -132,6 +132,16 @@ class TestAbmFlocking : public QObject {
     qInfo("%s: polarisation %.3f at 10 steps, %.3f at 100", qPrintable(name), start, end);
     QVERIFY2(end > 2 * start, qPrintable(QString("polarisation %1 → %2").arg(start).arg(end)));
   }
+
+  // The benchmark refuses a seed count out of range in one line, before running anything.
+  void bench_refuses_bad_seeds() {
+    for (const char* seeds : {"0", "1001"}) {
+      const CliResult r = run_salsa({"bench", "abm-flocking", "--seeds", seeds});
+      QVERIFY2(!r.crashed && r.exit_code == 2, describe(r));
+      QCOMPARE(non_empty_lines(r.err).size(), 1);
+      QVERIFY2(r.err.contains(QString("--seeds: %1 is out of range (allowed: 1 to 1000)").arg(seeds)), describe(r));
+    }
+  }
 };
 
 QTEST_GUILESS_MAIN(TestAbmFlocking)
