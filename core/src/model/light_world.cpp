@@ -193,16 +193,21 @@ void LightWorld::advance(const StaticGeometry& geometry, double dt, int, int) {
 // solver): the order is the ids', never the threads', and a pile converges where a Jacobi pass,
 // reading only the last pass, would leave its inner drones pressed (measured in test_light).
 void LightWorld::stop_closing(double dt) {
+  // Positions hold still here, so each pair's direction and allowed closing speed are found once.
+  contacts_.clear();
+  for (const auto& [a, b] : pairs_) {
+    if (!enabled_[a] || !enabled_[b]) continue;
+    const Vec2 ab = positions_[a] - positions_[b];
+    const double dist = ab.length();
+    const Vec2 u = dist > 0 ? ab / dist : Vec2{1, 0};  // on top of each other: apart along x, by id
+    // A pair not yet touching may close the gap between them in this step, no more (a speculative
+    // contact): so the move itself makes almost no overlap for the pushes to undo.
+    contacts_.push_back({{a, b}, u, -std::max(dist - radius_[a] - radius_[b], 0.0) / dt});
+  }
   for (int pass = 0; pass < solver_passes; ++pass) {
     bool any = false;
-    for (const auto& [a, b] : pairs_) {
-      if (!enabled_[a] || !enabled_[b]) continue;
-      const Vec2 ab = positions_[a] - positions_[b];
-      const double dist = ab.length();
-      const Vec2 u = dist > 0 ? ab / dist : Vec2{1, 0};  // on top of each other: apart along x, by id
-      // A pair not yet touching may close the gap between them in this step, no more (a speculative
-      // contact): so the move itself makes almost no overlap for the pushes to undo.
-      const double allowed = -std::max(dist - radius_[a] - radius_[b], 0.0) / dt;
+    for (const auto& [pair, u, allowed] : contacts_) {
+      const auto [a, b] = pair;
       const double closing = (velocities_[a] - velocities_[b]).dot(u) - allowed, total = mass_[a] + mass_[b];
       if (!(closing < -1e-12)) continue;
       velocities_[a] -= u * (closing * mass_[b] / total);

@@ -80,6 +80,13 @@ class LightWorld final : public Physics {
   tbb::enumerable_thread_specific<std::vector<Near>> near_;   ///< one drone's neighbours, per thread
   std::vector<std::uint8_t> capped_;   ///< this step: the drone had more neighbours than the cap
   std::vector<ContactEvent> begun_;
+  /// A pair in the velocity solver, with its direction and allowed closing speed (fixed for the step).
+  struct Contact {
+    Pair pair;
+    Vec2 u;
+    double allowed;
+  };
+  std::vector<Contact> contacts_;
 };
 
 }  // namespace salsa
