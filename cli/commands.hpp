@@ -24,6 +24,8 @@ int cmd_export(int argc, char** argv);
 
 /// salsa bench queue FILE (cli/bench_queue.cpp).
 int bench_queue(const boost::program_options::variables_map& vm, const salsa::PluginHost& host, const std::string& cpu);
+/// salsa bench abm-flocking (cli/bench_abm.cpp).
+int bench_abm_flocking(const boost::program_options::variables_map& vm, const salsa::PluginHost& host, const std::string& cpu);
 
 namespace salsa::cli {
 /// The queue folder's summary.csv, comparison.csv and (with `draw_plots`) queue plots, from its test

@@ -142,6 +142,18 @@ class TestAbmFlocking : public QObject {
       QVERIFY2(r.err.contains(QString("--seeds: %1 is out of range (allowed: 1 to 1000)").arg(seeds)), describe(r));
     }
   }
+
+  // It always runs light physics on one thread by the CPU clock: an option of another workload is
+  // refused by name, not silently ignored (a figure taken with "--physics box2d" would not be Box2D's).
+  void bench_refuses_other_workloads_options() {
+    for (const QStringList& extra : {QStringList{"--physics", "box2d"}, QStringList{"--floor"}, QStringList{"--threads", "2"}}) {
+      const CliResult r = run_salsa(QStringList{"bench", "abm-flocking", "--seeds", "1"} + extra);
+      QVERIFY2(!r.crashed && r.exit_code == 2, describe(r));
+      QCOMPARE(non_empty_lines(r.err).size(), 1);
+      QVERIFY2(r.err.contains(extra.front() + " does not apply to this workload (allowed: --seeds, --json, --plugin-dir)"), describe(r));
+      QVERIFY2(!r.out.contains("agent-steps"), describe(r));
+    }
+  }
 };
 
 QTEST_GUILESS_MAIN(TestAbmFlocking)

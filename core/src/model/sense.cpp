@@ -88,7 +88,8 @@ void Simulation::sense() {
     const DroneProperties& cfg = group.properties;
     const Vec2 p = drones_.positions[i];
     std::uint8_t count = 0;
-    geometry_.candidates(p, cfg.obstacle_range, s.segment_ids);
+    s.segment_ids.clear();
+    if (!group.rays.empty()) geometry_.candidates(p, cfg.obstacle_range, s.segment_ids);  // a drone without rays looks for no walls
     if (!s.segment_ids.empty())
       for (Vec2 direction : group.rays)
         if (auto hit = geometry_.ray_cast(p, direction, cfg.obstacle_range, s.segment_ids))
