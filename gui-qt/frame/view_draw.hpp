@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "frame_renderer.hpp"
+#include "marks.hpp"
 
 namespace salsa::gui {
 
@@ -173,8 +174,6 @@ void draw_trail_heads(const Pixels& pixels, const Layout& layout, const TrailLay
 
 // ---- Drones (view_drones.cpp)
 
-/// A ✕ with a white rim where a drone stopped (landed or failed), as the plots draw it.
-void draw_cross(QPainter& p, QPointF at, const QColor& colour);
 /// A flying drone of `radius` px at `at`: a disc, or a ring when its camera failed, with its velocity
 /// tick along `heading` (radians on screen; none: still).
 void draw_drone(QPainter& p, QPointF at, const QColor& colour, double radius, bool camera_works, std::optional<double> heading);

@@ -20,15 +20,6 @@ QColor group_colour(std::size_t group, std::size_t groups) {
   return groups < 2 ? drone_colour : colours[group % std::size(colours)];
 }
 
-void draw_cross(QPainter& p, QPointF at, const QColor& colour) {
-  const QPointF a(5, 5), b(5, -5);
-  for (const QPen& pen : {QPen(Qt::white, 5, Qt::SolidLine, Qt::RoundCap), QPen(colour, 2.5, Qt::SolidLine, Qt::RoundCap)}) {
-    p.setPen(pen);
-    p.drawLine(at - a, at + a);
-    p.drawLine(at - b, at + b);
-  }
-}
-
 void draw_drone(QPainter& p, QPointF at, const QColor& colour, double radius, bool camera_works, std::optional<double> heading) {
   if (camera_works) {
     p.setPen(Qt::NoPen);

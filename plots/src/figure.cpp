@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "marks.hpp"  // the desktop's marks, drawn alike here
 #include "salsa/plots/results.hpp"
 
 namespace salsa::plots {
@@ -72,15 +73,6 @@ std::vector<double> nice_ticks(double lo, double hi, int max_ticks) {
   std::vector<double> ticks;
   for (double k = first; k <= last; ++k) ticks.push_back(k * step);
   return ticks;
-}
-
-void draw_cross(QPainter& p, QPointF at, const QColor& colour) {
-  const QPointF a(5, 5), b(5, -5);
-  for (const QPen& pen : {QPen(Qt::white, 5, Qt::SolidLine, Qt::RoundCap), QPen(colour, 2.5, Qt::SolidLine, Qt::RoundCap)}) {
-    p.setPen(pen);
-    p.drawLine(at - a, at + a);
-    p.drawLine(at - b, at + b);
-  }
 }
 
 Figure::Figure(const QString& title, int width, int height) : image_(width, height, QImage::Format_RGB32), title_(title) {
@@ -330,7 +322,7 @@ void Figure::save(const std::filesystem::path& file) {
       case LegendEntry::ring: p.setPen(QPen(e.colour, 2)); p.drawEllipse(symbol.center(), 6, 6); break;
       case LegendEntry::box: p.setPen(QPen(e.colour.darker(160), 1.5)); p.setBrush(e.colour); p.drawRect(symbol.adjusted(6, 0, -6, 0)); break;
       case LegendEntry::square: p.setPen(QPen(e.colour.darker(140), 1)); p.setBrush(e.colour); p.drawRect(symbol.adjusted(9, 0, -9, 0)); break;
-      case LegendEntry::cross: draw_cross(p, symbol.center(), e.colour); break;
+      case LegendEntry::cross: gui::draw_cross(p, symbol.center(), e.colour); break;
       case LegendEntry::note: break;
     }
     p.setPen(Qt::black);

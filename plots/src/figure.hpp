@@ -33,9 +33,6 @@ QString tick_text(double value, double step);
 /// `max_lines` the last line ends in "…".
 QStringList wrapped(const QString& text, const QFont& f, double width, int max_lines = 6, bool inside_words = true);
 
-/// A ✕ in `colour` with a white rim, centred on `at` (where a drone stopped).
-void draw_cross(QPainter& p, QPointF at, const QColor& colour);
-
 struct LegendEntry {
   enum Kind { line, band, dot, ring, box, square, cross, note } kind;  // note: text only
   QColor colour;

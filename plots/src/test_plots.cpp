@@ -9,6 +9,7 @@
 
 #include "salsa/core/experiments/test_spec.hpp"
 #include "salsa/core/run/output_folder.hpp"
+#include "marks.hpp"  // the desktop's marks, drawn alike here
 #include "plot_helpers.hpp"
 #include "test_data.hpp"
 
@@ -172,7 +173,7 @@ void trajectories(const TestData& t, const fs::path& file) {
   for (std::size_t k = 0; k < drones.size(); ++k) {
     const auto& [key, path] = *drones[k];
     if (const auto stop = t.stops.find(key); stop != t.stops.end()) {
-      draw_cross(p, f.at(stop->second.x, stop->second.y), colour(k));
+      gui::draw_cross(p, f.at(stop->second.x, stop->second.y), colour(k));
       continue;
     }
     p.setPen(QPen(Qt::white, 1));
