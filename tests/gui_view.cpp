@@ -230,7 +230,7 @@ class GuiView : public QObject {
     } else {
       QVERIFY2(!video.isEmpty(), qPrintable(why));
       QVERIFY(QFileInfo(video).size() > 1000);
-      QVERIFY(!QFile::exists(video + ".partial"));
+      QVERIFY(!QFile::exists(video + ".part"));
       const QString ffprobe = QStandardPaths::findExecutable("ffprobe");
       if (!ffprobe.isEmpty()) {  // a video frame per PNG frame, the PNGs' size
         QProcess probe;

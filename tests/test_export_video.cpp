@@ -44,7 +44,7 @@ class TestExportVideo : public QObject {
     const CliResult v = run_salsa({"export", test_, "--video", video_, "--fps", "10", "--speed", "5", "--size", "640x480"});
     QVERIFY2(v.exit_code == 0, describe(v));
     QVERIFY2(v.out.contains("41 frames"), describe(v));
-    QVERIFY(!QFile::exists(video_ + ".partial"));
+    QVERIFY(!QFile::exists(video_ + ".part"));
   }
 
   void frame_count_and_size() {
@@ -107,7 +107,7 @@ class TestExportVideo : public QObject {
     QCOMPARE(r.exit_code, 2);
     QCOMPARE(non_empty_lines(r.err).size(), 1);
     QVERIFY2(r.err.contains("ffmpeg not found") && r.err.contains("apt install ffmpeg"), describe(r));
-    QVERIFY(!QFile::exists(file) && !QFile::exists(file + ".partial"));
+    QVERIFY(!QFile::exists(file) && !QFile::exists(file + ".part"));
   }
 
   void an_unwritable_file_is_one_line() {
@@ -117,7 +117,7 @@ class TestExportVideo : public QObject {
       QCOMPARE(non_empty_lines(r.err).size(), 1);
       QVERIFY2(r.err.contains(file) && (r.err.contains("cannot write") || r.err.contains("is a folder")), describe(r));
     }
-    QVERIFY(!QFile::exists(dir_.path() + ".partial"));
+    QVERIFY(!QFile::exists(dir_.path() + ".part"));
   }
 
   void ffmpeg_failing_leaves_what_was_there() {
@@ -134,7 +134,7 @@ class TestExportVideo : public QObject {
     QCOMPARE(non_empty_lines(r.err).size(), 1);
     QVERIFY2(r.err.contains("ffmpeg failed: x264: out of luck") && r.err.contains(file), describe(r));
     QCOMPARE(read_file(file), QByteArray("an older video"));
-    QVERIFY(!QFile::exists(file + ".partial"));
+    QVERIFY(!QFile::exists(file + ".part"));
   }
 };
 

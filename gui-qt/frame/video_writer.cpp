@@ -21,7 +21,7 @@ bool VideoWriter::open(const QString& file, QSize size, double fps, QString* err
     if (error) *error = "ffmpeg not found: install it (Debian, Ubuntu: `sudo apt install ffmpeg`; elsewhere: ffmpeg.org) to make " + file;
     return false;
   }
-  file_ = file, partial_ = file + ".partial", size_ = size;
+  file_ = file, partial_ = file + ".part", size_ = size;
   // A folder, or one that cannot be written to, is said here in the user's words, not in ffmpeg's.
   if (QFileInfo(file).isDir()) {
     if (error) *error = file + " is a folder (allowed: a file to write, e.g. run.mp4)";

@@ -1,7 +1,7 @@
 #pragma once
 // Frames into an MP4 with ffmpeg (H.264, yuv420p: what players and browsers open), piped in as raw RGB:
 // the desktop's recordings and salsa export --video. The video is written beside its name as
-// NAME.partial and renamed when ffmpeg has finished, so a failed or interrupted encoding leaves no
+// NAME.part and renamed when ffmpeg has finished, so a failed or interrupted encoding leaves no
 // half-written file under the name asked for.
 #include <QImage>
 #include <QProcess>
