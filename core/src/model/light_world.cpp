@@ -281,10 +281,11 @@ void LightWorld::separate(const StaticGeometry& geometry) {
   find_pairs(margin);
 
   if (!pairs_.empty()) {
+    in_pair_.assign(positions_.size(), 0);  // a flag per drone, read in id order: no sort of 2 × pairs ids
+    for (const auto& [a, b] : pairs_) in_pair_[a] = in_pair_[b] = 1;
     moved_.clear();
-    for (const auto& [a, b] : pairs_) moved_.push_back(a), moved_.push_back(b);
-    std::sort(moved_.begin(), moved_.end());
-    moved_.erase(std::unique(moved_.begin(), moved_.end()), moved_.end());
+    for (std::uint32_t i = 0; i < in_pair_.size(); ++i)
+      if (in_pair_[i]) moved_.push_back(i);
     from_.resize(moved_.size());
     for (std::size_t k = 0; k < moved_.size(); ++k) from_[k] = positions_[moved_[k]];
     bool pushed = false;

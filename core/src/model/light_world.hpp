@@ -71,6 +71,7 @@ class LightWorld final : public Physics {
   double max_radius_ = 0, min_radius_ = 0;
   PointGrid grid_;
   std::vector<Pair> pairs_;            ///< this step's pairs near enough to touch, sorted
+  std::vector<std::uint8_t> in_pair_;  ///< per drone: in one of this step's pairs
   std::vector<std::uint32_t> moved_;   ///< drones in this step's pairs, ascending
   std::vector<Vec2> from_;             ///< where each of them was before the pushes
   std::vector<std::uint8_t> wall_now_; ///< touching a wall after this step
