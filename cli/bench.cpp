@@ -121,6 +121,10 @@ int cmd_bench(int argc, char** argv) {
     return bench_abm_flocking(vm, host, cpu_model());
   }
   const bool is_table1 = workload == "table1";
+  if (is_table1)
+    only({"cells", "behavior", "seeds", "threads", "time", "decision-lag", "physics", "floor", "cpu-time", "profile", "fleet", "wind", "pile", "comm", "json"});
+  else
+    only({"sizes", "behavior", "seeds", "threads", "time", "decision-lag", "physics", "floor", "cpu-time", "profile", "fleet", "wind", "pile", "comm", "json"});
   const int threads = vm["threads"].as<int>();
   if (threads < 0 || threads > 1024) throw InputError("--threads: " + std::to_string(threads) + " is out of range (allowed: 0 to 1024)");
   const int seeds = vm.count("seeds") ? vm["seeds"].as<int>() : (is_table1 ? 5 : 1);
