@@ -12,8 +12,8 @@
     TestFailure     a test failed while it ran
 """
 
-from ._behavior import Behavior, Param, Senses
-from ._core import BatchRng, InputError, Session, TestFailure
+from ._behavior import Behavior, Param, Senses, World
+from ._core import BatchRng, InputError, Session, TestFailure, WorldQueries
 from ._core import register_behavior as _register_behavior
 from ._core import version as _version
 from ._env import Env
@@ -23,7 +23,7 @@ from ._validate import validate
 
 __version__ = _version()
 __all__ = ["BatchRng", "Behavior", "Env", "InputError", "ParallelEnv", "Param", "QueueResult", "Senses", "Session", "TestFailure",
-           "TestResult", "TuneResult", "behaviors", "load", "register", "run", "validate"]
+           "TestResult", "TuneResult", "World", "WorldQueries", "behaviors", "load", "register", "run", "validate"]
 
 
 _classes = {}  # name -> the class registered with salsa.register (salsa.run's processes import them again)

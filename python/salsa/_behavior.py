@@ -58,6 +58,8 @@ class Behavior:
 
       reset(drones)        drones (re)spawned: ids 0..drones-1, fresh memory (keep it in arrays by id)
       resize(drones)       the drone count changed, the others fly on (default: reset)
+      prepare(world)       once per step before any decide: shared state from the whole World
+                           (Behavior::prepare; default: nothing, and then not called)
       decide(group, rng)   once per step for the group's flying drones: return their steering, an
                            (N, 2) float64 array, m/s (Behavior::decide's velocity change), row r for
                            drone group.id[r]
@@ -74,6 +76,9 @@ class Behavior:
 
     def resize(self, drones):
         self.reset(drones)
+
+    def prepare(self, world):
+        pass
 
     def decide(self, group, rng):
         raise NotImplementedError(f"{type(self).__name__}.decide")
@@ -109,3 +114,15 @@ class Group:
 
     def __repr__(self):
         return f"<salsa.Group {self.group}: {len(self)} drones at t = {self.time} s>"
+
+
+class World:
+    """Every drone this step, as `prepare` gets it (docs/python.md lists the fields). The arrays are
+    copies, indexed by drone id (yours to keep). Two questions to the map, during the prepare call
+    only: is_free(points, clearance=0) and ray_cast(start, end) (salsa.WorldQueries)."""
+
+    def __len__(self):
+        return len(self.group)
+
+    def __repr__(self):
+        return f"<salsa.World: {len(self)} drones in {self.group_count} group(s) at t = {self.time} s>"

@@ -86,10 +86,15 @@ class PyBatchRng {
     return out;
   }
 
+  /// "float64 of shape (4, 3)", or the type's name of what is not an array.
   static std::string shape_of(const py::handle& o) {
     if (!py::isinstance<py::array>(o)) return py::str(py::type::of(o).attr("__name__")).cast<std::string>();
     const py::array a = py::reinterpret_borrow<py::array>(o);
-    std::string s = py::str(a.dtype()).cast<std::string>() + " of shape (";
+    return py::str(a.dtype()).cast<std::string>() + " of shape " + shape(a);
+  }
+  /// "(4, 3)", "(2,)".
+  static std::string shape(const py::array& a) {
+    std::string s = "(";
     for (py::ssize_t d = 0; d < a.ndim(); ++d) s += (d ? ", " : "") + std::to_string(a.shape(d));
     return s + (a.ndim() == 1 ? ",)" : ")");
   }
@@ -103,6 +108,68 @@ class PyBatchRng {
 };
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+/// The map's questions prepare may ask (World.is_free, World.ray_cast), one answer per row. Usable
+/// during the prepare call it came with only: the WorldView is the core's, for that call.
+class PyWorldQueries {
+ public:
+  using Points = py::array_t<double, py::array::c_style | py::array::forcecast>;
+  explicit PyWorldQueries(const WorldView* world) : world_(world) {}
+  void close() { world_ = nullptr; }
+
+  py::array_t<bool> is_free(const py::object& points, double clearance) const {
+    const WorldView& world = live("is_free");
+    if (!std::isfinite(clearance) || clearance < 0)
+      throw py::value_error("clearance: " + Parameter::format(clearance) + " (allowed: a finite number of m >= 0)");
+    const Points p = rows("points", points);
+    py::array_t<bool> out(p.shape(0));
+    bool* o = out.mutable_data();
+    const double* xy = p.data();
+    for (py::ssize_t i = 0; i < p.shape(0); ++i) o[i] = world.is_free({xy[2 * i], xy[2 * i + 1]}, clearance);
+    return out;
+  }
+
+  py::tuple ray_cast(const py::object& start, const py::object& end) const {
+    const WorldView& world = live("ray_cast");
+    const Points a = rows("start", start), b = rows("end", end);
+    if (a.shape(0) != b.shape(0))
+      throw py::value_error("end: " + std::to_string(b.shape(0)) + " rows (allowed: as many as start, " + std::to_string(a.shape(0)) + ")");
+    const py::ssize_t n = a.shape(0);
+    py::array_t<bool> hit(n);
+    py::array_t<double> point({n, py::ssize_t{2}}), distance(n);
+    bool* h = hit.mutable_data();
+    double *pt = point.mutable_data(), *d = distance.mutable_data();
+    for (py::ssize_t i = 0; i < n; ++i) {
+      const auto found = world.ray_cast({a.data()[2 * i], a.data()[2 * i + 1]}, {b.data()[2 * i], b.data()[2 * i + 1]});
+      h[i] = found.has_value();
+      pt[2 * i] = found ? found->point.x : nan, pt[2 * i + 1] = found ? found->point.y : nan;
+      d[i] = found ? found->distance : nan;
+    }
+    return py::make_tuple(hit, point, distance);
+  }
+
+ private:
+  const WorldView& live(const char* what) const {
+    if (!world_)
+      throw py::value_error(std::string(what) + ": asked outside the prepare call its world was handed to (allowed: during that call)");
+    return *world_;
+  }
+  /// `o` as an (M, 2) array of finite m, or why not.
+  static Points rows(const char* name, const py::object& o) {
+    Points p;
+    try {
+      p = Points::ensure(o);
+    } catch (py::error_already_set&) {
+    }
+    if (!p || p.ndim() != 2 || p.shape(1) != 2)
+      throw py::value_error(std::string(name) + ": " + (p ? "an array of shape " + PyBatchRng::shape(p) : PyBatchRng::shape_of(o)) +
+                            " (allowed: points of shape (M, 2), m)");
+    for (py::ssize_t i = 0; i < 2 * p.shape(0); ++i)
+      if (!std::isfinite(p.data()[i])) throw py::value_error(std::string(name) + ": a coordinate that is not finite (allowed: finite m)");
+    return p;
+  }
+  const WorldView* world_;
+};
 
 /// A read-only view of `count` items of type T laid out `stride` bytes apart from `data` (+ `offset`
 /// bytes), with `width` doubles per item when width > 1: (count,) or (count, width).
@@ -131,16 +198,18 @@ py::array field(const PerceptionBatch::Rows<Item>& rows, std::size_t offset, con
 
 class PyBatchBehavior final : public BatchBehavior {
  public:
-  PyBatchBehavior(py::object instance, std::string name, Senses senses, SharedState shared, py::handle group_type, py::handle rows_type)
-      : instance_(std::move(instance)), name_(std::move(name)), senses_(senses), shared_(shared),
-        group_type_(py::reinterpret_borrow<py::object>(group_type)), rows_type_(py::reinterpret_borrow<py::object>(rows_type)) {}
+  PyBatchBehavior(py::object instance, std::string name, Senses senses, SharedState shared, bool prepares, py::handle group_type,
+                  py::handle rows_type, py::handle world_type)
+      : instance_(std::move(instance)), name_(std::move(name)), senses_(senses), shared_(shared), prepares_(prepares),
+        group_type_(py::reinterpret_borrow<py::object>(group_type)), rows_type_(py::reinterpret_borrow<py::object>(rows_type)),
+        world_type_(py::reinterpret_borrow<py::object>(world_type)) {}
   ~PyBatchBehavior() override {
     if (!Py_IsInitialized()) {  // at exit, after Python: leave its objects be
-      instance_.release(), group_type_.release(), rows_type_.release(), params_.release();
+      instance_.release(), group_type_.release(), rows_type_.release(), world_type_.release(), params_.release();
       return;
     }
     py::gil_scoped_acquire gil;
-    instance_ = py::object(), group_type_ = py::object(), rows_type_ = py::object(), params_ = py::object();
+    instance_ = py::object(), group_type_ = py::object(), rows_type_ = py::object(), world_type_ = py::object(), params_ = py::object();
   }
 
   Senses senses() const override { return senses_; }
@@ -148,6 +217,22 @@ class PyBatchBehavior final : public BatchBehavior {
 
   void reset(std::size_t drones) override { call("reset", drones); }
   void resize(std::size_t drones) override { call("resize", drones); }
+
+  /// Called only when the class defines prepare: a step of a behavior without one takes no GIL here.
+  void prepare(const WorldView& world) override {
+    if (!prepares_) return;
+    py::gil_scoped_acquire gil;
+    try {
+      py::object queries = py::cast(std::make_unique<PyWorldQueries>(&world));
+      struct Close {
+        PyWorldQueries& q;
+        ~Close() { q.close(); }
+      } close{queries.cast<PyWorldQueries&>()};
+      instance_.attr("prepare")(world_of(world, queries));
+    } catch (py::error_already_set& e) {
+      throw std::runtime_error("Python behavior '" + name_ + "': prepare raised " + describe(e));
+    }
+  }
 
   void decide_batch(const std::shared_ptr<const PerceptionBatch>& batch, BatchRng& rngs, std::span<Vec2> steering) override {
     py::gil_scoped_acquire gil;
@@ -194,6 +279,35 @@ class PyBatchBehavior final : public BatchBehavior {
     py::object r = rows_type_.attr("__new__")(rows_type_);
     r.attr("__dict__")["offsets"] = column(offsets, base);
     return r;
+  }
+
+  /// The salsa.World prepare gets: copies of every drone's state, by id (the core's arrays change as it
+  /// steps, and may grow or shrink between steps).
+  py::object world_of(const WorldView& world, const py::object& queries) const {
+    py::object w = world_type_.attr("__new__")(world_type_);
+    py::dict d = w.attr("__dict__");
+    const auto n = static_cast<py::ssize_t>(world.drone_positions().size());
+    const auto vectors = [n](std::span<const Vec2> v) { return py::array_t<double>({n, py::ssize_t{2}}, &v.data()->x); };
+    d["time"] = world.time(), d["dt"] = world.dt();
+    const Rect b = world.bounds();
+    d["bounds"] = py::make_tuple(b.min.x, b.min.y, b.max.x, b.max.y);
+    d["position"] = vectors(world.drone_positions());
+    d["velocity"] = vectors(world.drone_velocities());
+    const auto groups_of = world.drone_groups();
+    const auto status = world.drone_status();
+    static_assert(sizeof(DroneStatus) == sizeof(std::uint8_t));
+    d["group"] = py::array_t<std::uint32_t>(static_cast<py::ssize_t>(groups_of.size()), groups_of.data());
+    d["status"] = py::array_t<std::uint8_t>(static_cast<py::ssize_t>(status.size()), reinterpret_cast<const std::uint8_t*>(status.data()));
+    const auto groups = static_cast<py::ssize_t>(world.group_count());
+    py::array_t<double> bases({groups, py::ssize_t{2}});
+    for (py::ssize_t g = 0; g < groups; ++g) {
+      const Vec2 base = world.base(static_cast<std::uint32_t>(g));
+      bases.mutable_at(g, 0) = base.x, bases.mutable_at(g, 1) = base.y;
+    }
+    d["group_count"] = groups, d["bases"] = bases, d["own_group"] = Behavior::group();
+    // Bound methods, so that an error names the line of prepare that asked.
+    d["is_free"] = queries.attr("is_free"), d["ray_cast"] = queries.attr("ray_cast");
+    return w;
   }
 
   /// The salsa.Group decide gets: views of the batch, which the capsule keeps alive as long as any is.
@@ -276,7 +390,8 @@ class PyBatchBehavior final : public BatchBehavior {
   std::string name_;
   Senses senses_;
   SharedState shared_;
-  py::object group_type_, rows_type_, params_;
+  bool prepares_;  // the class defines prepare
+  py::object group_type_, rows_type_, world_type_, params_;
 };
 
 /// Every behavior registered from Python, with its origin, for hosts made later (add_python_behaviors).
@@ -332,11 +447,14 @@ void register_behavior(const py::object& cls) {
   auto type = std::make_shared<PyRef>(cls);
   auto group_type = std::make_shared<PyRef>(declared.attr("Group"));
   auto rows_type = std::make_shared<PyRef>(declared.attr("Rows"));
-  f.create = [type, group_type, rows_type, name = f.name, sensed, shared, label]() -> std::unique_ptr<Behavior> {
+  auto world_type = std::make_shared<PyRef>(declared.attr("World"));
+  const bool prepares = !cls.attr("prepare").is(base.attr("prepare"));
+  f.create = [type, group_type, rows_type, world_type, name = f.name, sensed, shared, prepares, label]() -> std::unique_ptr<Behavior> {
     // The core makes behaviors while stepping or starting a Session, without the GIL.
     py::gil_scoped_acquire gil;
     try {
-      return std::make_unique<PyBatchBehavior>(type->get()(), name, sensed, shared, group_type->get(), rows_type->get());
+      return std::make_unique<PyBatchBehavior>(type->get()(), name, sensed, shared, prepares, group_type->get(), rows_type->get(),
+                                               world_type->get());
     } catch (py::error_already_set& e) {
       throw std::runtime_error(label + "() raised " + describe(e));
     }
@@ -392,6 +510,13 @@ numbers. `where` (a bool array of shape (N,)) draws only for its True rows; the 
             return r.draw<std::int64_t>(where, -1, [&](Rng& g) { return static_cast<std::int64_t>(g.index(n)); });
           },
           py::arg("n"), py::arg("where") = py::none(), "Uniform whole number in [0, n) (Rng::index).");
+  py::class_<PyWorldQueries>(m, "WorldQueries", "The map's questions a World answers, during the prepare call only.")
+      .def("is_free", &PyWorldQueries::is_free, py::arg("points"), py::arg("clearance") = 0.0,
+           R"(Whether a disc of radius `clearance` (m) at each of `points` ((M, 2), m) is inside the map and
+touches no obstacle: (M,) bool (WorldView::is_free).)")
+      .def("ray_cast", &PyWorldQueries::ray_cast, py::arg("start"), py::arg("end"),
+           R"(The first obstacle on each segment start[i] -> end[i] ((M, 2) each, m): (hit (M,) bool,
+point (M, 2), distance (M,) m from start), NaN where nothing is hit (WorldView::ray_cast).)");
   m.def("register_behavior", &register_behavior, py::arg("cls"), "salsa.register's work: the class checked and registered.");
   m.def("_behaviors", [] {
     py::list out;

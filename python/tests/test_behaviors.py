@@ -348,3 +348,153 @@ def test_a_live_change_of_a_param_reaches_decide():
     assert Recorder.seen[0].gain == 0.5 and Recorder.seen[-1].gain == 2.0
     with pytest.raises(ValueError, match="out of range"):
         s.change("behavior.params.gain", 3.0)
+
+
+# ---- prepare: the whole world once a step ----
+
+WAREHOUSE = SOURCE / "examples" / "maps" / "warehouse.json"  # a rack spans (40..100, 120..126), a wall y = 100 for x in 35..60
+
+
+def two_groups(python_behavior, python_drones=6, others=4):
+    return {"groups": [{"name": "py", "drones": python_drones, "behavior": python_behavior, "spawn": {"point": [150, 60]}},
+                       {"name": "cpp", "drones": others, "behavior": "random_walk"}],
+            "map": str(WAREHOUSE), "time": 10, "seed": 3}
+
+
+def test_prepare_sees_every_drone_once_a_step_before_any_decide():
+    calls = []
+
+    class Watcher(salsa.Behavior):
+        name = "py_watcher"
+        senses = salsa.Senses(neighbours=False, targets=False)
+
+        def prepare(self, world):
+            calls.append(("prepare", world))
+
+        def decide(self, group, rng):
+            calls.append(("decide", group))
+            return np.zeros((len(group), 2))
+
+    salsa.register(Watcher)
+    s = salsa.Session(two_groups("py_watcher"))
+    s.step(3)
+    before = (s.time, s.column("position").copy(), s.column("velocity").copy(), s.column("status").copy(), s.column("group").copy())
+    s.step()
+    assert [c[0] for c in calls] == ["prepare", "decide"] * 4
+    world = calls[-2][1]
+    assert world.time == pytest.approx(before[0]) and world.dt == pytest.approx(1 / 60) and len(world) == 10
+    # Every drone of both groups, exactly the state the step began with, by id.
+    np.testing.assert_array_equal(world.position, before[1])
+    np.testing.assert_array_equal(world.velocity, before[2])
+    assert world.status.dtype == np.uint8 and world.status.tolist() == before[3].tolist() == [0] * 10
+    assert world.group.dtype == np.uint32 and world.group.tolist() == before[4].tolist() == [0] * 6 + [1] * 4
+    assert world.own_group == 0 and world.group_count == 2 and world.bounds == (0.0, 0.0, 300.0, 200.0)
+    assert world.bases.shape == (2, 2) and world.bases[0].tolist() == [150.0, 60.0]
+    # Copies: the core's arrays step on, what prepare kept does not.
+    assert not np.shares_memory(world.position, s.column("position"))
+    assert not np.array_equal(world.position, s.column("position"))
+
+
+def test_prepare_builds_the_shared_state_decide_reads():
+    """The fixture's Scatter in Python: prepare finds the centre of the group's flying drones once a
+    step, every drone flies straight away from it at full speed; the other group is not counted."""
+    centres = []
+
+    class Scatter(salsa.Behavior):
+        name = "py_scatter"
+        shared_state = "global"
+        senses = salsa.Senses(neighbours=False, targets=False)
+
+        def prepare(self, world):
+            mine = (world.group == world.own_group) & (world.status == 0)
+            self.centre = world.position[mine].mean(axis=0)
+            centres.append(self.centre)
+
+        def decide(self, group, rng):
+            away = group.position - self.centre
+            away /= np.linalg.norm(away, axis=1, keepdims=True)
+            return group.max_speed * away - group.velocity
+
+    salsa.register(Scatter)
+    s = salsa.Session(two_groups("py_scatter", python_drones=12))
+    mine = s.column("group") == 0
+
+    def spread():
+        p = s.column("position")[mine]
+        return float(np.linalg.norm(p - p.mean(axis=0), axis=1).mean())
+
+    spreads = [spread()]
+    for _ in range(4):
+        s.step(15)
+        spreads.append(spread())
+    assert all(b > a for a, b in zip(spreads, spreads[1:])), spreads
+    # Each centre was the group's own mean then: the last one, against the positions before that step.
+    s2 = salsa.Session(two_groups("py_scatter", python_drones=12))
+    s2.step(59)
+    expected = s2.column("position")[mine].mean(axis=0)
+    s2.step()
+    np.testing.assert_allclose(centres[-1], expected, rtol=0, atol=1e-12)
+
+
+def test_prepare_asks_the_map():
+    answers = {}
+
+    class Surveyor(salsa.Behavior):
+        name = "py_surveyor"
+
+        def prepare(self, world):
+            answers["free"] = world.is_free([[70, 110], [70, 123], [-5, 50], [299, 50]])
+            answers["clear"] = world.is_free([[70, 110], [70, 110]], 11)
+            answers["rays"] = world.ray_cast([[70, 110], [45, 90], [250, 60]], [[70, 140], [45, 110], [260, 60]])
+            answers["none"] = world.ray_cast(np.zeros((0, 2)), np.zeros((0, 2)))
+            answers["world"] = world
+
+        def decide(self, group, rng):
+            return np.zeros((len(group), 2))
+
+    salsa.register(Surveyor)
+    s = salsa.Session(two_groups("py_surveyor"))
+    s.step()
+    assert answers["free"].tolist() == [True, False, False, True]  # open floor, inside a rack, outside the hall, by its wall
+    assert answers["clear"].tolist() == [False, False]  # 10 m from the rack: a disc of 11 m touches it
+    hit, point, distance = answers["rays"]
+    assert hit.tolist() == [True, True, False]
+    np.testing.assert_allclose(point[:2], [[70, 120], [45, 100]], atol=1e-6)
+    np.testing.assert_allclose(distance[:2], [10, 10], atol=1e-6)
+    assert np.isnan(point[2]).all() and np.isnan(distance[2])
+    assert [a.shape for a in answers["none"]] == [(0,), (0, 2), (0,)]
+    # The map is asked during prepare only; the arrays stay.
+    with pytest.raises(ValueError, match=r"is_free: asked outside the prepare call its world was handed to \(allowed: during that call\)"):
+        answers["world"].is_free([[1, 1]])
+    assert answers["world"].position.shape == (10, 2)
+
+
+@pytest.mark.parametrize("ask, why", [
+    (lambda w: w.is_free([1, 2]), r"points: an array of shape \(2,\) \(allowed: points of shape \(M, 2\), m\)"),
+    (lambda w: w.is_free("here"), r"points: str \(allowed: points of shape \(M, 2\), m\)"),
+    (lambda w: w.is_free([[np.nan, 1]]), r"points: a coordinate that is not finite \(allowed: finite m\) \(.*test_behaviors.py:\d+\)"),
+    (lambda w: w.is_free([[1, 1]], -1), r"clearance: -1 \(allowed: a finite number of m >= 0\)"),
+    (lambda w: w.ray_cast([[0, 0]], [[1, 1], [2, 2]]), r"end: 2 rows \(allowed: as many as start, 1\)"),
+    (lambda w: 1 / 0, r"ZeroDivisionError: division by zero \(.*test_behaviors.py:\d+\)"),
+])
+def test_a_bad_question_or_an_exception_in_prepare_stops_the_test_with_one_line(ask, why):
+    class Asker(salsa.Behavior):
+        name = "py_asker"
+
+        def prepare(self, world):
+            if world.time > 0.04:
+                ask(world)
+
+        def decide(self, group, rng):
+            return np.zeros((len(group), 2))
+
+    salsa.register(Asker)
+    s = salsa.Session(two_groups("py_asker"))
+    with pytest.raises(salsa.TestFailure) as e:
+        s.step(10)
+    line = str(e.value)
+    assert "\n" not in line and "behavior 'py_asker' of group 'py' (Python class test_behaviors." in line
+    assert "Python behavior 'py_asker': prepare raised " in line
+    import re
+    assert re.search(why, line), line
+    assert s.steps == 3  # the steps before stay
