@@ -28,6 +28,22 @@ class Talker final : public Behavior {
   std::size_t message_size() const override { return 3; }
 };
 
+/// The same Talker deciding in batches: its messages sent through the batch's outbox.
+class BatchTalker final : public BatchBehavior {
+ public:
+  void decide_batch(const std::shared_ptr<const PerceptionBatch>& batch, BatchRng& rng, const BatchOutbox& outbox,
+                    std::span<Vec2> steering) override {
+    const PerceptionBatch& b = *batch;
+    QVERIFY(outbox.size() == b.size());
+    for (std::size_t r = 0; r < b.size(); ++r) {
+      const double payload[] = {static_cast<double>(b.id[r]), b.position[r].x, b.position[r].y};
+      outbox.broadcast(r, payload);
+      steering[r] = Vec2::polar(b.drone.max_force, rng[r].angle());
+    }
+  }
+  std::size_t message_size() const override { return 3; }
+};
+
 /// Steers by everything it perceives, so that any difference in what it got moves a drone.
 class Listener : public Behavior {
  public:
@@ -52,7 +68,8 @@ class BatchListener final : public BatchBehavior {
   std::vector<std::vector<Vec2>> kept_positions;
   bool keep = false;
 
-  void decide_batch(const std::shared_ptr<const PerceptionBatch>& batch, BatchRng& rng, std::span<Vec2> steering) override {
+  void decide_batch(const std::shared_ptr<const PerceptionBatch>& batch, BatchRng& rng, const BatchOutbox&,
+                    std::span<Vec2> steering) override {
     const PerceptionBatch& b = *batch;
     QVERIFY(b.size() == steering.size() && rng.size() == b.size());
     for (std::size_t r = 0; r < b.size(); ++r) {
@@ -90,8 +107,9 @@ class TestBatchBehavior : public QObject {
   std::unique_ptr<PluginHost> host_ = builtin_host();
 
   /// Two groups, a talker and a listener (one by one, or in batches), over a forest, with comm and
-  /// sensor noise; `drones` per group.
-  SimulationSetup setup(bool batch, int threads, std::size_t drones, std::shared_ptr<BatchListener>* made = nullptr) {
+  /// sensor noise; `drones` per group. `batch_talkers`: the talkers decide in batches too.
+  SimulationSetup setup(bool batch, int threads, std::size_t drones, std::shared_ptr<BatchListener>* made = nullptr,
+                        bool batch_talkers = false) {
     const std::string test = R"({"groups": [
         {"name": "talkers", "drones": )" + std::to_string(drones) + R"(, "behavior": "random_walk"},
         {"name": "listeners", "drones": )" + std::to_string(drones) + R"(, "behavior": "random_walk",
@@ -100,7 +118,7 @@ class TestBatchBehavior : public QObject {
       "map": {"name": "forest", "params": {"size": 400}}, "targets": {"kind": "tree", "count": 300},
       "comm": {"range": 120}, "time": 10, "seed": 5})";
     SimulationSetup s = make_setup(parse_test(test, "batch.json", *host_), *host_, threads);
-    s.groups[0].behavior = std::make_shared<Talker>();
+    s.groups[0].behavior = batch_talkers ? std::shared_ptr<Behavior>(std::make_shared<BatchTalker>()) : std::make_shared<Talker>();
     if (batch) {
       auto b = std::make_shared<BatchListener>();
       if (made) *made = b;
@@ -127,6 +145,18 @@ class TestBatchBehavior : public QObject {
       QVERIFY(messages > 1000);  // the listeners did read messages
       QVERIFY(batched.false_detections() > 0);
     }
+  }
+
+  // The talkers' messages sent through a batch's outbox reach the listeners as those sent one by one.
+  void a_batch_broadcasts_what_each_drone_broadcasts() {
+    Simulation one_by_one(setup(false, 2, 150)), batched(setup(false, 2, 150, nullptr, true));
+    for (int k = 0; k < 240; ++k) {
+      one_by_one.step(), batched.step();
+      const auto a = one_by_one.drone_positions(), b = batched.drone_positions();
+      QVERIFY(std::equal(a.begin(), a.end(), b.begin()));
+    }
+    QCOMPARE(batched.comm_counters().delivered, one_by_one.comm_counters().delivered);
+    QVERIFY(batched.comm_counters().delivered > 1000);
   }
 
   void the_batch_is_the_same_for_any_thread_count() {

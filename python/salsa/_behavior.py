@@ -53,7 +53,8 @@ class Behavior:
 
     Class attributes: `name` (how tests name it), `brief`, `parameters` (a list of Param), `senses`
     (a Senses), `shared_state` ("none", the default; "global": state built from all drones at once;
-    "radio": shared only through messages; docs/plugins.md, Shared state). The core makes one instance per group that uses it, sets `params` (a Group-like
+    "radio": shared only through messages; docs/plugins.md, Shared state), `message_size` (the most
+    doubles one message holds, 0 to 64; 0, the default: its drones never broadcast). The core makes one instance per group that uses it, sets `params` (a Group-like
     namespace of the values) and calls:
 
       reset(drones)        drones (re)spawned: ids 0..drones-1, fresh memory (keep it in arrays by id)
@@ -62,7 +63,8 @@ class Behavior:
                            (Behavior::prepare; default: nothing, and then not called)
       decide(group, rng)   once per step for the group's flying drones: return their steering, an
                            (N, 2) float64 array, m/s (Behavior::decide's velocity change), row r for
-                           drone group.id[r]
+                           drone group.id[r]; group.broadcast(payload, where=None) sends row r's
+                           message payload[r] ((N, K), K <= message_size) during the call
     """
 
     name = None
@@ -70,6 +72,7 @@ class Behavior:
     parameters = ()
     senses = Senses()
     shared_state = "none"
+    message_size = 0
 
     def reset(self, drones):
         pass

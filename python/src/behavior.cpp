@@ -107,6 +107,43 @@ class PyBatchRng {
   BatchRng* rngs_;
 };
 
+/// Where decide's drones broadcast (Group.broadcast): row r's message through the core's outbox of
+/// that drone, as Perception::broadcast. Usable during the decide call it came with only.
+class PyBatchOutbox {
+ public:
+  PyBatchOutbox(const BatchOutbox* outbox, std::size_t message_size) : outbox_(outbox), message_size_(message_size) {}
+  void close() { outbox_ = nullptr; }
+
+  void broadcast(const py::object& payload, const py::object& where) const {
+    if (!outbox_) throw py::value_error("broadcast: called outside the decide call its group was handed to (allowed: during that call)");
+    const std::size_t n = outbox_->size();
+    using Payloads = py::array_t<double, py::array::c_style | py::array::forcecast>;
+    Payloads p;
+    try {
+      p = Payloads::ensure(payload);
+    } catch (py::error_already_set&) {
+    }
+    const std::string rows = std::to_string(n);
+    if (!p || p.ndim() != 2 || static_cast<std::size_t>(p.shape(0)) != n)
+      throw py::value_error("payload: " + (p ? "an array of shape " + PyBatchRng::shape(p) : PyBatchRng::shape_of(payload)) +
+                            " (allowed: numbers of shape (" + rows + ", K), row r the message of drone group.id[r])");
+    const auto k = static_cast<std::size_t>(p.shape(1));
+    if (k > message_size_)
+      throw py::value_error("payload: " + std::to_string(k) + " doubles a message (allowed: at most message_size = " +
+                            std::to_string(message_size_) + ")");
+    const py::array mask = where.is_none() ? py::array() : py::array(where);
+    if (!where.is_none() && (!py::isinstance<py::array_t<bool>>(where) || mask.ndim() != 1 || static_cast<std::size_t>(mask.shape(0)) != n))
+      throw py::value_error("where: " + PyBatchRng::shape_of(where) + " (allowed: a numpy bool array of shape (" + rows + ",), one entry per row)");
+    const bool* m = where.is_none() ? nullptr : py::array_t<bool>(where).data();
+    for (std::size_t r = 0; r < n; ++r)
+      if (!m || m[r]) outbox_->broadcast(r, {p.data() + r * k, k});
+  }
+
+ private:
+  const BatchOutbox* outbox_;
+  std::size_t message_size_;
+};
+
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
 /// The map's questions prepare may ask (World.is_free, World.ray_cast), one answer per row. Usable
@@ -198,9 +235,10 @@ py::array field(const PerceptionBatch::Rows<Item>& rows, std::size_t offset, con
 
 class PyBatchBehavior final : public BatchBehavior {
  public:
-  PyBatchBehavior(py::object instance, std::string name, Senses senses, SharedState shared, bool prepares, py::handle group_type,
-                  py::handle rows_type, py::handle world_type)
-      : instance_(std::move(instance)), name_(std::move(name)), senses_(senses), shared_(shared), prepares_(prepares),
+  PyBatchBehavior(py::object instance, std::string name, Senses senses, SharedState shared, std::size_t message_size, bool prepares,
+                  py::handle group_type, py::handle rows_type, py::handle world_type)
+      : instance_(std::move(instance)), name_(std::move(name)), senses_(senses), shared_(shared), message_size_(message_size),
+        prepares_(prepares),
         group_type_(py::reinterpret_borrow<py::object>(group_type)), rows_type_(py::reinterpret_borrow<py::object>(rows_type)),
         world_type_(py::reinterpret_borrow<py::object>(world_type)) {}
   ~PyBatchBehavior() override {
@@ -214,6 +252,7 @@ class PyBatchBehavior final : public BatchBehavior {
 
   Senses senses() const override { return senses_; }
   SharedState shared_state() const override { return shared_; }
+  std::size_t message_size() const override { return message_size_; }
 
   void reset(std::size_t drones) override { call("reset", drones); }
   void resize(std::size_t drones) override { call("resize", drones); }
@@ -234,17 +273,22 @@ class PyBatchBehavior final : public BatchBehavior {
     }
   }
 
-  void decide_batch(const std::shared_ptr<const PerceptionBatch>& batch, BatchRng& rngs, std::span<Vec2> steering) override {
+  void decide_batch(const std::shared_ptr<const PerceptionBatch>& batch, BatchRng& rngs, const BatchOutbox& outbox,
+                    std::span<Vec2> steering) override {
     py::gil_scoped_acquire gil;
     auto fail = [&](const std::string& why) { return std::runtime_error("Python behavior '" + name_ + "': " + why); };
     try {
-      // Owned by Python (decide may keep it), closed when the call returns: the streams are the core's.
+      // Owned by Python (decide may keep them), closed when the call returns: streams and outboxes are the core's.
       py::object rng_object = py::cast(std::make_unique<PyBatchRng>(&rngs));
+      py::object outbox_object = py::cast(std::make_unique<PyBatchOutbox>(&outbox, message_size_));
       struct Close {
         PyBatchRng& r;
-        ~Close() { r.close(); }
-      } close{rng_object.cast<PyBatchRng&>()};
-      py::object result = instance_.attr("decide")(group(batch), rng_object);
+        PyBatchOutbox& o;
+        ~Close() { r.close(), o.close(); }
+      } close{rng_object.cast<PyBatchRng&>(), outbox_object.cast<PyBatchOutbox&>()};
+      py::object g = group(batch);
+      g.attr("__dict__")["broadcast"] = outbox_object.attr("broadcast");  // bound: an error names decide's line
+      py::object result = instance_.attr("decide")(g, rng_object);
       take(result, steering, fail);
     } catch (py::error_already_set& e) {
       throw fail("decide raised " + describe(e));
@@ -390,6 +434,7 @@ class PyBatchBehavior final : public BatchBehavior {
   std::string name_;
   Senses senses_;
   SharedState shared_;
+  std::size_t message_size_;
   bool prepares_;  // the class defines prepare
   py::object group_type_, rows_type_, world_type_, params_;
 };
@@ -425,10 +470,16 @@ void register_behavior(const py::object& cls) {
     throw refuse("shared_state: " + py::repr(shared_text).cast<std::string>() + " (allowed: \"none\", \"global\", \"radio\")");
   if (shared_text.cast<std::string>() == "global") shared = SharedState::global;
   if (shared_text.cast<std::string>() == "radio") shared = SharedState::radio;
+  const py::object size = cls.attr("message_size");
+  if (!py::isinstance<py::int_>(size) || py::isinstance<py::bool_>(size) || size.cast<long long>() < 0 ||
+      size.cast<long long>() > static_cast<long long>(max_message_size))
+    throw refuse("message_size: " + py::repr(size).cast<std::string>() + " (allowed: a whole number of doubles in [0, " +
+                 std::to_string(max_message_size) + "])");
+  const auto message_size = size.cast<std::size_t>();
   // Group's own fields: a parameter of one of these names would hide it.
   static const char* taken[] = {"id", "position", "velocity", "air_velocity", "wind", "battery", "time", "dt", "group",
                                 "max_speed", "max_force", "radius", "mass", "camera_range", "obstacle_range",
-                                "detection_range", "battery_capacity", "base", "neighbours", "targets", "obstacles", "messages"};
+                                "detection_range", "battery_capacity", "base", "neighbours", "targets", "obstacles", "messages", "broadcast"};
   for (const py::handle p : py::iter(cls.attr("parameters"))) {
     if (!py::isinstance(p, declared.attr("Param")))
       throw refuse("parameters: " + py::repr(p).cast<std::string>() + " (allowed: a list of salsa.Param)");
@@ -449,12 +500,13 @@ void register_behavior(const py::object& cls) {
   auto rows_type = std::make_shared<PyRef>(declared.attr("Rows"));
   auto world_type = std::make_shared<PyRef>(declared.attr("World"));
   const bool prepares = !cls.attr("prepare").is(base.attr("prepare"));
-  f.create = [type, group_type, rows_type, world_type, name = f.name, sensed, shared, prepares, label]() -> std::unique_ptr<Behavior> {
+  f.create = [type, group_type, rows_type, world_type, name = f.name, sensed, shared, message_size, prepares,
+              label]() -> std::unique_ptr<Behavior> {
     // The core makes behaviors while stepping or starting a Session, without the GIL.
     py::gil_scoped_acquire gil;
     try {
-      return std::make_unique<PyBatchBehavior>(type->get()(), name, sensed, shared, prepares, group_type->get(), rows_type->get(),
-                                               world_type->get());
+      return std::make_unique<PyBatchBehavior>(type->get()(), name, sensed, shared, message_size, prepares, group_type->get(),
+                                               rows_type->get(), world_type->get());
     } catch (py::error_already_set& e) {
       throw std::runtime_error(label + "() raised " + describe(e));
     }
@@ -510,6 +562,11 @@ numbers. `where` (a bool array of shape (N,)) draws only for its True rows; the 
             return r.draw<std::int64_t>(where, -1, [&](Rng& g) { return static_cast<std::int64_t>(g.index(n)); });
           },
           py::arg("n"), py::arg("where") = py::none(), "Uniform whole number in [0, n) (Rng::index).");
+  py::class_<PyBatchOutbox>(m, "BatchOutbox", "Where decide's drones broadcast (Group.broadcast), during that call only.")
+      .def("broadcast", &PyBatchOutbox::broadcast, py::arg("payload"), py::arg("where") = py::none(),
+           R"(Row r's drone broadcasts payload[r] this step ((N, K) numbers, K <= the class's message_size), as
+Perception::broadcast: drones in the comm model's reach receive it in a later step's messages; a second
+call for a row replaces its first. `where` (a bool array of shape (N,)) broadcasts only for its True rows.)");
   py::class_<PyWorldQueries>(m, "WorldQueries", "The map's questions a World answers, during the prepare call only.")
       .def("is_free", &PyWorldQueries::is_free, py::arg("points"), py::arg("clearance") = 0.0,
            R"(Whether a disc of radius `clearance` (m) at each of `points` ((M, 2), m) is inside the map and

@@ -498,3 +498,117 @@ def test_a_bad_question_or_an_exception_in_prepare_stops_the_test_with_one_line(
     import re
     assert re.search(why, line), line
     assert s.steps == 3  # the steps before stay
+
+
+# ---- broadcast: messages from Python ----
+
+def talk_and_listen(where_even=False, comm=True):
+    """A Python talker group broadcasting [id, x, y] and a listener group recording its messages."""
+    sent, heard = {}, []
+
+    class Talker(salsa.Behavior):
+        name = "py_talker"
+        message_size = 3
+        senses = salsa.Senses(neighbours=False, targets=False)
+
+        def decide(self, group, rng):
+            sent[round(group.time, 9)] = {int(i): p.copy() for i, p in zip(group.id, group.position)}
+            payload = np.column_stack([group.id.astype(float), group.position])
+            group.broadcast(payload, where=(group.id % 2 == 0) if where_even else None)
+            return full_circle(group, rng)
+
+    class Listener(salsa.Behavior):
+        name = "py_listener"
+
+        def decide(self, group, rng):
+            heard.append(group)
+            return full_circle(group, rng)
+
+    salsa.register(Talker)
+    salsa.register(Listener)
+    test = {"groups": [{"name": "talkers", "drones": 10, "behavior": "py_talker"},
+                       {"name": "listeners", "drones": 10, "behavior": "py_listener"}],
+            "map": {"name": "empty", "params": {"size": 300}}, "time": 10, "seed": 4}
+    if comm:
+        test["comm"] = {"range": 120}
+    s = salsa.Session(test)
+    s.step(60)
+    return s, sent, heard
+
+
+def full_circle(group, rng):
+    a = rng.angle()
+    return group.max_force * np.column_stack([np.cos(a), np.sin(a)])
+
+
+def test_a_python_broadcast_arrives_as_sent():
+    s, sent, heard = talk_and_listen()
+    received = 0
+    for g in heard:
+        m = g.messages
+        for k in range(len(m.sender)):
+            payload = m.payload[m.payload_offsets[k]:m.payload_offsets[k + 1]]
+            sender = int(m.sender[k])
+            assert sender < 10 and m.group[k] == 0 and m.time[k] < g.time
+            # The sender's id and its position as it decided at the time it sent.
+            assert payload[0] == sender
+            np.testing.assert_array_equal(payload[1:], sent[round(float(m.time[k]), 9)][sender])
+            received += 1
+    assert received > 100
+
+
+def test_broadcast_sends_only_where_asked_and_nothing_without_comm():
+    _, _, heard = talk_and_listen(where_even=True)
+    senders = np.concatenate([g.messages.sender for g in heard])
+    assert len(senders) > 50 and (senders % 2 == 0).all()
+    _, _, heard = talk_and_listen(comm=False)
+    assert sum(len(g.messages.sender) for g in heard) == 0
+
+
+@pytest.mark.parametrize("payload, where, why", [
+    (lambda n: np.zeros((n, 4)), None, r"payload: 4 doubles a message \(allowed: at most message_size = 3\)"),
+    (lambda n: np.zeros((n + 1, 2)), None, r"payload: an array of shape \(11, 2\) \(allowed: numbers of shape \(10, K\), row r the message of drone group.id\[r\]\)"),
+    (lambda n: "hello", None, r"payload: str \(allowed: numbers of shape"),
+    (lambda n: np.zeros((n, 2)), lambda n: np.ones(n), r"where: float64 of shape \(10,\) \(allowed: a numpy bool array of shape \(10,\)"),
+])
+def test_a_bad_broadcast_stops_the_test_with_one_line(payload, where, why):
+    class Shouter(salsa.Behavior):
+        name = "py_shouter"
+        message_size = 3
+
+        def decide(self, group, rng):
+            if group.time > 0.04:
+                group.broadcast(payload(len(group)), where=None if where is None else where(len(group)))
+            return np.zeros((len(group), 2))
+
+    salsa.register(Shouter)
+    s = salsa.Session({**spec_of("py_shouter", drones=10), "comm": {"range": 100}})
+    with pytest.raises(salsa.TestFailure) as e:
+        s.step(10)
+    line = str(e.value)
+    import re
+    assert "\n" not in line and "Python behavior 'py_shouter': decide raised ValueError: " in line and "test_behaviors.py:" in line
+    assert re.search(why, line), line
+
+
+def test_broadcast_is_refused_outside_its_call_and_message_size_is_checked():
+    kept = []
+
+    class Keeper(salsa.Behavior):
+        name = "py_outbox_keeper"
+        message_size = 1
+
+        def decide(self, group, rng):
+            kept.append(group)
+            return np.zeros((len(group), 2))
+
+    salsa.register(Keeper)
+    salsa.Session(spec_of("py_outbox_keeper", drones=3)).step()
+    with pytest.raises(ValueError, match=r"broadcast: called outside the decide call its group was handed to \(allowed: during that call\)"):
+        kept[0].broadcast(np.zeros((3, 1)))
+    for size in (65, -1, 2.5, True, "3"):
+        class Wrong(salsa.Behavior):
+            name = "py_wrong_size"
+            message_size = size
+        with pytest.raises(ValueError, match=r"message_size: .* \(allowed: a whole number of doubles in \[0, 64\]\)"):
+            salsa.register(Wrong)

@@ -112,8 +112,9 @@ Vec2 BatchBehavior::decide(const Perception& me, Rng& rng) {
   // A stream table of one: row 0 is id 0 of a one-element span.
   const std::uint32_t row0 = 0;
   BatchRng rngs({&rng, 1}, {&row0, 1});
+  Outbox* const outbox = me.outbox;
   Vec2 steering;
-  decide_batch(batch, rngs, {&steering, 1});
+  decide_batch(batch, rngs, BatchOutbox({&outbox, 1}, {&me.id, 1}), {&steering, 1});
   return steering;
 }
 

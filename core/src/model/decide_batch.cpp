@@ -8,6 +8,7 @@
 #include "model/plugin_call.hpp"
 #include "model/step_parallel.hpp"
 #include "salsa/core/model/batch_behavior.hpp"
+#include "salsa/core/model/comm.hpp"
 
 namespace salsa {
 
@@ -45,8 +46,17 @@ void Simulation::decide_batch(std::uint32_t g, BatchBehavior& behavior, Senses s
 
   b.steering.assign(b.ids.size(), Vec2{});
   BatchRng rng(drones_.rngs, b.ids);
+  // Each row's outbox as perceive() gives a drone one: comm's slot, or a room nobody reads.
+  b.outboxes.resize(b.ids.size());
+  if (setup_.comm.on) {
+    for (std::size_t r = 0; r < b.ids.size(); ++r) b.outboxes[r] = &comm_->outbox(b.ids[r]);
+  } else {
+    b.unheard_room.resize(message_sizes_[g]);
+    b.unheard = {b.unheard_room, 0, false};
+    std::fill(b.outboxes.begin(), b.outboxes.end(), &b.unheard);
+  }
   const std::shared_ptr<const PerceptionBatch> batch = b.batch;
-  plugin_call(behavior_kind, g, [&] { behavior.decide_batch(batch, rng, b.steering); });
+  plugin_call(behavior_kind, g, [&] { behavior.decide_batch(batch, rng, BatchOutbox(b.outboxes, b.ids), b.steering); });
   for (std::size_t r = 0; r < b.ids.size(); ++r) drones_.steering[b.ids[r]] = b.steering[r];
 }
 

@@ -139,6 +139,9 @@ struct Simulation::Batches {
   std::vector<PerceptionBatch> parts;  ///< one per chunk
   std::shared_ptr<PerceptionBatch> batch;  ///< replaced when the behavior still holds the last one
   std::vector<Vec2> steering;
+  std::vector<Outbox*> outboxes;  ///< each row's drone's outbox (comm's), or `unheard` without comm
+  Outbox unheard;                 ///< without comm: broadcast checks the size, and nobody receives
+  std::vector<double> unheard_room;
 };
 
 struct Simulation::World {

@@ -68,13 +68,33 @@ class BatchRng {
   std::span<const std::uint32_t> ids_;
 };
 
+/// Where a batch's drones broadcast: row r's drone's outbox this step, as its Perception holds it (null
+/// where nobody receives: a batch of one made from a Perception without one).
+class BatchOutbox {
+ public:
+  BatchOutbox(std::span<Outbox* const> outboxes, std::span<const std::uint32_t> ids) : outboxes_(outboxes), ids_(ids) {}
+  std::size_t size() const { return ids_.size(); }
+  /// Row r's drone broadcasts `payload` this step, as Perception::broadcast does (a second call
+  /// replaces the first; longer than message_size(): std::length_error naming the drone).
+  void broadcast(std::size_t row, std::span<const double> payload) const {
+    Perception me;
+    me.id = ids_[row], me.outbox = outboxes_[row];
+    me.broadcast(payload);
+  }
+
+ private:
+  std::span<Outbox* const> outboxes_;
+  std::span<const std::uint32_t> ids_;
+};
+
 /// A behavior that decides for its group's flying drones in one call per step, on the stepping thread,
 /// after the other groups' drones decided. `decide_batch` writes steering[r] for row r (m/s, as
-/// Behavior::decide returns). The batch is shared: a behavior may keep it past the call (views handed
+/// Behavior::decide returns) and may broadcast for any row through `outbox`. The batch is shared: a behavior may keep it past the call (views handed
 /// to Python do), and the core then gathers the next step into fresh memory.
 class BatchBehavior : public Behavior {
  public:
-  virtual void decide_batch(const std::shared_ptr<const PerceptionBatch>& batch, BatchRng& rng, std::span<Vec2> steering) = 0;
+  virtual void decide_batch(const std::shared_ptr<const PerceptionBatch>& batch, BatchRng& rng, const BatchOutbox& outbox,
+                            std::span<Vec2> steering) = 0;
   /// One drone as a batch of one (salsa::testing's Scene, a caller that decides drone by drone).
   Vec2 decide(const Perception& me, Rng& rng) final;
 };
