@@ -89,8 +89,9 @@ class BatchOutbox {
 
 /// A behavior that decides for its group's flying drones in one call per step, on the stepping thread,
 /// after the other groups' drones decided. `decide_batch` writes steering[r] for row r (m/s, as
-/// Behavior::decide returns) and may broadcast for any row through `outbox`. The batch is shared: a behavior may keep it past the call (views handed
-/// to Python do), and the core then gathers the next step into fresh memory.
+/// Behavior::decide returns) and may broadcast for any row through `outbox`. The batch is shared: a
+/// behavior may keep it past the call (views handed to Python do), and the core then gathers the next
+/// step into fresh memory.
 class BatchBehavior : public Behavior {
  public:
   virtual void decide_batch(const std::shared_ptr<const PerceptionBatch>& batch, BatchRng& rng, const BatchOutbox& outbox,
