@@ -1,12 +1,15 @@
-"""numpy ports of two built-in behaviors, written as salsa.Behavior classes (docs/python.md, "Behaviors
-in Python"): PyRandomWalk (random_walk) and PyFlocking (flocking), with the same parameters, the same
-formulas and, for the random walk, the same draws in the same order from each drone's own stream, so a
-test run with either follows its C++ original to rounding.
+"""numpy ports of three built-in behaviors, written as salsa.Behavior classes (docs/python.md, "Behaviors
+in Python"): PyRandomWalk (random_walk), PyFlocking (flocking) and PyPheromoneAvoidance
+(pheromone_avoidance with the paper's shared field, built in prepare), with the same parameters, the
+same formulas and the same draws in the same order from each drone's own stream, so a test run with
+either follows its C++ original to rounding.
 
     import salsa, behaviors
     salsa.register(behaviors.PyFlocking)
     salsa.Session({..., "behavior": {"name": "py_flocking", "params": {"separation_distance": 60}}})
 """
+
+import math
 
 import numpy as np
 
@@ -197,3 +200,90 @@ class PyFlocking(salsa.Behavior):
         boids = (g.alignment_weight * alignment + g.separation_weight * separation) + g.cohesion_weight * cohesion
         boids = np.where(alone[:, None], 0.0, boids)
         return boids + g.obstacle_avoidance_weight * avoid_obstacles(g)
+
+
+class PyPheromoneAvoidance(salsa.Behavior):
+    """pheromone_avoidance in numpy with the paper's shared list (its `sharing` 0): prepare marks the
+    cell of every flying drone of the group in one field that evaporates; decide samples `directions`
+    headings around the current one and steers towards the least-marked ground ahead."""
+
+    name = "py_pheromone_avoidance"
+    brief = "Steer towards the least-marked ground in an evaporating field the group shares (numpy port of pheromone_avoidance)"
+    parameters = [
+        salsa.Param("cell_size", 10.0, (1.0, 1000.0), "m", "side of one cell of the pheromone field"),
+        salsa.Param("deposit", 1.0, (0.001, 1000.0), "", "pheromone a drone adds to its cell each step"),
+        salsa.Param("evaporation_rate", 0.01, (0.0, 10.0), "1/s", "exponential decay rate of the pheromone"),
+        salsa.Param("look_ahead", 30.0, (1.0, 1000.0), "m", "how far ahead the field is sampled"),
+        salsa.Param("directions", 8, (3, 64), "", "directions sampled around the current heading", step=1),
+        salsa.Param("turn_cost", 2.0, (0.0, 20.0), "",
+                    "penalty of a 90 degree turn against log(1 + marks / deposit): higher flies straighter"),
+        salsa.Param("obstacle_avoidance_weight", 4.0, (0.0, 10.0), "", "weight of flying away from obstacle hits"),
+    ]
+    senses = salsa.Senses(neighbours=False, targets=False)  # obstacles only
+    shared_state = "global"  # the field is built from every drone's position, no radio carries it
+    MAX_CELLS = 1 << 22
+    BLOCKED = 1e9
+
+    def reset(self, drones):
+        self.bounds = None  # a fresh run starts with a clean field
+
+    def resize(self, drones):
+        pass  # the field outlives drones that come and go
+
+    def evaporate(self, value, elapsed):
+        rate = self.params.evaporation_rate
+        return value * np.exp(-rate * elapsed) if rate > 0 else value
+
+    def prepare(self, world):
+        if self.bounds != world.bounds or self.built_cell_size != self.params.cell_size:
+            self.build(world.bounds)
+        mine = (world.group == world.own_group) & (world.status == 0)
+        cells = self.index(world.position[mine])
+        touched = np.unique(cells)
+        self.value[touched] = self.evaporate(self.value[touched], world.time - self.time[touched])
+        self.time[touched] = world.time
+        np.add.at(self.value, cells, self.params.deposit)  # in id order, as the C++ marks one by one
+
+    def build(self, bounds):
+        x0, y0, x1, y1 = bounds
+        w, h = x1 - x0, y1 - y0
+        self.cell = max(self.params.cell_size, math.sqrt(w * h / self.MAX_CELLS), max(w, h) / self.MAX_CELLS)
+        self.cols, self.rows = int(math.ceil(w / self.cell)) + 1, int(math.ceil(h / self.cell)) + 1
+        self.value = np.zeros(self.cols * self.rows)
+        self.time = np.zeros(self.cols * self.rows)
+        self.bounds, self.built_cell_size = bounds, self.params.cell_size
+
+    def index(self, p):
+        x0, y0 = self.bounds[:2]
+        x = np.clip(((p[:, 0] - x0) / self.cell).astype(np.int64), 0, self.cols - 1)
+        y = np.clip(((p[:, 1] - y0) / self.cell).astype(np.int64), 0, self.rows - 1)
+        return y * self.cols + x
+
+    def marks(self, p, t):
+        c = self.index(p)
+        return np.where(self.value[c] > 0, self.evaporate(self.value[c], t - self.time[c]), 0.0)
+
+    def decide(self, g, rng):
+        n = int(g.directions)
+        turns = [(math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n)) for k in range(n)]
+        cone, margin = math.cos(2 * math.pi / n), g.look_ahead / 3
+        x0, y0, x1, y1 = self.bounds
+        still = (g.velocity == 0).all(axis=1)
+        drawn = rng.angle(where=still)
+        heading = np.where(still[:, None], np.stack([np.cos(drawn), np.sin(drawn)], axis=1), normalized(g.velocity))
+        hits, rows = g.obstacles, g.obstacles.row
+        best_score, best = np.zeros(len(g)), np.zeros((len(g), 2))
+        for k, (c, s) in enumerate(turns):
+            d = np.stack([heading[:, 0] * c - heading[:, 1] * s, heading[:, 0] * s + heading[:, 1] * c], axis=1)
+            # Sample short of any obstacle that way; blocked right ahead, or out of the area: maximally marked.
+            reach = np.full(len(g), g.look_ahead)
+            to_hit = hits.point - g.position[rows]
+            blocking = d[rows, 0] * to_hit[:, 0] + d[rows, 1] * to_hit[:, 1] > cone * hits.distance
+            np.minimum.at(reach, rows[blocking], hits.distance[blocking] - margin)
+            ahead = g.position + d * reach[:, None]
+            inside = (reach >= margin) & (ahead[:, 0] >= x0) & (ahead[:, 0] <= x1) & (ahead[:, 1] >= y0) & (ahead[:, 1] <= y1)
+            score = np.where(inside, np.log1p(self.marks(ahead, g.time) / g.deposit), self.BLOCKED)
+            score = score + (g.turn_cost * (1 - c) + rng.uniform(0, 0.1))  # jitter breaks symmetric ties
+            better = (score < best_score) | (k == 0)
+            best_score, best = np.where(better, score, best_score), np.where(better[:, None], d, best)
+        return steer_along(g, best) + g.obstacle_avoidance_weight * avoid_near_obstacles(g)

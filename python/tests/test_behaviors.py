@@ -17,10 +17,12 @@ import behaviors  # noqa: E402  (examples/python/behaviors.py)
 
 salsa.register(behaviors.PyRandomWalk)
 salsa.register(behaviors.PyFlocking)
+salsa.register(behaviors.PyPheromoneAvoidance)
 
 FOREST = json.loads((SOURCE / "examples" / "random-walk-forest.json").read_text())  # 30 drones, 500 trees
 FLOCKING = {"separation_distance": 60}
-PORTS = [("random_walk", "py_random_walk", {}), ("flocking", "py_flocking", FLOCKING)]
+PORTS = [("random_walk", "py_random_walk", {}), ("flocking", "py_flocking", FLOCKING),
+         ("pheromone_avoidance", "py_pheromone_avoidance", {})]
 
 
 def spec_of(behavior, params=None, **fields):
@@ -52,6 +54,13 @@ def test_a_port_tracks_its_original_with_sensor_noise(cpp, py, params):
     a = salsa.Session(spec_of(cpp, params, drone=drone))
     b = salsa.Session(spec_of(py, params, drone=drone))
     assert tracks(a, b, 60) < 1e-9
+
+
+def test_the_pheromone_port_follows_its_original_as_the_field_fills():
+    # 20 s: marks laid in prepare, evaporated and read back many times; the same bits throughout.
+    a = salsa.Session(spec_of("pheromone_avoidance"))
+    b = salsa.Session(spec_of("py_pheromone_avoidance"))
+    assert tracks(a, b, 1200) == 0.0
 
 
 def test_groups_mix_python_and_cpp_behaviors():
