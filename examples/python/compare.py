@@ -15,7 +15,7 @@ import sys
 from pathlib import Path
 
 import salsa
-from behaviors import PyFlocking, PyRandomWalk
+from behaviors import PyFlocking, PyPheromoneAvoidance, PyRandomWalk
 
 HERE = Path(__file__).resolve().parent
 
@@ -27,7 +27,8 @@ def queue(time, repeats):
         base.pop(key, None)
     base["time"] = time
     return {"seed": 11, "repeats": repeats, "base": base, "reference": "flocking",
-            "sweep": {"behaviors": ["flocking", "py_flocking", "random_walk", "py_random_walk"]}}
+            "sweep": {"behaviors": ["flocking", "py_flocking", "random_walk", "py_random_walk",
+                                    "pheromone_avoidance", "py_pheromone_avoidance"]}}
 
 
 def main(argv=None):
@@ -39,6 +40,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     salsa.register(PyFlocking)
     salsa.register(PyRandomWalk)
+    salsa.register(PyPheromoneAvoidance)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     file = out.parent / f"{out.name}-queue.json"
