@@ -203,12 +203,14 @@ class PyFlocking(salsa.Behavior):
 
 
 class PyPheromoneAvoidance(salsa.Behavior):
-    """pheromone_avoidance in numpy with the paper's shared list (its `sharing` 0): prepare marks the
-    cell of every flying drone of the group in one field that evaporates; decide samples `directions`
-    headings around the current one and steers towards the least-marked ground ahead."""
+    """pheromone_avoidance in numpy: drones mark the cells they fly over in a field that evaporates and
+    steer towards the least-marked of `directions` headings ahead. `sharing` 0 (the paper's shared
+    list): prepare marks every flying drone's cell in one field the group shares. `sharing` 1: each
+    drone marks its own field and broadcasts where it is; what the comm model delivers is marked in
+    the receiver's field."""
 
     name = "py_pheromone_avoidance"
-    brief = "Steer towards the least-marked ground in an evaporating field the group shares (numpy port of pheromone_avoidance)"
+    brief = "Steer towards the least-marked ground in an evaporating field (numpy port of pheromone_avoidance)"
     parameters = [
         salsa.Param("cell_size", 10.0, (1.0, 1000.0), "m", "side of one cell of the pheromone field"),
         salsa.Param("deposit", 1.0, (0.001, 1000.0), "", "pheromone a drone adds to its cell each step"),
@@ -218,40 +220,69 @@ class PyPheromoneAvoidance(salsa.Behavior):
         salsa.Param("turn_cost", 2.0, (0.0, 20.0), "",
                     "penalty of a 90 degree turn against log(1 + marks / deposit): higher flies straighter"),
         salsa.Param("obstacle_avoidance_weight", 4.0, (0.0, 10.0), "", "weight of flying away from obstacle hits"),
+        salsa.Param("sharing", 0, (0, 1), "",
+                    "0: one field shared by the group (global, the paper's); 1: each drone's own, merged from the messages the comm model delivers",
+                    step=1),
     ]
     senses = salsa.Senses(neighbours=False, targets=False)  # obstacles only
-    shared_state = "global"  # the field is built from every drone's position, no radio carries it
-    MAX_CELLS = 1 << 22
+    shared_state = "global"  # the default, sharing 0 (a class declares one; the C++ one says "radio" for 1)
+    message_size = 2  # where the sender marked: x, y (sharing 1)
+    MAX_CELLS, MAX_CELLS_PER_DRONE = 1 << 22, 1 << 18
     BLOCKED = 1e9
 
     def reset(self, drones):
-        self.bounds = None  # a fresh run starts with a clean field
+        self.bounds = None  # a fresh run starts with clean fields
 
     def resize(self, drones):
-        pass  # the field outlives drones that come and go
+        pass  # fields outlive drones that come and go
 
     def evaporate(self, value, elapsed):
         rate = self.params.evaporation_rate
         return value * np.exp(-rate * elapsed) if rate > 0 else value
 
     def prepare(self, world):
-        if self.bounds != world.bounds or self.built_cell_size != self.params.cell_size:
-            self.build(world.bounds)
-        mine = (world.group == world.own_group) & (world.status == 0)
-        cells = self.index(world.position[mine])
-        touched = np.unique(cells)
-        self.value[touched] = self.evaporate(self.value[touched], world.time - self.time[touched])
-        self.time[touched] = world.time
-        np.add.at(self.value, cells, self.params.deposit)  # in id order, as the C++ marks one by one
+        own = self.params.sharing == 1
+        if self.bounds != world.bounds or self.built != (self.params.cell_size, own):
+            self.build(world.bounds, own)
+        ids = np.flatnonzero((world.group == world.own_group) & (world.status == 0))
+        if own:  # each drone its own cell in its own field
+            self.grow(len(world))
+            self.mark(ids, self.index(world.position[ids]), world.time)
+        else:  # every drone's cell in the group's field (row 0), in id order as the C++ marks them
+            cells = self.index(world.position[ids])
+            touched = np.unique(cells)
+            self.mark(np.zeros(len(touched), dtype=np.int64), touched, world.time, deposit=0.0)
+            np.add.at(self.value[0], cells, self.params.deposit)
 
-    def build(self, bounds):
+    def build(self, bounds, own):
         x0, y0, x1, y1 = bounds
         w, h = x1 - x0, y1 - y0
-        self.cell = max(self.params.cell_size, math.sqrt(w * h / self.MAX_CELLS), max(w, h) / self.MAX_CELLS)
+        most = self.MAX_CELLS_PER_DRONE if own else self.MAX_CELLS
+        self.cell = max(self.params.cell_size, math.sqrt(w * h / most), max(w, h) / most)
         self.cols, self.rows = int(math.ceil(w / self.cell)) + 1, int(math.ceil(h / self.cell)) + 1
-        self.value = np.zeros(self.cols * self.rows)
-        self.time = np.zeros(self.cols * self.rows)
-        self.bounds, self.built_cell_size = bounds, self.params.cell_size
+        self.value = np.zeros((0 if own else 1, self.cols * self.rows))  # one row per field
+        self.time = np.zeros_like(self.value)
+        self.bounds, self.built = bounds, (self.params.cell_size, own)
+
+    def grow(self, drones):
+        """Own fields (sharing 1): one row per drone id, clean when first made."""
+        if len(self.value) < drones:
+            more = np.zeros((drones - len(self.value), self.cols * self.rows))
+            self.value, self.time = np.vstack([self.value, more]), np.vstack([self.time, more])
+
+    def field(self, ids):
+        """The row of the field each drone reads and marks: its own, or the group's."""
+        return ids if self.built[1] else np.zeros(len(ids), dtype=np.int64)
+
+    def mark(self, rows, cells, t, deposit=None):
+        """`deposit` at cells[i] of field rows[i] at times t (distinct (row, cell) pairs): a mark older
+        than the cell's last update (a late message) is added as what is left of it now."""
+        deposit = self.params.deposit if deposit is None else deposit
+        value, time = self.value[rows, cells], self.time[rows, cells]
+        late = t < time
+        self.value[rows, cells] = np.where(late, value + self.evaporate(deposit, time - t),
+                                           self.evaporate(value, t - time) + deposit)
+        self.time[rows, cells] = np.where(late, time, t)
 
     def index(self, p):
         x0, y0 = self.bounds[:2]
@@ -259,15 +290,31 @@ class PyPheromoneAvoidance(salsa.Behavior):
         y = np.clip(((p[:, 1] - y0) / self.cell).astype(np.int64), 0, self.rows - 1)
         return y * self.cols + x
 
-    def marks(self, p, t):
+    def marks(self, rows, p, t):
         c = self.index(p)
-        return np.where(self.value[c] > 0, self.evaporate(self.value[c], t - self.time[c]), 0.0)
+        value = self.value[rows, c]
+        return np.where(value > 0, self.evaporate(value, t - self.time[rows, c]), 0.0)
+
+    def receive(self, g):
+        """sharing 1: each drone marks what its messages say, in their order, then broadcasts where it is."""
+        m = g.messages
+        at = m.payload_offsets[:-1]
+        use = (m.group == g.group) & (np.diff(m.payload_offsets) == 2)
+        points = np.stack([m.payload[np.where(use, at, 0)], m.payload[np.where(use, at + 1, 0)]], axis=1)
+        rank = np.arange(len(m.sender)) - m.offsets[m.row]  # each message's place among its drone's
+        for k in range(int(m.counts.max(initial=0))):  # the k-th message of every drone at once
+            now = use & (rank == k)
+            self.mark(g.id[m.row[now]], self.index(points[now]), m.time[now])
+        g.broadcast(g.position)
 
     def decide(self, g, rng):
+        if self.built[1]:
+            self.receive(g)
         n = int(g.directions)
         turns = [(math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n)) for k in range(n)]
         cone, margin = math.cos(2 * math.pi / n), g.look_ahead / 3
         x0, y0, x1, y1 = self.bounds
+        fields = self.field(g.id)
         still = (g.velocity == 0).all(axis=1)
         drawn = rng.angle(where=still)
         heading = np.where(still[:, None], np.stack([np.cos(drawn), np.sin(drawn)], axis=1), normalized(g.velocity))
@@ -282,7 +329,7 @@ class PyPheromoneAvoidance(salsa.Behavior):
             np.minimum.at(reach, rows[blocking], hits.distance[blocking] - margin)
             ahead = g.position + d * reach[:, None]
             inside = (reach >= margin) & (ahead[:, 0] >= x0) & (ahead[:, 0] <= x1) & (ahead[:, 1] >= y0) & (ahead[:, 1] <= y1)
-            score = np.where(inside, np.log1p(self.marks(ahead, g.time) / g.deposit), self.BLOCKED)
+            score = np.where(inside, np.log1p(self.marks(fields, ahead, g.time) / g.deposit), self.BLOCKED)
             score = score + (g.turn_cost * (1 - c) + rng.uniform(0, 0.1))  # jitter breaks symmetric ties
             better = (score < best_score) | (k == 0)
             best_score, best = np.where(better, score, best_score), np.where(better[:, None], d, best)
