@@ -54,8 +54,9 @@ class Behavior:
     Class attributes: `name` (how tests name it), `brief`, `parameters` (a list of Param), `senses`
     (a Senses), `shared_state` ("none", the default; "global": state built from all drones at once;
     "radio": shared only through messages; docs/plugins.md, Shared state), `message_size` (the most
-    doubles one message holds, 0 to 64; 0, the default: its drones never broadcast). The core makes one instance per group that uses it, sets `params` (a Group-like
-    namespace of the values) and calls:
+    doubles one message holds, 0 to 64; 0, the default: its drones never broadcast). The core makes
+    one instance per group that uses it, sets `params` (a Group-like namespace of the values) and
+    calls:
 
       reset(drones)        drones (re)spawned: ids 0..drones-1, fresh memory (keep it in arrays by id)
       resize(drones)       the drone count changed, the others fly on (default: reset)

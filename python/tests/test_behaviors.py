@@ -348,8 +348,9 @@ def test_registered_classes_are_listed_beside_the_plugins():
     # The same parameters as the C++ original.
     assert [(p.name, p.default, p.range) for p in listed["random_walk"]["parameters"]] == \
         [(p.name, p.default, p.range) for p in walk["parameters"]]
-    assert [(p.name, p.default, p.range) for p in listed["flocking"]["parameters"]] == \
-        [(p.name, p.default, p.range) for p in listed["py_flocking"]["parameters"]]
+    for cpp, py, _ in PORTS[1:]:
+        assert [(p.name, p.default, p.range, p.unit, p.step) for p in listed[cpp]["parameters"]] == \
+            [(p.name, p.default, p.range, p.unit, p.step) for p in listed[py]["parameters"]]
 
 
 def test_a_live_change_of_a_param_reaches_decide():
