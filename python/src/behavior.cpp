@@ -58,6 +58,47 @@ std::string describe(py::error_already_set& e) {
   return one_line(out);
 }
 
+/// "(4, 3)", "(2,)".
+std::string shape(const py::array& a) {
+  std::string s = "(";
+  for (py::ssize_t d = 0; d < a.ndim(); ++d) s += (d ? ", " : "") + std::to_string(a.shape(d));
+  return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+/// "float64 of shape (4, 3)", or the type's name of what is not an array.
+std::string shape_of(const py::handle& o) {
+  if (!py::isinstance<py::array>(o)) return py::str(py::type::of(o).attr("__name__")).cast<std::string>();
+  const py::array a = py::reinterpret_borrow<py::array>(o);
+  return py::str(a.dtype()).cast<std::string>() + " of shape " + shape(a);
+}
+
+using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+/// `o` as a C-ordered (rows, columns) array of doubles (numbers converted; 0: any length), or a
+/// ValueError "name: what it is (allowed: ...)", what it is as "an array of shape (2,)" or "str".
+Doubles numbers(const py::object& o, const char* name, py::ssize_t rows, py::ssize_t columns, const std::string& allowed) {
+  Doubles a;
+  try {
+    a = Doubles::ensure(o);
+  } catch (py::error_already_set&) {
+  }
+  if (!a || a.ndim() != 2 || (rows && a.shape(0) != rows) || (columns && a.shape(1) != columns))
+    throw py::value_error(std::string(name) + ": " + (a ? "an array of shape " + shape(a) : shape_of(o)) + " (allowed: " + allowed + ")");
+  return a;
+}
+
+using Bools = py::array_t<bool, py::array::c_style | py::array::forcecast>;
+
+/// `where`, a numpy bool array of one entry per row, C-ordered (None, every row: an empty array).
+Bools rows_where(const py::object& where, std::size_t n) {
+  if (where.is_none()) return Bools(0);
+  const py::array mask = py::isinstance<py::array>(where) ? py::array(where) : py::array();
+  if (!py::isinstance<py::array_t<bool>>(where) || mask.ndim() != 1 || static_cast<std::size_t>(mask.shape(0)) != n)
+    throw py::value_error("where: " + shape_of(where) + " (allowed: a numpy bool array of shape (" + std::to_string(n) +
+                          ",), one entry per row)");
+  return Bools::ensure(where);
+}
+
 /// The drones' random streams as decide sees them: one draw per row (or per row of `where`), from that
 /// drone's own Rng, in row order. Usable during the decide call it came with only.
 class PyBatchRng {
@@ -73,30 +114,10 @@ class PyBatchRng {
     const std::size_t n = rngs.size();
     py::array_t<T> out(static_cast<py::ssize_t>(n));
     T* o = out.mutable_data();
-    if (where.is_none()) {
-      for (std::size_t r = 0; r < n; ++r) o[r] = one(rngs[r]);
-      return out;
-    }
-    const py::array mask = where;
-    if (!py::isinstance<py::array_t<bool>>(where) || mask.ndim() != 1 || static_cast<std::size_t>(mask.shape(0)) != n)
-      throw py::value_error("where: " + shape_of(where) + " (allowed: a numpy bool array of shape (" + std::to_string(n) +
-                            ",), one entry per row)");
-    const auto m = py::array_t<bool>(where).unchecked<1>();
-    for (std::size_t r = 0; r < n; ++r) o[r] = m(static_cast<py::ssize_t>(r)) ? one(rngs[r]) : skipped;
+    const auto mask = rows_where(where, n);
+    const bool* m = where.is_none() ? nullptr : mask.data();
+    for (std::size_t r = 0; r < n; ++r) o[r] = !m || m[r] ? one(rngs[r]) : skipped;
     return out;
-  }
-
-  /// "float64 of shape (4, 3)", or the type's name of what is not an array.
-  static std::string shape_of(const py::handle& o) {
-    if (!py::isinstance<py::array>(o)) return py::str(py::type::of(o).attr("__name__")).cast<std::string>();
-    const py::array a = py::reinterpret_borrow<py::array>(o);
-    return py::str(a.dtype()).cast<std::string>() + " of shape " + shape(a);
-  }
-  /// "(4, 3)", "(2,)".
-  static std::string shape(const py::array& a) {
-    std::string s = "(";
-    for (py::ssize_t d = 0; d < a.ndim(); ++d) s += (d ? ", " : "") + std::to_string(a.shape(d));
-    return s + (a.ndim() == 1 ? ",)" : ")");
   }
 
  private:
@@ -117,24 +138,14 @@ class PyBatchOutbox {
   void broadcast(const py::object& payload, const py::object& where) const {
     if (!outbox_) throw py::value_error("broadcast: called outside the decide call its group was handed to (allowed: during that call)");
     const std::size_t n = outbox_->size();
-    using Payloads = py::array_t<double, py::array::c_style | py::array::forcecast>;
-    Payloads p;
-    try {
-      p = Payloads::ensure(payload);
-    } catch (py::error_already_set&) {
-    }
-    const std::string rows = std::to_string(n);
-    if (!p || p.ndim() != 2 || static_cast<std::size_t>(p.shape(0)) != n)
-      throw py::value_error("payload: " + (p ? "an array of shape " + PyBatchRng::shape(p) : PyBatchRng::shape_of(payload)) +
-                            " (allowed: numbers of shape (" + rows + ", K), row r the message of drone group.id[r])");
+    const Doubles p = numbers(payload, "payload", static_cast<py::ssize_t>(n), 0,
+                              "numbers of shape (" + std::to_string(n) + ", K), row r the message of drone group.id[r]");
     const auto k = static_cast<std::size_t>(p.shape(1));
     if (k > message_size_)
       throw py::value_error("payload: " + std::to_string(k) + " doubles a message (allowed: at most message_size = " +
                             std::to_string(message_size_) + ")");
-    const py::array mask = where.is_none() ? py::array() : py::array(where);
-    if (!where.is_none() && (!py::isinstance<py::array_t<bool>>(where) || mask.ndim() != 1 || static_cast<std::size_t>(mask.shape(0)) != n))
-      throw py::value_error("where: " + PyBatchRng::shape_of(where) + " (allowed: a numpy bool array of shape (" + rows + ",), one entry per row)");
-    const bool* m = where.is_none() ? nullptr : py::array_t<bool>(where).data();
+    const auto mask = rows_where(where, n);
+    const bool* m = where.is_none() ? nullptr : mask.data();
     for (std::size_t r = 0; r < n; ++r)
       if (!m || m[r]) outbox_->broadcast(r, {p.data() + r * k, k});
   }
@@ -150,7 +161,6 @@ constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 /// during the prepare call it came with only: the WorldView is the core's, for that call.
 class PyWorldQueries {
  public:
-  using Points = py::array_t<double, py::array::c_style | py::array::forcecast>;
   explicit PyWorldQueries(const WorldView* world) : world_(world) {}
   void close() { world_ = nullptr; }
 
@@ -158,7 +168,7 @@ class PyWorldQueries {
     const WorldView& world = live("is_free");
     if (!std::isfinite(clearance) || clearance < 0)
       throw py::value_error("clearance: " + Parameter::format(clearance) + " (allowed: a finite number of m >= 0)");
-    const Points p = rows("points", points);
+    const Doubles p = rows("points", points);
     py::array_t<bool> out(p.shape(0));
     bool* o = out.mutable_data();
     const double* xy = p.data();
@@ -168,7 +178,7 @@ class PyWorldQueries {
 
   py::tuple ray_cast(const py::object& start, const py::object& end) const {
     const WorldView& world = live("ray_cast");
-    const Points a = rows("start", start), b = rows("end", end);
+    const Doubles a = rows("start", start), b = rows("end", end);
     if (a.shape(0) != b.shape(0))
       throw py::value_error("end: " + std::to_string(b.shape(0)) + " rows (allowed: as many as start, " + std::to_string(a.shape(0)) + ")");
     const py::ssize_t n = a.shape(0);
@@ -192,15 +202,8 @@ class PyWorldQueries {
     return *world_;
   }
   /// `o` as an (M, 2) array of finite m, or why not.
-  static Points rows(const char* name, const py::object& o) {
-    Points p;
-    try {
-      p = Points::ensure(o);
-    } catch (py::error_already_set&) {
-    }
-    if (!p || p.ndim() != 2 || p.shape(1) != 2)
-      throw py::value_error(std::string(name) + ": " + (p ? "an array of shape " + PyBatchRng::shape(p) : PyBatchRng::shape_of(o)) +
-                            " (allowed: points of shape (M, 2), m)");
+  static Doubles rows(const char* name, const py::object& o) {
+    const Doubles p = numbers(o, name, 0, 2, "points of shape (M, 2), m");
     for (py::ssize_t i = 0; i < 2 * p.shape(0); ++i)
       if (!std::isfinite(p.data()[i])) throw py::value_error(std::string(name) + ": a coordinate that is not finite (allowed: finite m)");
     return p;
@@ -415,11 +418,11 @@ class PyBatchBehavior final : public BatchBehavior {
   void take(const py::object& result, std::span<Vec2> steering, Fail fail) const {
     const std::string allowed = " (allowed: a numpy float64 array of shape (" + std::to_string(steering.size()) +
                                 ", 2), m/s, one row per drone of group.id)";
-    if (!py::isinstance<py::array>(result)) throw fail("decide returned " + PyBatchRng::shape_of(result) + allowed);
+    if (!py::isinstance<py::array>(result)) throw fail("decide returned " + shape_of(result) + allowed);
     const py::array a = result;
     if (!a.dtype().is(py::dtype::of<double>()) || a.ndim() != 2 || a.shape(0) != static_cast<py::ssize_t>(steering.size()) ||
         a.shape(1) != 2)
-      throw fail("decide returned " + PyBatchRng::shape_of(result) + allowed);
+      throw fail("decide returned " + shape_of(result) + allowed);
     const auto s = py::array_t<double>(result).unchecked<2>();
     for (py::ssize_t r = 0; r < s.shape(0); ++r) {
       const Vec2 v{s(r, 0), s(r, 1)};
