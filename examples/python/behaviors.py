@@ -225,10 +225,12 @@ class PyPheromoneAvoidance(salsa.Behavior):
                     step=1),
     ]
     senses = salsa.Senses(neighbours=False, targets=False)  # obstacles only
-    shared_state = "global"  # the default, sharing 0 (a class declares one; the C++ one says "radio" for 1)
     message_size = 2  # where the sender marked: x, y (sharing 1)
     MAX_CELLS, MAX_CELLS_PER_DRONE = 1 << 22, 1 << 18
     BLOCKED = 1e9
+
+    def shared_state(self):
+        return "radio" if self.params.sharing else "global"
 
     def reset(self, drones):
         self.bounds = None  # a fresh run starts with clean fields

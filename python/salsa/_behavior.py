@@ -53,7 +53,8 @@ class Behavior:
 
     Class attributes: `name` (how tests name it), `brief`, `parameters` (a list of Param), `senses`
     (a Senses), `shared_state` ("none", the default; "global": state built from all drones at once;
-    "radio": shared only through messages; docs/plugins.md, Shared state), `message_size` (the most
+    "radio": shared only through messages; docs/plugins.md, Shared state; or a method shared_state(self)
+    returning one from self.params), `message_size` (the most
     doubles one message holds, 0 to 64; 0, the default: its drones never broadcast). The core makes
     one instance per group that uses it, sets `params` (a Group-like namespace of the values) and
     calls:

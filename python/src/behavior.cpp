@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -20,6 +21,16 @@ namespace salsa::python {
 namespace {
 
 static_assert(sizeof(Vec2) == 2 * sizeof(double), "a Vec2 array is viewed as (n, 2) doubles");
+
+/// "none", "global" or "radio" as the SDK's SharedState; nothing for any other object.
+std::optional<SharedState> shared_state_named(const py::handle& word) {
+  if (!py::isinstance<py::str>(word)) return std::nullopt;
+  const auto text = word.cast<std::string>();
+  if (text == "none") return SharedState::none;
+  if (text == "global") return SharedState::global;
+  if (text == "radio") return SharedState::radio;
+  return std::nullopt;
+}
 
 /// A Python reference that may outlive the interpreter (a factory in the static plugin host): released
 /// with the GIL while Python runs, left alone after it finalised.
@@ -238,8 +249,8 @@ py::array field(const PerceptionBatch::Rows<Item>& rows, std::size_t offset, con
 
 class PyBatchBehavior final : public BatchBehavior {
  public:
-  PyBatchBehavior(py::object instance, std::string name, Senses senses, SharedState shared, std::size_t message_size, bool prepares,
-                  py::handle group_type, py::handle rows_type, py::handle world_type)
+  PyBatchBehavior(py::object instance, std::string name, Senses senses, std::optional<SharedState> shared, std::size_t message_size,
+                  bool prepares, py::handle group_type, py::handle rows_type, py::handle world_type)
       : instance_(std::move(instance)), name_(std::move(name)), senses_(senses), shared_(shared), message_size_(message_size),
         prepares_(prepares),
         group_type_(py::reinterpret_borrow<py::object>(group_type)), rows_type_(py::reinterpret_borrow<py::object>(rows_type)),
@@ -254,7 +265,20 @@ class PyBatchBehavior final : public BatchBehavior {
   }
 
   Senses senses() const override { return senses_; }
-  SharedState shared_state() const override { return shared_; }
+  /// The declared word, or what the class's shared_state method says for these parameter values.
+  SharedState shared_state() const override {
+    if (shared_) return *shared_;
+    py::gil_scoped_acquire gil;
+    py::object said;
+    try {
+      said = instance_.attr("shared_state")();
+    } catch (py::error_already_set& e) {
+      throw std::runtime_error("Python behavior '" + name_ + "': shared_state raised " + describe(e));
+    }
+    if (const auto known = shared_state_named(said)) return *known;
+    throw std::runtime_error("Python behavior '" + name_ + "': shared_state() returned " + py::repr(said).cast<std::string>() +
+                             " (allowed: \"none\", \"global\", \"radio\")");
+  }
   std::size_t message_size() const override { return message_size_; }
 
   void reset(std::size_t drones) override { call("reset", drones); }
@@ -436,7 +460,7 @@ class PyBatchBehavior final : public BatchBehavior {
   py::object instance_;
   std::string name_;
   Senses senses_;
-  SharedState shared_;
+  std::optional<SharedState> shared_;  // none: the class asks its shared_state method
   std::size_t message_size_;
   bool prepares_;  // the class defines prepare
   py::object group_type_, rows_type_, world_type_, params_;
@@ -466,13 +490,12 @@ void register_behavior(const py::object& cls) {
   if (!py::isinstance(senses, declared.attr("Senses")))
     throw refuse("senses: " + py::repr(senses).cast<std::string>() + " (allowed: a salsa.Senses)");
   const Senses sensed{senses.attr("neighbours").cast<bool>(), senses.attr("targets").cast<bool>()};
-  const py::object shared_text = cls.attr("shared_state");
-  SharedState shared = SharedState::none;
-  if (!py::isinstance<py::str>(shared_text) || (shared_text.cast<std::string>() != "none" && shared_text.cast<std::string>() != "global" &&
-                                                shared_text.cast<std::string>() != "radio"))
-    throw refuse("shared_state: " + py::repr(shared_text).cast<std::string>() + " (allowed: \"none\", \"global\", \"radio\")");
-  if (shared_text.cast<std::string>() == "global") shared = SharedState::global;
-  if (shared_text.cast<std::string>() == "radio") shared = SharedState::radio;
+  // A word, or a method that says it from the parameter values (as a C++ behavior's shared_state()).
+  const py::object shared_declared = cls.attr("shared_state");
+  const std::optional<SharedState> shared = shared_state_named(shared_declared);
+  if (!shared && !py::isinstance(shared_declared, py::module_::import("types").attr("FunctionType")))
+    throw refuse("shared_state: " + py::repr(shared_declared).cast<std::string>() +
+                 " (allowed: \"none\", \"global\", \"radio\", or a method returning one)");
   const py::object size = cls.attr("message_size");
   if (!py::isinstance<py::int_>(size) || py::isinstance<py::bool_>(size) || size.cast<long long>() < 0 ||
       size.cast<long long>() > static_cast<long long>(max_message_size))

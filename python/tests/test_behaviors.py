@@ -317,7 +317,7 @@ def test_a_declared_shared_state_is_checked_and_warned_about_beside_a_radio():
         name = "py_bad_sharing"
         shared_state = "everyone"
 
-    with pytest.raises(ValueError, match=r"shared_state: 'everyone' \(allowed: \"none\", \"global\", \"radio\"\)"):
+    with pytest.raises(ValueError, match=r"shared_state: 'everyone' \(allowed: \"none\", \"global\", \"radio\", or a method returning one\)"):
         salsa.register(Bad)
 
     class Oracle(salsa.Behavior):
@@ -336,6 +336,44 @@ def test_a_declared_shared_state_is_checked_and_warned_about_beside_a_radio():
     queue["tests"][0]["behavior"] = "py_random_walk"
     queue["tests"][1]["behavior"] = "py_flocking"
     assert not any("global knowledge" in w for w in salsa.validate(queue) or []), warnings
+
+
+def warns_of_global_knowledge(behavior, params):
+    queue = {"repeats": 1, "base": {"drones": 3, "time": 1, "targets": {"count": 5}, "comm": {"range": 50}},
+             "tests": [{"name": "t", "behavior": {"name": behavior, "params": params}}]}
+    return any("compares global knowledge with a radio" in w for w in salsa.validate(queue) or [])
+
+
+def test_a_shared_state_method_says_it_from_the_parameters_as_its_cpp_original():
+    # The pheromone port's method: "global" for sharing 0, "radio" for 1, as pheromone_avoidance's.
+    for sharing in (0, 1):
+        assert warns_of_global_knowledge("py_pheromone_avoidance", {"sharing": sharing}) == \
+            warns_of_global_knowledge("pheromone_avoidance", {"sharing": sharing}) == (sharing == 0)
+
+    class Says(salsa.Behavior):
+        name = "py_says_sharing"
+        parameters = [salsa.Param("word", 0, (0, 3), "", "0 none, 1 global, 2 radio, 3 a wrong word", step=1)]
+
+        def shared_state(self):
+            return ["none", "global", "radio", "all of them"][int(self.params.word)]
+
+        def decide(self, group, rng):
+            return np.zeros((len(group.id), 2))
+
+    class Fails(salsa.Behavior):
+        name = "py_fails_sharing"
+
+        def shared_state(self):
+            raise KeyError("sharing")
+
+    salsa.register(Says)
+    salsa.register(Fails)
+    assert [warns_of_global_knowledge("py_says_sharing", {"word": w}) for w in (0, 1, 2)] == [False, True, False]
+    with pytest.raises(Exception, match=r"Python behavior 'py_says_sharing': shared_state\(\) returned 'all of them' "
+                                        r"\(allowed: \"none\", \"global\", \"radio\"\)"):
+        warns_of_global_knowledge("py_says_sharing", {"word": 3})
+    with pytest.raises(Exception, match=r"Python behavior 'py_fails_sharing': shared_state raised KeyError: 'sharing' \(.*test_behaviors.py:\d+\)"):
+        warns_of_global_knowledge("py_fails_sharing", {})
 
 
 def test_registered_classes_are_listed_beside_the_plugins():

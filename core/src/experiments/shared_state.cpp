@@ -1,6 +1,7 @@
 #include "salsa/core/experiments/shared_state.hpp"
 
 #include <map>
+#include <memory>
 #include <set>
 
 #include "salsa/core/experiments/changes.hpp"
@@ -9,11 +10,13 @@
 namespace salsa {
 
 SharedState shared_state_of(const PluginChoice& choice, const PluginHost& host) {
+  std::shared_ptr<Behavior> behavior;
   try {
-    return PluginHost::create(host.behavior(choice.name), choice.params)->shared_state();
+    behavior = PluginHost::create(host.behavior(choice.name), choice.params);
   } catch (const std::exception&) {  // refused values are the test reader's to report, not this check's
     return SharedState::none;
   }
+  return behavior->shared_state();  // a behavior that cannot say (a Python method's error) stops the run
 }
 
 std::string shared_state_warning(const std::vector<TestSpec>& tests, const PluginHost& host) {

@@ -11,7 +11,8 @@
 
 namespace salsa {
 
-/// What the behavior `choice` names declares with its parameters; none when it cannot be made.
+/// What the behavior `choice` names declares with its parameters; none when it cannot be made (its
+/// values are the test reader's to refuse); what its shared_state() throws passes on.
 SharedState shared_state_of(const PluginChoice& choice, const PluginHost& host);
 
 /// One line when `tests` set a behavior with global shared state beside a radio: some test has "comm"
