@@ -273,11 +273,10 @@ class PyBatchBehavior final : public BatchBehavior {
     try {
       said = instance_.attr("shared_state")();
     } catch (py::error_already_set& e) {
-      throw std::runtime_error("Python behavior '" + name_ + "': shared_state raised " + describe(e));
+      throw std::runtime_error("raised " + describe(e));
     }
     if (const auto known = shared_state_named(said)) return *known;
-    throw std::runtime_error("Python behavior '" + name_ + "': shared_state() returned " + py::repr(said).cast<std::string>() +
-                             " (allowed: \"none\", \"global\", \"radio\")");
+    throw std::runtime_error("returned " + py::repr(said).cast<std::string>() + " (allowed: \"none\", \"global\", \"radio\")");
   }
   std::size_t message_size() const override { return message_size_; }
 

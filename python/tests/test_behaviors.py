@@ -369,10 +369,10 @@ def test_a_shared_state_method_says_it_from_the_parameters_as_its_cpp_original()
     salsa.register(Says)
     salsa.register(Fails)
     assert [warns_of_global_knowledge("py_says_sharing", {"word": w}) for w in (0, 1, 2)] == [False, True, False]
-    with pytest.raises(Exception, match=r"Python behavior 'py_says_sharing': shared_state\(\) returned 'all of them' "
+    with pytest.raises(Exception, match=r"behavior 'py_says_sharing' \(Python class test_behaviors\..*Says\) shared_state\(\): returned 'all of them' "
                                         r"\(allowed: \"none\", \"global\", \"radio\"\)"):
         warns_of_global_knowledge("py_says_sharing", {"word": 3})
-    with pytest.raises(Exception, match=r"Python behavior 'py_fails_sharing': shared_state raised KeyError: 'sharing' \(.*test_behaviors.py:\d+\)"):
+    with pytest.raises(Exception, match=r"behavior 'py_fails_sharing' \(Python class .*Fails\) shared_state\(\): raised KeyError: 'sharing' \(.*test_behaviors.py:\d+\)"):
         warns_of_global_knowledge("py_fails_sharing", {})
 
 

@@ -10,13 +10,23 @@
 namespace salsa {
 
 SharedState shared_state_of(const PluginChoice& choice, const PluginHost& host) {
+  const Entry<Behavior>* entry = nullptr;
   std::shared_ptr<Behavior> behavior;
   try {
-    behavior = PluginHost::create(host.behavior(choice.name), choice.params);
+    entry = &host.behavior(choice.name);
+    behavior = PluginHost::create(*entry, choice.params);
   } catch (const std::exception&) {  // refused values are the test reader's to report, not this check's
     return SharedState::none;
   }
-  return behavior->shared_state();  // a behavior that cannot say (a Python method's error) stops the run
+  // A behavior that cannot say (a Python method's error) stops the run, named.
+  const std::string named = "behavior '" + choice.name + "' (" + entry->plugin().file.string() + ") shared_state(): ";
+  try {
+    return behavior->shared_state();
+  } catch (const std::exception& e) {
+    throw std::runtime_error(named + e.what());
+  } catch (...) {
+    throw std::runtime_error(named + "threw a non-standard exception");
+  }
 }
 
 std::string shared_state_warning(const std::vector<TestSpec>& tests, const PluginHost& host) {
