@@ -282,8 +282,8 @@ class PyPheromoneAvoidance(salsa.Behavior):
         deposit = self.params.deposit if deposit is None else deposit
         value, time = self.value[rows, cells], self.time[rows, cells]
         late = t < time
-        self.value[rows, cells] = np.where(late, value + self.evaporate(deposit, time - t),
-                                           self.evaporate(value, t - time) + deposit)
+        age = np.abs(t - time)  # both branches are computed: neither may evaporate backwards (overflow)
+        self.value[rows, cells] = np.where(late, value + self.evaporate(deposit, age), self.evaporate(value, age) + deposit)
         self.time[rows, cells] = np.where(late, time, t)
 
     def index(self, p):

@@ -66,6 +66,27 @@ def test_the_pheromone_port_follows_its_original_as_the_field_fills(params, comm
     assert tracks(a, b, 1200) == 0.0
 
 
+def test_the_pheromone_ports_marks_compose_in_any_order():
+    # A message may arrive after newer marks of its cell (latency): the port adds what is left of it
+    # now, as the original does. Every order of the same marks then reads deposit × e^(-rate × age)
+    # summed, even 100 s late at rate 10/s, where evaporating forwards would overflow.
+    import itertools
+    import types
+    port = behaviors.PyPheromoneAvoidance()
+    port.params = types.SimpleNamespace(cell_size=10.0, deposit=1.5, evaporation_rate=10.0, sharing=1)
+    port.build((0.0, 0.0, 100.0, 100.0), own=True)
+    port.grow(1)
+    times, now = [0.0, 0.5, 100.0, 100.25], 100.5
+    expected = 1.5 * sum(math.exp(-10.0 * (now - t)) for t in times)
+    point = np.array([[55.0, 45.0]])
+    for order in itertools.permutations(times):
+        port.value[:], port.time[:] = 0.0, 0.0
+        for t in order:
+            port.mark(np.array([0]), port.index(point), np.array([t]))
+        assert port.marks(np.array([0]), point, now)[0] == pytest.approx(expected, rel=1e-12), order
+        assert port.time[0].max() == 100.25  # the cell's time is its newest mark's
+
+
 def test_groups_mix_python_and_cpp_behaviors():
     # Batteries, failures, two groups: the Python group decides after the C++ one, drones land and fail.
     spec = json.loads((SOURCE / "examples" / "groups-forest.json").read_text())
