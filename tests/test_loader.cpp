@@ -9,10 +9,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
 #include <cstring>
 #include <filesystem>
 #include <functional>
 #include <random>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -222,6 +224,36 @@ class TestLoader : public QObject {
     QCOMPARE(by_folder.failures().size(), std::size_t(1));
     QVERIFY(q(by_folder.failures()[0].reason).contains(reason));
     QVERIFY(by_folder.behaviors().empty());
+  }
+
+  // One child process probes a folder's static initialisers in turn; a file that throws, exits or
+  // crashes there is refused alone, and the files after it (also two bad ones in a row) are still
+  // probed and loaded.
+  void a_folders_static_initialisers_fail_each_alone() {
+    QTemporaryDir dir;
+    QVERIFY(dir.isValid());
+    const std::vector<std::tuple<const char*, const char*, const char*>> files{
+        {"good", "libtest_good.so", "a_good.so"},
+        {"static-init", "libtest_static_init.so", "b_throws.so"},
+        {"dup-a", "libtest_dup_a.so", "c_good.so"},
+        {"static-init-exit", "libtest_static_init_exit.so", "d_exits.so"},
+        {"static-init-abort", "libtest_static_init_abort.so", "e_aborts.so"},
+        {"metric", "libtest_metric.so", "f_good.so"}};
+    for (const auto& [folder, file, as] : files) QVERIFY(QFile::copy(q(plugin_file(folder, file)), dir.filePath(as)));
+    salsa::PluginHost host;
+    host.load({{dir.path().toStdString(), "test"}});
+    QCOMPARE(host.failures().size(), std::size_t(3));
+    const std::vector<std::pair<const char*, const char*>> refused{
+        {"b_throws.so", "its static initialiser threw while the file was loaded: static init exploded"},
+        {"d_exits.so", "its static initialiser called exit(3) while the file was loaded"},
+        {"e_aborts.so", "its static initialiser crashed (SIGABRT) while the file was loaded"}};
+    for (std::size_t i = 0; i < refused.size(); ++i) {
+      QCOMPARE(host.failures()[i].file.filename().string(), std::string(refused[i].first));
+      QCOMPARE(host.failures()[i].reason, std::string(refused[i].second));
+    }
+    QCOMPARE(host.plugins().size(), std::size_t(3));
+    for (std::size_t i = 0; i < 3; ++i)
+      QCOMPARE(host.plugins()[i]->file.filename().string(), std::string(std::array{"a_good.so", "c_good.so", "f_good.so"}[i]));
   }
 
   void duplicates_name_both_files() {

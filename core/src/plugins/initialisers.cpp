@@ -121,9 +121,13 @@ namespace {
 // When an exception leaves dlopen, glibc keeps its loader lock, held by the loading thread for ever:
 // any other thread then hangs at its first thread_local with a destructor, or dlopen. So a file's
 // static initialisers first run in a child (fork, dlopen, _exit): what they throw, exit or crash with
-// there is that file's refusal, and salsa's own process never runs them.
+// there is that file's refusal, and salsa's own process never runs them. One child opens a folder's
+// files in turn, saying which before each; a file that ends it is refused and a new child goes on
+// after it. One fork for a folder, not one per file: a fork of a big process (the sanitizers' builds
+// touch hundreds of MB) costs more than opening the files.
 
-int probe_pipe = -1;  // the child's end: why its load failed
+int probe_pipe = -1;  // the child's end: which file it opens, and why its load failed
+constexpr char opening = '\x01', reason = '\x02';  // "\x01<index>\n" before each file; "\x02<why>" at the end
 
 void probe_write(const std::string& text) {
   for (std::size_t done = 0; done < text.size();) {
@@ -134,42 +138,46 @@ void probe_write(const std::string& text) {
   }
 }
 void on_probe_exit(int status, void*) {  // first of the exit handlers: the parent's never run here
-  const std::string text = "called exit(" + std::to_string(status) + ") while the file was loaded";
-  probe_write(text);
+  probe_write(reason + ("called exit(" + std::to_string(status) + ") while the file was loaded"));
   ::_exit(97);
 }
 
-[[noreturn]] void run_probe(const fs::path& copy) {
+[[noreturn]] void run_probe(const std::vector<fs::path>& copies, std::size_t first) {
   for (int sig : load_signals) ::signal(sig, SIG_DFL);  // a crash ends the child, seen by the parent
   ::on_exit(on_probe_exit, nullptr);
-  try {
-    dlopen_may_throw(copy.c_str(), RTLD_NOW | RTLD_LOCAL);  // dlopen's own errors: the parent's load says them
-  } catch (...) {
-    probe_write("threw while the file was loaded: " + current_exception_text());
-    ::_exit(96);
+  for (std::size_t k = first; k < copies.size(); ++k) {
+    probe_write(opening + std::to_string(k) + "\n");
+    try {
+      dlopen_may_throw(copies[k].c_str(), RTLD_NOW | RTLD_LOCAL);  // dlopen's own errors: the parent's load says them
+    } catch (...) {
+      probe_write(reason + ("threw while the file was loaded: " + current_exception_text()));
+      ::_exit(96);
+    }
   }
   ::_exit(0);
 }
 
-}  // namespace
-
-std::string probe_initialisers(const fs::path& copy) {
+/// One child opening copies[first..]: the index of the file it ended on (copies.size() when none), and
+/// why. A child that says nothing within a minute of its last file is killed: that file, no verdict.
+std::pair<std::size_t, std::string> probe_from(const std::vector<fs::path>& copies, std::size_t first) {
+  const std::size_t none = copies.size();
   int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) return {};
+  if (::pipe2(fds, O_CLOEXEC) != 0) return {none, {}};
   std::fflush(nullptr);  // nothing buffered is written twice, should the child's exit flush it
   const pid_t pid = ::fork();
   if (pid == 0) {
     ::close(fds[0]);
     probe_pipe = fds[1];
-    run_probe(copy);
+    run_probe(copies, first);
   }
   ::close(fds[1]);
   if (pid < 0) {
     ::close(fds[0]);
-    return {};
+    return {none, {}};
   }
-  std::string told;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  std::string told;  // since the last file's start
+  std::size_t at = none;  // the file the child said it opens
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   bool timed_out = false;
   for (std::array<char, 512> buf{};;) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
@@ -185,6 +193,12 @@ std::string probe_initialisers(const fs::path& copy) {
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) break;  // the child is gone
     if (told.size() < 4000) told.append(buf.data(), static_cast<std::size_t>(n));
+    // Each whole "opening" line moves `at` on and restarts the minute.
+    for (std::size_t line; !told.empty() && told.front() == opening && (line = told.find('\n')) != std::string::npos;) {
+      at = std::stoul(told.substr(1, line - 1));
+      told.erase(0, line + 1);
+      deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    }
   }
   ::close(fds[0]);
   if (timed_out) ::kill(pid, SIGKILL);  // an initialiser waiting on a lock the fork copied: no verdict
@@ -192,17 +206,32 @@ std::string probe_initialisers(const fs::path& copy) {
   pid_t waited;
   while ((waited = ::waitpid(pid, &status, 0)) < 0 && errno == EINTR) {
   }
-  if (timed_out) return {};
+  if (timed_out) return {at, {}};
+  if (!told.empty() && told.front() == reason) told.erase(0, 1);
   const std::string head = "its static initialiser ";
-  if (waited < 0) return told.empty() ? "" : head + one_line(told.c_str());  // SIGCHLD ignored: what it wrote
+  if (waited < 0) return told.empty() ? std::pair{none, std::string()} : std::pair{at, head + one_line(told.c_str())};  // SIGCHLD ignored
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return {none, {}};
+  if (at == none) return {none, {}};  // it ended before opening a file: no verdict on any
   if (WIFSIGNALED(status)) {
     const char* name = sigabbrev_np(WTERMSIG(status));
-    return head + "crashed (" + (name ? "SIG" + std::string(name) : "signal " + std::to_string(WTERMSIG(status))) +
-           ") while the file was loaded";
+    return {at, head + "crashed (" + (name ? "SIG" + std::string(name) : "signal " + std::to_string(WTERMSIG(status))) +
+                    ") while the file was loaded"};
   }
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return {};
-  if (!told.empty()) return head + one_line(told.c_str());
-  return head + "ended the process (_exit(" + std::to_string(WEXITSTATUS(status)) + ")) while the file was loaded";
+  if (!told.empty()) return {at, head + one_line(told.c_str())};
+  return {at, head + "ended the process (_exit(" + std::to_string(WEXITSTATUS(status)) + ")) while the file was loaded"};
+}
+
+}  // namespace
+
+std::vector<std::string> probe_initialisers(const std::vector<fs::path>& copies) {
+  std::vector<std::string> why(copies.size());
+  for (std::size_t first = 0; first < copies.size();) {
+    auto [ended_on, told] = probe_from(copies, first);
+    if (ended_on >= copies.size()) break;  // every file from `first` on opened (or no child could tell)
+    why[ended_on] = std::move(told);
+    first = ended_on + 1;
+  }
+  return why;
 }
 
 }  // namespace salsa::detail

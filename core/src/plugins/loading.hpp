@@ -1,6 +1,7 @@
 #pragma once
 // Loading one plugin file in pieces (refusals.cpp, plugin_file.cpp, initialisers.cpp) for PluginHost. Internal to libsalsa.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -56,6 +57,16 @@ class Snapshot {
   int lock_ = -1;
 };
 
+/// A plugin file read once, its bytes checked (entry, ELF) and written to a private copy, waiting for
+/// its static initialisers' probe; or why not.
+struct StagedFile {
+  fs::path file;  ///< as found in the plugin folder
+  std::string sha256;
+  std::unique_ptr<Snapshot> snapshot;  ///< the copy, while it waits
+  std::string why;                     ///< the refusal, when it could not be staged
+};
+StagedFile stage(const fs::path& file);
+
 /// dlopen's complaint about the copy, said about the original.
 std::string dlopen_problem(const fs::path& copy, const fs::path& original);
 
@@ -64,8 +75,9 @@ std::string dlopen_problem(const fs::path& copy, const fs::path& original);
 /// Runs `file`'s static initialisers (dlopen) under a LoadingGuard; a throw is reported as the reason
 /// the file is refused. Returns the handle (close it once Boost.DLL holds its own), or null with `why`.
 void* open_with_initialisers(const fs::path& file, const fs::path& original, std::string& why);
-/// Why `copy`'s static initialisers cannot run (threw, exit, crash), found in a child process; empty
-/// when they ran, or when no child could tell within a minute (the load then goes on as without it).
-std::string probe_initialisers(const fs::path& copy);
+/// Why each copy's static initialisers cannot run (threw, exit, crash), found in child processes that
+/// open the copies in order (one child unless a file ends it); empty when they ran, or when no child
+/// could tell within a minute (the load then goes on as without it).
+std::vector<std::string> probe_initialisers(const std::vector<fs::path>& copies);
 
 }  // namespace salsa::detail

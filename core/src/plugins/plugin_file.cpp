@@ -12,6 +12,7 @@
 
 #include <openssl/evp.h>
 
+#include "plugins/elf_check.hpp"
 #include "plugins/loading.hpp"
 
 namespace salsa::detail {
@@ -130,6 +131,19 @@ std::string Snapshot::make(const fs::path& original, const std::vector<unsigned 
   if (::close(fd) != 0 && !error) error = errno;  // a full disk may show only here
   if (error) return "cannot make its private copy in " + tmp.string() + ": " + errno_text(error);
   return {};
+}
+
+StagedFile stage(const fs::path& file) {
+  StagedFile staged{file, {}, {}, {}};
+  if (staged.why = entry_problem(file); !staged.why.empty()) return staged;
+  std::vector<unsigned char> bytes;
+  if (staged.why = read_whole(file, bytes); !staged.why.empty()) return staged;
+  staged.sha256 = sha256_hex(bytes);  // of the bytes that get mapped: two builds of one version differ here
+  if (staged.why = elf_problem(bytes.data(), bytes.size()); !staged.why.empty()) return staged;
+  auto snapshot = std::make_unique<Snapshot>();
+  if (staged.why = snapshot->make(file, bytes); !staged.why.empty()) return staged;
+  staged.snapshot = std::move(snapshot);
+  return staged;
 }
 
 std::string dlopen_problem(const fs::path& copy, const fs::path& original) {

@@ -8,14 +8,12 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "plugins/elf_check.hpp"
 #include "plugins/loading.hpp"
 
 namespace salsa {
 
 using detail::current_exception_text;
 using detail::dlopen_problem;
-using detail::entry_problem;
 using detail::errno_text;
 using detail::identifier_like;
 using detail::name_rule;
@@ -23,8 +21,6 @@ using detail::one_line;
 using detail::open_with_initialisers;
 using detail::parameters_problem;
 using detail::probe_initialisers;
-using detail::read_whole;
-using detail::sha256_hex;
 using detail::shown;
 using detail::Snapshot;
 using detail::toolchain_difference;
@@ -147,38 +143,49 @@ void PluginHost::load(const std::vector<SearchDir>& dirs) {
       if (it->path().extension() == ".so") files.push_back(it->path());
     if (ec) failures_.push_back({dir.path, "plugin folder cannot be listed: " + errno_text(ec.value()), {}});
     std::sort(files.begin(), files.end());
+    // The folder's files staged, their static initialisers probed together (one child process), then
+    // loaded in order.
+    std::vector<detail::StagedFile> staged;
     for (const auto& f : files)
-      if (!seen_before(f)) load_file(f);
+      if (!seen_before(f)) staged.push_back(detail::stage(f));
+    std::vector<fs::path> copies;
+    for (const auto& s : staged)
+      if (s.why.empty()) copies.push_back(s.snapshot->copy());
+    const std::vector<std::string> probed = probe_initialisers(copies);
+    std::size_t k = 0;
+    for (auto& s : staged) load_staged(s, s.why.empty() ? probed[k++] : std::string());
   }
 }
 
 bool PluginHost::load_file(const fs::path& file) {
+  detail::StagedFile staged = detail::stage(file);
+  const std::string probed = staged.why.empty() ? probe_initialisers({staged.snapshot->copy()}).front() : std::string();
+  return load_staged(staged, probed);
+}
+
+bool PluginHost::load_staged(detail::StagedFile& staged, const std::string& probed) {
+  const fs::path& file = staged.file;
   auto fail = [&](std::string reason) {
     failures_.push_back({file, std::move(reason), {}});
     return false;
   };
-  // Phase 1: read the file once, check the bytes, write them to a private copy and map that copy.
-  if (std::string why = entry_problem(file); !why.empty()) return fail(why);
+  // Phase 1 (staged): the file read once, its bytes checked and written to a private copy. Map that copy.
+  if (!staged.why.empty()) return fail(staged.why);
+  if (!probed.empty()) return fail(probed);
   auto lib = std::make_shared<Library>();
-  std::string sha256;
+  const std::string sha256 = staged.sha256;
   {
-    std::vector<unsigned char> bytes;
-    if (std::string why = read_whole(file, bytes); !why.empty()) return fail(why);
-    sha256 = sha256_hex(bytes);  // of the bytes that get mapped: two builds of one version differ here
-    if (std::string why = elf_problem(bytes.data(), bytes.size()); !why.empty()) return fail(why);
-    Snapshot snapshot;
-    if (std::string why = snapshot.make(file, bytes); !why.empty()) return fail(why);
-    // Static initialisers run in the probe's child first, then in our first dlopen (should they throw
+    // Static initialisers ran in the probe's child first, then in our first dlopen (should they throw
     // only now, this file alone is refused, but glibc keeps its loader lock: see the probe); Boost.DLL's
     // dlopen then only counts a reference.
-    if (std::string why = probe_initialisers(snapshot.copy()); !why.empty()) return fail(why);
+    const std::unique_ptr<Snapshot> snapshot = std::move(staged.snapshot);
     std::string why;
-    void* initialised = open_with_initialisers(snapshot.copy(), file, why);
+    void* initialised = open_with_initialisers(snapshot->copy(), file, why);
     if (!initialised) return fail(why);
     boost::dll::fs::error_code ec;
-    lib->handle.load(snapshot.copy(), boost::dll::load_mode::rtld_now | boost::dll::load_mode::rtld_local, ec);
+    lib->handle.load(snapshot->copy(), boost::dll::load_mode::rtld_now | boost::dll::load_mode::rtld_local, ec);
     ::dlclose(initialised);  // Boost.DLL's reference keeps it loaded
-    if (ec) return fail(dlopen_problem(snapshot.copy(), file));
+    if (ec) return fail(dlopen_problem(snapshot->copy(), file));
   }  // the copy is removed here; the mapping stays
   if (!lib->handle.has(entry_symbol))
     return fail(std::string("no entry point '") + entry_symbol + "' (not a salsa plugin: register with SALSA_BEHAVIOR and friends)");
