@@ -90,6 +90,8 @@ void CsvWriter::fail() const {
 }
 
 // The writer thread: every flush_period (or when woken) it takes the rows ended so far and writes them.
+// Whole rows only; yet a process killed mid-write can leave the last one cut, because the kernel stops a
+// write() part way for a killed process. Only a .partial folder can hold such a file: --resume redoes it.
 void CsvWriter::run() {
   std::string writing;
   std::unique_lock lock(mutex_);

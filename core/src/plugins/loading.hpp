@@ -63,7 +63,7 @@ struct StagedFile {
   fs::path file;  ///< as found in the plugin folder
   std::string sha256;
   std::unique_ptr<Snapshot> snapshot;  ///< the copy, while it waits
-  std::string why;                     ///< the refusal, when it could not be staged
+  std::string why;                     ///< the refusal: it could not be staged, or its probe refused it
 };
 StagedFile stage(const fs::path& file);
 

@@ -56,6 +56,10 @@ std::string known_names(const std::vector<Entry<Base>>& entries) {
   return out.empty() ? "none loaded" : out;
 }
 
+/// The file load() staged and probed, handed to load_file (which stages and probes a file by itself
+/// otherwise): PluginHost's header, included nearly everywhere, keeps its one way to load a file.
+thread_local detail::StagedFile* handed_over = nullptr;
+
 template <class Base>
 const Entry<Base>& find(const std::vector<Entry<Base>>& entries, const std::string& name, PluginKind kind) {
   for (const auto& e : entries)
@@ -144,34 +148,40 @@ void PluginHost::load(const std::vector<SearchDir>& dirs) {
     if (ec) failures_.push_back({dir.path, "plugin folder cannot be listed: " + errno_text(ec.value()), {}});
     std::sort(files.begin(), files.end());
     // The folder's files staged, their static initialisers probed together (one child process), then
-    // loaded in order.
+    // each loaded by load_file.
     std::vector<detail::StagedFile> staged;
     for (const auto& f : files)
       if (!seen_before(f)) staged.push_back(detail::stage(f));
+    std::vector<detail::StagedFile*> probed;
     std::vector<fs::path> copies;
-    for (const auto& s : staged)
-      if (s.why.empty()) copies.push_back(s.snapshot->copy());
-    const std::vector<std::string> probed = probe_initialisers(copies);
-    std::size_t k = 0;
-    for (auto& s : staged) load_staged(s, s.why.empty() ? probed[k++] : std::string());
+    for (auto& s : staged)
+      if (s.why.empty()) probed.push_back(&s), copies.push_back(s.snapshot->copy());
+    std::vector<std::string> why = probe_initialisers(copies);
+    for (std::size_t k = 0; k < probed.size(); ++k) probed[k]->why = std::move(why[k]);
+    for (auto& s : staged) {
+      handed_over = &s;
+      const struct Reset {
+        ~Reset() { handed_over = nullptr; }
+      } reset;
+      load_file(s.file);
+    }
   }
 }
 
 bool PluginHost::load_file(const fs::path& file) {
-  detail::StagedFile staged = detail::stage(file);
-  const std::string probed = staged.why.empty() ? probe_initialisers({staged.snapshot->copy()}).front() : std::string();
-  return load_staged(staged, probed);
-}
-
-bool PluginHost::load_staged(detail::StagedFile& staged, const std::string& probed) {
-  const fs::path& file = staged.file;
   auto fail = [&](std::string reason) {
     failures_.push_back({file, std::move(reason), {}});
     return false;
   };
-  // Phase 1 (staged): the file read once, its bytes checked and written to a private copy. Map that copy.
+  // Phase 1: the file read once, its bytes checked and written to a private copy, its static
+  // initialisers probed (by load() for a whole folder); then that copy is mapped.
+  detail::StagedFile own;
+  detail::StagedFile& staged = handed_over && handed_over->file == file ? *handed_over : own;
+  if (&staged == &own) {
+    own = detail::stage(file);
+    if (own.why.empty()) own.why = probe_initialisers({own.snapshot->copy()}).front();
+  }
   if (!staged.why.empty()) return fail(staged.why);
-  if (!probed.empty()) return fail(probed);
   auto lib = std::make_shared<Library>();
   const std::string sha256 = staged.sha256;
   {

